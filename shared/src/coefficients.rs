@@ -1,0 +1,80 @@
+//! Coefficients derived from a scene: the lever arms of the contact springs about the pivot,
+//! the rotational stiffness, the normal-force gain and the sign of the friction moment.
+//!
+//! With the pivot at the supported edge (mid-thickness):
+//!
+//! | caliper | d_L          | d_T          | a_N        | s  |
+//! |---------|--------------|--------------|------------|----|
+//! | push    | l + l_cL     | l - l_cT     | beta       | +1 |
+//! | pull    | l - l_cL     | l + l_cT     | 2 l - beta | -1 |
+//!
+//! K = k_L d_L^2 + k_T d_T^2 [N m/rad], c_N = k_L d_L + k_T d_T [N/rad], N = c_N phi.
+
+use crate::scene::{Caliper, Scene};
+
+/// Derived coefficients of a scene, in f64.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coefficients {
+    /// Lever arm of the leading contact spring about the pivot [m].
+    pub d_l: f64,
+    /// Lever arm of the trailing contact spring about the pivot [m].
+    pub d_t: f64,
+    /// Rotational contact stiffness K [N m/rad].
+    pub k_rot: f64,
+    /// Normal-force gain c_N: N = c_N phi [N/rad].
+    pub c_n: f64,
+    /// Lever arm of the normal load about the pivot a_N [m].
+    pub a_n: f64,
+    /// Sign of the friction moment s w F_f: +1 push, -1 pull.
+    pub s: f64,
+    /// Static rotation under the load alone, phi_0 = F_N a_N / K [rad].
+    pub phi0: f64,
+    /// Static normal force N_0 = c_N phi_0 [N].
+    pub n0: f64,
+}
+
+impl Coefficients {
+    pub fn of(scene: &Scene) -> Coefficients {
+        let l = scene.l;
+        let (d_l, d_t, a_n, s) = match scene.caliper {
+            Caliper::Push => (l + scene.l_cl, l - scene.l_ct, scene.beta, 1.0),
+            Caliper::Pull => (l - scene.l_cl, l + scene.l_ct, 2.0 * l - scene.beta, -1.0),
+        };
+        let k_rot = scene.k_l * d_l * d_l + scene.k_t * d_t * d_t;
+        let c_n = scene.k_l * d_l + scene.k_t * d_t;
+        let phi0 = scene.f_n * a_n / k_rot;
+        Coefficients { d_l, d_t, k_rot, c_n, a_n, s, phi0, n0: c_n * phi0 }
+    }
+
+    /// Rotational stiffness while the friction force is `sigma mu N` (sigma = +1 pad slower
+    /// than the band or sticking at the static limit, -1 pad faster):
+    /// K_eff = K - s sigma mu w c_N. Zero or below: the pad sprags (phi diverges).
+    pub fn effective_rotational_stiffness(&self, scene: &Scene, sigma: f64, mu: f64) -> f64 {
+        self.k_rot - self.s * sigma * mu * scene.w * self.c_n
+    }
+
+    /// The smallest of the sprag margins K_eff over the regimes the scene can visit
+    /// (stick at the static limit in either direction, slip in either direction) [N m/rad].
+    pub fn sprag_margin(&self, scene: &Scene) -> f64 {
+        let mut m = f64::INFINITY;
+        for sigma in [1.0, -1.0] {
+            for mu in [scene.mu_s, scene.mu_k] {
+                let k = self.effective_rotational_stiffness(scene, sigma, mu);
+                if k < m {
+                    m = k;
+                }
+            }
+        }
+        m
+    }
+
+    /// Quasi-static time from rest to the first slip (no damping):
+    /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)). Infinite when the pad self-locks.
+    pub fn quasi_static_first_slip(&self, scene: &Scene) -> f64 {
+        let lock = 1.0 - self.s * scene.mu_s * scene.w * self.c_n / self.k_rot;
+        if lock <= 0.0 {
+            return f64::INFINITY;
+        }
+        scene.mu_s * self.n0 / (scene.k_g * scene.v * lock)
+    }
+}

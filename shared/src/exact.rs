@@ -1,0 +1,491 @@
+//! The fixed-step exact stepper: each regime is propagated by its exact flow, and the
+//! transitions of the state machine ([`crate::stickslip`]) are located inside the step.
+//!
+//! One call of [`ExactStepper::step`] advances the run by `dt`. A step is split into `n_sub`
+//! equal substeps, just enough that the fastest mode turns by at most a quarter radian per
+//! substep (one substep per step at the rig's rate for the default scenes), so that no guard or
+//! extremum can cross and come back unseen inside one. In a substep without a transition the
+//! work is one small matrix product and one guard test; a substep whose end state has a fired
+//! guard is resolved by binary lifting over the substep's `2^L` units (L = 24 in f32, 53 in f64),
+//! the new regime is entered at the first unit where the guard holds, and the rest of the
+//! substep continues in it.
+//!
+//! Round-off containment: while sticking, x is not accumulated step by step but recomputed as
+//! x_entry + V (elapsed since entry), so a long stick phase in f32 does not lose digits; time
+//! is kept as an integer step count and formed in f64 only when reported.
+
+use crate::coefficients::Coefficients;
+use crate::propagator::{apply, Propagator};
+use crate::real::Real;
+use crate::scene::{Scene, SceneError};
+use crate::stickslip::{Guards, Regime};
+
+/// Transitions kept per step for [`ExactStepper::transitions`]; more are counted in
+/// [`ExactStepper::transitions_dropped`] (an observer still sees every one).
+pub const TRANSITIONS_PER_STEP: usize = 8;
+/// More transitions than this inside one substep halt the run ([`Halt::TransitionStorm`]).
+pub const MAX_TRANSITIONS_PER_SUBSTEP: u32 = 64;
+/// |phi| beyond this is taken as divergence [rad].
+pub const PHI_LIMIT: f64 = 0.5;
+/// |x| beyond this is taken as divergence [m].
+pub const X_LIMIT: f64 = 1.0;
+
+/// The pad's state: translation and rotation with their rates (SI).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct State<T> {
+    /// Pad translation x [m].
+    pub x: T,
+    /// Pad velocity x' [m/s].
+    pub xdot: T,
+    /// Pad rotation phi [rad].
+    pub phi: T,
+    /// Pad angular velocity phi' [rad/s].
+    pub phidot: T,
+}
+
+impl<T: Real> State<T> {
+    #[inline(always)]
+    pub fn from_array(z: [T; 4]) -> Self {
+        State { x: z[0], xdot: z[1], phi: z[2], phidot: z[3] }
+    }
+    #[inline(always)]
+    pub fn to_array(self) -> [T; 4] {
+        [self.x, self.xdot, self.phi, self.phidot]
+    }
+}
+
+/// A change of regime.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transition<T> {
+    /// Time of the transition [s] (resolution: 2^-L of a substep).
+    pub t: f64,
+    pub from: Regime,
+    pub to: Regime,
+    /// The state on entry to the new regime.
+    pub state: State<T>,
+}
+
+/// A piece of motion inside one regime, from unit `p0` to unit `p1` of substep `sub` of step
+/// `step` (there are `Propagator::UNITS` units per substep).
+#[derive(Clone, Copy, Debug)]
+pub struct Segment<T> {
+    pub regime: Regime,
+    pub step: u64,
+    pub sub: u32,
+    pub p0: u64,
+    pub p1: u64,
+    pub z0: [T; 4],
+    pub z1: [T; 4],
+}
+
+/// Sees every segment and every transition of a run (statistics, plots, logs).
+pub trait Observer<T: Real> {
+    #[inline(always)]
+    fn segment(&mut self, _seg: &Segment<T>, _prop: &Propagator<T>) {}
+    #[inline(always)]
+    fn transition(&mut self, _tr: &Transition<T>) {}
+}
+
+/// The observer that looks at nothing.
+impl<T: Real> Observer<T> for () {}
+
+/// Why a run stopped early. Never a NaN in the output: the step that would produce one stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Halt {
+    /// A state value became NaN or infinite at time `t` [s].
+    NonFinite { t: f64 },
+    /// phi or x left the plausible range at time `t`, in `regime`, whose rotational stiffness
+    /// margin K_eff [N m/rad] is given: <= 0 is the model's own divergence (sprag).
+    Diverged { t: f64, regime: Regime, stiffness_margin: f64 },
+    /// The normal force N = c_N phi [N] went negative at time `t`: the pad lifts off and the
+    /// model is outside its validity.
+    ContactLoss { t: f64, n: f64 },
+    /// More than [`MAX_TRANSITIONS_PER_SUBSTEP`] transitions inside one substep at time `t`.
+    TransitionStorm { t: f64 },
+}
+
+impl Halt {
+    pub fn time(&self) -> f64 {
+        match *self {
+            Halt::NonFinite { t }
+            | Halt::Diverged { t, .. }
+            | Halt::ContactLoss { t, .. }
+            | Halt::TransitionStorm { t } => t,
+        }
+    }
+}
+
+/// Constants of the no-transition fast path, in `T`.
+#[derive(Clone, Copy, Debug)]
+struct FastPath<T> {
+    /// Stick with rotation: the phi and phi' rows of the increment flow with x' = V folded
+    /// into the constant: [phi += a0 x + a1 phi + a2 phi' + a3, phi' += a4 x + a5 phi + a6 phi' + a7].
+    stick_rot: [T; 8],
+    v: T,
+    k_g: T,
+    c_x_v: T,
+    mu_s_c_n: T,
+    /// mu_s N_0 for the 1-DOF scene (N constant).
+    mu_s_n0: T,
+    phi_floor: T,
+    c_n: T,
+    n0: T,
+    mu_k: T,
+}
+
+/// The exact fixed-step stepper, generic over f32 and f64.
+#[derive(Clone, Debug)]
+pub struct ExactStepper<T: Real> {
+    prop: Propagator<T>,
+    guards: Guards<T>,
+    fast: FastPath<T>,
+    rotation: bool,
+    dt: f64,
+    margins: [f64; 3],
+    z: [T; 4],
+    regime: Regime,
+    step: u64,
+    // stick anchor: x = anchor_x + V (anchor_e0 + anchor_subs h_sub)
+    anchor_x: T,
+    anchor_e0: T,
+    anchor_subs: u64,
+    h_sub_t: T,
+    reported: [Transition<T>; TRANSITIONS_PER_STEP],
+    n_reported: usize,
+    dropped: u64,
+    halted: Option<Halt>,
+}
+
+impl<T: Real> ExactStepper<T> {
+    /// Validates `scene` and sets up the stepper at the default initial state: stick, x = 0,
+    /// x' = V, phi = F_N a_N / K, phi' = 0.
+    pub fn new(scene: &Scene) -> Result<Self, SceneError> {
+        scene.validate()?;
+        let co = Coefficients::of(scene);
+        let prop = Propagator::<T>::new(scene, &co, scene.dt);
+        let guards = Guards::<T>::new(scene, &co);
+        let t = T::from_f64;
+        let a = Self::stick_fold(&prop, scene.v);
+        let margins = [
+            co.k_rot,
+            co.effective_rotational_stiffness(scene, 1.0, scene.mu_k),
+            co.effective_rotational_stiffness(scene, -1.0, scene.mu_k),
+        ];
+        let fast = FastPath {
+            stick_rot: a,
+            v: t(scene.v),
+            k_g: t(scene.k_g),
+            c_x_v: t(scene.c_x * scene.v),
+            mu_s_c_n: t(scene.mu_s * co.c_n),
+            mu_s_n0: t(scene.mu_s * co.n0),
+            phi_floor: t(-(1e-6 * libm::fabs(co.phi0) + 1e-12)),
+            c_n: t(co.c_n),
+            n0: t(co.n0),
+            mu_k: t(scene.mu_k),
+        };
+        let z = [T::zero(), t(scene.v), t(co.phi0), T::zero()];
+        let empty = Transition { t: 0.0, from: Regime::Stick, to: Regime::Stick, state: State::default() };
+        Ok(ExactStepper {
+            h_sub_t: t(prop.h_sub),
+            prop,
+            guards,
+            fast,
+            rotation: scene.rotation,
+            dt: scene.dt,
+            margins,
+            z,
+            regime: Regime::Stick,
+            step: 0,
+            anchor_x: T::zero(),
+            anchor_e0: t(prop.h_sub),
+            anchor_subs: 0,
+            reported: [empty; TRANSITIONS_PER_STEP],
+            n_reported: 0,
+            dropped: 0,
+            halted: None,
+        })
+    }
+
+    fn stick_fold(prop: &Propagator<T>, v: f64) -> [T; 8] {
+        let f = prop.substep_flow(Regime::Stick);
+        let g = |i: usize| f[i].to_f64();
+        let t = T::from_f64;
+        // row 2 (phi) and row 3 (phi'): columns x, x', phi, phi', 1
+        [
+            t(g(10)),
+            t(g(12)),
+            t(g(13)),
+            t(g(14) + g(11) * v),
+            t(g(15)),
+            t(g(17)),
+            t(g(18)),
+            t(g(19) + g(16) * v),
+        ]
+    }
+
+    /// Replaces the state and regime (e.g. to start from a measured condition). In stick,
+    /// x' is set to V.
+    pub fn set_state(&mut self, state: State<T>, regime: Regime) {
+        self.z = state.to_array();
+        self.regime = regime;
+        if regime == Regime::Stick {
+            self.z[1] = self.fast.v;
+            self.anchor_x = self.z[0];
+            self.anchor_e0 = self.h_sub_t;
+            self.anchor_subs = 0;
+        }
+        self.halted = None;
+    }
+
+    pub fn state(&self) -> State<T> {
+        State::from_array(self.z)
+    }
+    pub fn regime(&self) -> Regime {
+        self.regime
+    }
+    /// Steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+    /// Time at the end of the last step [s].
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+    pub fn propagator(&self) -> &Propagator<T> {
+        &self.prop
+    }
+    pub fn guards(&self) -> &Guards<T> {
+        &self.guards
+    }
+    /// The transitions of the last step (at most [`TRANSITIONS_PER_STEP`]).
+    pub fn transitions(&self) -> &[Transition<T>] {
+        &self.reported[..self.n_reported]
+    }
+    /// Transitions not kept because a step had more than [`TRANSITIONS_PER_STEP`].
+    pub fn transitions_dropped(&self) -> u64 {
+        self.dropped
+    }
+    pub fn halted(&self) -> Option<Halt> {
+        self.halted
+    }
+
+    /// Normal force N = c_N phi at the current state [N] (N_0 without rotation).
+    pub fn normal_force(&self) -> T {
+        if self.rotation {
+            self.fast.c_n * self.z[2]
+        } else {
+            self.fast.n0
+        }
+    }
+
+    /// Friction force on the pad F_f [N]: the required force in stick, sigma mu_k N in slip.
+    pub fn friction_force(&self) -> T {
+        match self.regime {
+            Regime::Stick => self.guards.required_force(&self.z),
+            Regime::SlipSlower => self.fast.mu_k * self.normal_force(),
+            Regime::SlipFaster => -(self.fast.mu_k * self.normal_force()),
+        }
+    }
+
+    /// One step of `dt`, with no observer.
+    #[inline]
+    pub fn step(&mut self) -> Result<usize, Halt> {
+        self.step_observed(&mut ())
+    }
+
+    /// One step of `dt`; `obs` sees every segment and transition. Returns the number of
+    /// transitions in the step.
+    pub fn step_observed<O: Observer<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
+        if let Some(h) = self.halted {
+            return Err(h);
+        }
+        self.n_reported = 0;
+        let mut count = 0usize;
+        for sub in 0..self.prop.n_sub {
+            let z0 = self.z;
+            let regime = self.regime;
+            let z1 = self.fast_substep(regime, &z0);
+            if !self.fires(regime, &z1) {
+                obs.segment(
+                    &Segment { regime, step: self.step, sub, p0: 0, p1: Propagator::<T>::UNITS, z0, z1 },
+                    &self.prop,
+                );
+                self.z = z1;
+                if regime == Regime::Stick {
+                    self.anchor_subs += 1;
+                }
+            } else {
+                count += self.resolve(sub, z0, z1, obs)?;
+            }
+            if let Err(h) = self.check(sub) {
+                self.halted = Some(h);
+                return Err(h);
+            }
+        }
+        self.step += 1;
+        Ok(count)
+    }
+
+    /// The exact flow over one whole substep in `regime`, exploiting the regime's structure.
+    #[inline(always)]
+    fn fast_substep(&self, regime: Regime, z: &[T; 4]) -> [T; 4] {
+        match regime {
+            Regime::Stick => {
+                let x = self.anchor_x
+                    + self.fast.v * (self.anchor_e0 + T::from_u64(self.anchor_subs) * self.h_sub_t);
+                if self.rotation {
+                    let a = &self.fast.stick_rot;
+                    let phi = z[2] + (a[0] * z[0] + a[1] * z[2] + a[2] * z[3] + a[3]);
+                    let phid = z[3] + (a[4] * z[0] + a[5] * z[2] + a[6] * z[3] + a[7]);
+                    [x, self.fast.v, phi, phid]
+                } else {
+                    [x, self.fast.v, z[2], z[3]]
+                }
+            }
+            _ => {
+                let f = self.prop.substep_flow(regime);
+                if self.rotation {
+                    [
+                        z[0] + (f[0] * z[0] + f[1] * z[1] + f[2] * z[2] + f[3] * z[3] + f[4]),
+                        z[1] + (f[5] * z[0] + f[6] * z[1] + f[7] * z[2] + f[8] * z[3] + f[9]),
+                        z[2] + (f[12] * z[2] + f[13] * z[3] + f[14]),
+                        z[3] + (f[17] * z[2] + f[18] * z[3] + f[19]),
+                    ]
+                } else {
+                    [
+                        z[0] + (f[0] * z[0] + f[1] * z[1] + f[4]),
+                        z[1] + (f[5] * z[0] + f[6] * z[1] + f[9]),
+                        z[2],
+                        z[3],
+                    ]
+                }
+            }
+        }
+    }
+
+    /// Whether a guard of `regime` has fired at `z` (the fast path's test).
+    #[inline(always)]
+    fn fires(&self, regime: Regime, z: &[T; 4]) -> bool {
+        match regime {
+            Regime::Stick => {
+                let f_req = self.fast.k_g * z[0] + self.fast.c_x_v;
+                let limit = if self.rotation { self.fast.mu_s_c_n * z[2] } else { self.fast.mu_s_n0 };
+                !(f_req < limit) || !(-f_req < limit)
+            }
+            Regime::SlipSlower => !(z[1] < self.fast.v),
+            Regime::SlipFaster => !(z[1] > self.fast.v),
+        }
+    }
+
+    fn time_at(&self, sub: u32, unit: u64) -> f64 {
+        let u = Propagator::<T>::UNITS as f64;
+        self.step as f64 * self.dt + (sub as f64 + unit as f64 / u) * self.prop.h_sub
+    }
+
+    /// A substep whose end state has a fired guard: find every transition inside it.
+    fn resolve<O: Observer<T>>(&mut self, sub: u32, z0: [T; 4], z1: [T; 4], obs: &mut O) -> Result<usize, Halt> {
+        let units = Propagator::<T>::UNITS;
+        let mut pos = 0u64;
+        let mut z = z0;
+        let mut z_end = z1;
+        let mut regime = self.regime;
+        let mut entered_stick_at: Option<u64> = None;
+        let mut count = 0u32;
+        let mut transitions = 0usize;
+        loop {
+            // earliest fired guard of the current regime
+            let (gs, n) = self.guards.of(regime);
+            let mut best: Option<(u64, [T; 4], usize)> = None;
+            for (which, g) in gs.iter().take(n).enumerate() {
+                if g.fired(&z_end) {
+                    let (p, zp) = self.prop.lift(regime, &z, pos, units, |c| !g.fired(c));
+                    if best.map_or(true, |b| p < b.0) {
+                        best = Some((p, zp, which));
+                    }
+                }
+            }
+            let Some((p, zp, which)) = best else {
+                obs.segment(&Segment { regime, step: self.step, sub, p0: pos, p1: units, z0: z, z1: z_end }, &self.prop);
+                break;
+            };
+            let at = p + 1;
+            let ze = if at == units { z_end } else { apply(self.prop.flow(regime, 0), &zp) };
+            obs.segment(&Segment { regime, step: self.step, sub, p0: pos, p1: at, z0: z, z1: ze }, &self.prop);
+            let next = self.guards.next_regime(regime, which, &ze);
+            let mut zn = ze;
+            if next == Regime::Stick {
+                zn[1] = self.fast.v;
+                entered_stick_at = Some(at);
+                self.anchor_x = zn[0];
+            }
+            if next != regime {
+                let tr = Transition { t: self.time_at(sub, at), from: regime, to: next, state: State::from_array(zn) };
+                obs.transition(&tr);
+                if self.n_reported < TRANSITIONS_PER_STEP {
+                    self.reported[self.n_reported] = tr;
+                    self.n_reported += 1;
+                } else {
+                    self.dropped += 1;
+                }
+                transitions += 1;
+            }
+            count += 1;
+            if count > MAX_TRANSITIONS_PER_SUBSTEP {
+                let h = Halt::TransitionStorm { t: self.time_at(sub, at) };
+                self.halted = Some(h);
+                return Err(h);
+            }
+            regime = next;
+            pos = at;
+            z = zn;
+            if pos == units {
+                z_end = zn;
+                break;
+            }
+            z_end = self.prop.advance(regime, &z, units - pos);
+        }
+        self.regime = regime;
+        if regime == Regime::Stick {
+            match entered_stick_at {
+                Some(at) => {
+                    // x from the anchor: elapsed = (units - at) units
+                    let e0 = (units - at) as f64 / units as f64 * self.prop.h_sub;
+                    self.anchor_e0 = T::from_f64(e0);
+                    self.anchor_subs = 0;
+                    z_end[0] = self.anchor_x + self.fast.v * self.anchor_e0;
+                }
+                None => {
+                    // a stick substep whose guard fired and came back (or a touch): keep the anchor
+                    z_end[0] = self.anchor_x
+                        + self.fast.v * (self.anchor_e0 + T::from_u64(self.anchor_subs) * self.h_sub_t);
+                }
+            }
+            z_end[1] = self.fast.v;
+            self.anchor_subs += 1;
+        }
+        self.z = z_end;
+        Ok(transitions)
+    }
+
+    /// End-of-substep checks: finite, in range, in contact.
+    #[inline(always)]
+    fn check(&self, sub: u32) -> Result<(), Halt> {
+        let z = &self.z;
+        let finite = z[0].is_finite() && z[1].is_finite() && z[2].is_finite() && z[3].is_finite();
+        if !finite {
+            return Err(Halt::NonFinite { t: self.time_at(sub, Propagator::<T>::UNITS) });
+        }
+        if z[0].abs() > T::from_f64(X_LIMIT) || z[2].abs() > T::from_f64(PHI_LIMIT) {
+            return Err(Halt::Diverged {
+                t: self.time_at(sub, Propagator::<T>::UNITS),
+                regime: self.regime,
+                stiffness_margin: self.margins[self.regime.index()],
+            });
+        }
+        if self.rotation && z[2] < self.fast.phi_floor {
+            let n = self.fast.c_n.to_f64() * z[2].to_f64();
+            return Err(Halt::ContactLoss { t: self.time_at(sub, Propagator::<T>::UNITS), n });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,31 @@
+//! The translating friction element: a 2-DOF brake pad (translation x, rotation phi) pressed
+//! on a band moving at constant speed, with stick and two slip regimes (docs/model.md).
+//!
+//! `no_std`, no allocation, no panics on a validated scene: the same code runs on the rig's
+//! Cortex-M4F and in the desktop tool.
+//!
+//! - [`scene`]: parameters, defaults, validation.
+//! - [`coefficients`]: lever arms, rotational stiffness, normal-force gain.
+//! - [`friction`]: the Coulomb law.
+//! - [`stickslip`]: the regimes and their transitions (the state machine).
+//! - [`propagator`]: exact flows of each regime on a dyadic grid.
+//! - [`exact`]: the fixed-step exact stepper.
+//! - [`stats`]: run statistics with exact extremes (peak-to-peak, stick fraction, frequency).
+#![no_std]
+#![forbid(unsafe_code)]
+
+pub mod coefficients;
+pub mod exact;
+pub mod friction;
+pub mod linalg;
+pub mod propagator;
+pub mod real;
+pub mod scene;
+pub mod stats;
+pub mod stickslip;
+
+pub use coefficients::Coefficients;
+pub use exact::{ExactStepper, Halt, Observer, Segment, State, Transition};
+pub use real::Real;
+pub use scene::{Caliper, Scene, SceneError, DEFAULT_SCENE};
+pub use stickslip::Regime;

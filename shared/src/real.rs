@@ -1,0 +1,142 @@
+//! The floating-point types the model runs in.
+//!
+//! Every stepper is generic over [`Real`], implemented for `f32` (the Cortex-M4F's FPU type) and
+//! `f64` (the desktop reference). Set-up work (matrix exponentials, coefficients) is always done
+//! in `f64` and rounded once to `T`; the per-step arithmetic is plain `+ - * /` in `T`, so the
+//! same source gives bit-identical results on x86-64 and on the Cortex-M4F (no fused
+//! multiply-add is ever formed implicitly by rustc).
+
+use core::fmt::Debug;
+use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
+
+/// A floating-point scalar the model can step in.
+pub trait Real:
+    Copy
+    + Debug
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + Default
+    + 'static
+{
+    /// Number of significand bits (24 for f32, 53 for f64). Sets the resolution of the
+    /// in-step transition search: a step is divided into `2^DYADIC_LEVELS` units.
+    const DYADIC_LEVELS: usize;
+    /// Storage for the dyadic propagator table: `DYADIC_LEVELS + 1` matrices of 4 x 5 entries
+    /// (row-major), see [`crate::propagator`].
+    type DyadicTable: Copy + Debug + AsRef<[[Self; 20]]> + AsMut<[[Self; 20]]>;
+    /// A table filled with zeros.
+    fn empty_table() -> Self::DyadicTable;
+    /// Short name used in reports ("f32", "f64").
+    const NAME: &'static str;
+    fn zero() -> Self;
+    fn one() -> Self;
+    /// Rounds an f64 to this type (round to nearest, ties to even).
+    fn from_f64(v: f64) -> Self;
+    fn to_f64(self) -> f64;
+    /// Exact for integers below 2^24 (f32) or 2^53 (f64).
+    fn from_u64(v: u64) -> Self;
+    fn abs(self) -> Self;
+    fn is_finite(self) -> bool;
+    fn sqrt(self) -> Self;
+    fn max(self, other: Self) -> Self {
+        if other > self {
+            other
+        } else {
+            self
+        }
+    }
+    fn min(self, other: Self) -> Self {
+        if other < self {
+            other
+        } else {
+            self
+        }
+    }
+}
+
+impl Real for f32 {
+    const DYADIC_LEVELS: usize = 24;
+    const NAME: &'static str = "f32";
+    type DyadicTable = [[f32; 20]; 25];
+    fn empty_table() -> Self::DyadicTable {
+        [[0.0; 20]; 25]
+    }
+    #[inline(always)]
+    fn zero() -> Self {
+        0.0
+    }
+    #[inline(always)]
+    fn one() -> Self {
+        1.0
+    }
+    #[inline(always)]
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    #[inline(always)]
+    fn from_u64(v: u64) -> Self {
+        v as f32
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        libm::sqrtf(self)
+    }
+}
+
+impl Real for f64 {
+    const DYADIC_LEVELS: usize = 53;
+    const NAME: &'static str = "f64";
+    type DyadicTable = [[f64; 20]; 54];
+    fn empty_table() -> Self::DyadicTable {
+        [[0.0; 20]; 54]
+    }
+    #[inline(always)]
+    fn zero() -> Self {
+        0.0
+    }
+    #[inline(always)]
+    fn one() -> Self {
+        1.0
+    }
+    #[inline(always)]
+    fn from_f64(v: f64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn from_u64(v: u64) -> Self {
+        v as f64
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        libm::sqrt(self)
+    }
+}

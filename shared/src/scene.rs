@@ -1,0 +1,208 @@
+//! Scene parameters: one rig configuration plus the run settings, and their validation.
+//!
+//! All values are SI (kg, m, N, s, rad). A scene is plain data in `f64`; the steppers round the
+//! derived coefficients to their own precision. [`Scene::validate`] names the offending field
+//! and the rule it breaks, so a user's edited scene file gets a precise message.
+
+/// Where the pad's frictional guide (and so the rotation pivot) sits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Caliper {
+    /// Guide at the trailing edge: the band pushes the pad against it.
+    Push,
+    /// Guide at the leading edge: the band pulls the pad away from the load side.
+    Pull,
+}
+
+impl Caliper {
+    pub const fn name(self) -> &'static str {
+        match self {
+            Caliper::Push => "push",
+            Caliper::Pull => "pull",
+        }
+    }
+}
+
+/// One scene: the pad, the contact, the load, the band and the run settings.
+///
+/// Symbols follow docs/model.md. Pad length is `2 l`, thickness `2 w`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scene {
+    pub caliper: Caliper,
+    /// Pad mass m [kg].
+    pub m: f64,
+    /// Moment of inertia about the pivot (supported edge, mid-thickness) I [kg m^2].
+    pub inertia: f64,
+    /// Pad half-length l [m].
+    pub l: f64,
+    /// Pad half-thickness w [m] (friction face to pivot line).
+    pub w: f64,
+    /// Distance from the centre of gravity to the leading contact spring l_cL [m].
+    pub l_cl: f64,
+    /// Distance from the centre of gravity to the trailing contact spring l_cT [m].
+    pub l_ct: f64,
+    /// Leading contact spring stiffness k_L [N/m].
+    pub k_l: f64,
+    /// Trailing contact spring stiffness k_T [N/m].
+    pub k_t: f64,
+    /// Guide (abutment) stiffness along x, k_g [N/m].
+    pub k_g: f64,
+    /// Normal load F_N [N].
+    pub f_n: f64,
+    /// Load position, distance from the trailing edge, beta [m], in [0, 2 l].
+    pub beta: f64,
+    /// Band speed V [m/s], > 0.
+    pub v: f64,
+    /// Static friction coefficient mu_s [-].
+    pub mu_s: f64,
+    /// Kinetic friction coefficient mu_k [-], 0 <= mu_k <= mu_s.
+    pub mu_k: f64,
+    /// Viscous damping on x, c_x [N s/m].
+    pub c_x: f64,
+    /// Viscous damping on phi, c_phi [N m s/rad].
+    pub c_phi: f64,
+    /// `false` holds phi at its static value F_N a_N / K (the 1-DOF mass on a moving belt,
+    /// N constant): the rotation is left out of the step entirely.
+    pub rotation: bool,
+    /// Fixed step dt [s].
+    pub dt: f64,
+    /// Run length [s].
+    pub duration: f64,
+    /// Start of the statistics window [s]; the window runs to `duration`.
+    pub stats_from: f64,
+}
+
+/// The thesis-sized pad of docs/model.md (80 mm pad, 5 bar actuator, slow band).
+pub const DEFAULT_SCENE: Scene = Scene {
+    caliper: Caliper::Push,
+    m: 0.3,
+    inertia: 6.8e-4,
+    l: 0.04,
+    w: 0.01,
+    l_cl: 0.03,
+    l_ct: 0.025,
+    k_l: 1e6,
+    k_t: 1e6,
+    k_g: 2e5,
+    f_n: 150.0,
+    beta: 0.040,
+    v: 0.005,
+    mu_s: 0.45,
+    mu_k: 0.35,
+    c_x: 0.0,
+    c_phi: 0.0,
+    rotation: true,
+    dt: 1.0 / 25600.0,
+    duration: 1.0,
+    stats_from: 0.5,
+};
+
+/// Load positions of the six cases [m from the trailing edge]: trailing, centre, leading.
+pub const CASE_BETAS: [(&str, f64); 3] = [("trail", 0.025), ("center", 0.040), ("lead", 0.055)];
+
+impl Default for Scene {
+    fn default() -> Self {
+        DEFAULT_SCENE
+    }
+}
+
+/// A scene value that breaks a rule: which field, which rule, what value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneError {
+    pub field: &'static str,
+    pub rule: &'static str,
+    pub value: f64,
+}
+
+impl core::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "field `{}` = {}: {}", self.field, self.value, self.rule)
+    }
+}
+
+fn check(ok: bool, field: &'static str, rule: &'static str, value: f64) -> Result<(), SceneError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(SceneError { field, rule, value })
+    }
+}
+
+impl Scene {
+    /// One of the six cases: the default pad with the given caliper and load position.
+    pub const fn case(caliper: Caliper, beta: f64) -> Scene {
+        let mut s = DEFAULT_SCENE;
+        s.caliper = caliper;
+        s.beta = beta;
+        s
+    }
+
+    /// Checks every field; the first violation is returned. A scene that passes can be
+    /// stepped without panics (all derived quantities are finite and non-degenerate).
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let finite: [(&'static str, f64); 19] = [
+            ("m", self.m),
+            ("inertia", self.inertia),
+            ("l", self.l),
+            ("w", self.w),
+            ("l_cl", self.l_cl),
+            ("l_ct", self.l_ct),
+            ("k_l", self.k_l),
+            ("k_t", self.k_t),
+            ("k_g", self.k_g),
+            ("f_n", self.f_n),
+            ("beta", self.beta),
+            ("v", self.v),
+            ("mu_s", self.mu_s),
+            ("mu_k", self.mu_k),
+            ("c_x", self.c_x),
+            ("c_phi", self.c_phi),
+            ("dt", self.dt),
+            ("duration", self.duration),
+            ("stats_from", self.stats_from),
+        ];
+        for (field, value) in finite {
+            check(value.is_finite(), field, "must be a finite number", value)?;
+        }
+        check(self.m > 0.0, "m", "mass must be > 0 kg", self.m)?;
+        check(self.inertia > 0.0, "inertia", "moment of inertia must be > 0 kg m^2", self.inertia)?;
+        check(self.l > 0.0, "l", "pad half-length must be > 0 m", self.l)?;
+        check(self.w >= 0.0, "w", "pad half-thickness must be >= 0 m", self.w)?;
+        check(self.l_cl >= 0.0, "l_cl", "must be >= 0 m", self.l_cl)?;
+        check(self.l_cl < self.l, "l_cl", "leading spring must lie on the pad: l_cl < l", self.l_cl)?;
+        check(self.l_ct >= 0.0, "l_ct", "must be >= 0 m", self.l_ct)?;
+        check(self.l_ct < self.l, "l_ct", "trailing spring must lie on the pad: l_ct < l", self.l_ct)?;
+        check(self.k_l >= 0.0, "k_l", "contact stiffness must be >= 0 N/m", self.k_l)?;
+        check(self.k_t >= 0.0, "k_t", "contact stiffness must be >= 0 N/m", self.k_t)?;
+        check(self.k_l + self.k_t > 0.0, "k_l", "k_l + k_t must be > 0 (the pad needs a contact)", self.k_l)?;
+        check(self.k_g > 0.0, "k_g", "guide stiffness must be > 0 N/m", self.k_g)?;
+        check(self.f_n >= 0.0, "f_n", "normal load must be >= 0 N", self.f_n)?;
+        check(
+            self.beta >= 0.0 && self.beta <= 2.0 * self.l,
+            "beta",
+            "load position must lie on the pad: 0 <= beta <= 2 l",
+            self.beta,
+        )?;
+        check(self.v > 0.0, "v", "band speed must be > 0 m/s", self.v)?;
+        check(self.mu_s >= 0.0, "mu_s", "static friction coefficient must be >= 0", self.mu_s)?;
+        check(self.mu_k >= 0.0, "mu_k", "kinetic friction coefficient must be >= 0", self.mu_k)?;
+        check(self.mu_k <= self.mu_s, "mu_k", "kinetic friction must not exceed static: mu_k <= mu_s", self.mu_k)?;
+        check(self.c_x >= 0.0, "c_x", "damping must be >= 0 N s/m", self.c_x)?;
+        check(self.c_phi >= 0.0, "c_phi", "damping must be >= 0 N m s/rad", self.c_phi)?;
+        check(self.dt > 0.0, "dt", "time step must be > 0 s", self.dt)?;
+        check(self.duration > 0.0, "duration", "run length must be > 0 s", self.duration)?;
+        check(self.dt <= self.duration, "dt", "time step must not exceed the run length", self.dt)?;
+        check(
+            self.duration / self.dt <= 1e10,
+            "dt",
+            "run needs more than 1e10 steps: raise dt or shorten the run",
+            self.dt,
+        )?;
+        check(
+            self.stats_from >= 0.0 && self.stats_from < self.duration,
+            "stats_from",
+            "statistics window start must satisfy 0 <= stats_from < duration",
+            self.stats_from,
+        )?;
+        Ok(())
+    }
+}

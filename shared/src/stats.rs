@@ -1,0 +1,172 @@
+//! Statistics of a run over a time window, taken from the continuous motion.
+//!
+//! Peak-to-peak values are the true extremes of the exact solution, not of the samples: at
+//! each segment the derivative of every quantity is tested at both ends, and a sign change is
+//! resolved by binary lifting on the segment's dyadic grid (2^-L of a substep). So the result
+//! does not depend on the step size, beyond the step's resolution of the transitions.
+//!
+//! - stick fraction: time in stick / window length (from the exact transition times);
+//! - stick-slip frequency: 1 / mean interval between successive stick-to-slip transitions in
+//!   the window (0 with fewer than two).
+
+use crate::exact::{Observer, Segment, Transition};
+use crate::propagator::{apply, Propagator};
+use crate::real::Real;
+use crate::stickslip::Regime;
+
+/// Window statistics of one run (SI units).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RunStats {
+    /// [min, max] of x [m], x' [m/s], phi [rad], phi' [rad/s].
+    pub min: [f64; 4],
+    pub max: [f64; 4],
+    pub stick_fraction: f64,
+    pub stick_slip_hz: f64,
+    /// Stick-to-slip transitions in the window.
+    pub slip_onsets: u64,
+    /// All transitions in the window.
+    pub transitions: u64,
+    /// Window length actually covered [s].
+    pub window_s: f64,
+}
+
+impl RunStats {
+    /// Peak-to-peak of quantity `i` (0 x, 1 x', 2 phi, 3 phi').
+    pub fn pp(&self, i: usize) -> f64 {
+        self.max[i] - self.min[i]
+    }
+}
+
+/// Collects [`RunStats`] from the segments of steps `from_step` onward.
+#[derive(Clone, Debug)]
+pub struct StatsObserver<T: Real> {
+    from_step: u64,
+    t_from: f64,
+    min: [T; 4],
+    max: [T; 4],
+    seen: bool,
+    stick_s: f64,
+    window_s: f64,
+    first_onset: f64,
+    last_onset: f64,
+    onsets: u64,
+    transitions: u64,
+}
+
+impl<T: Real> StatsObserver<T> {
+    /// Window from the step boundary nearest `t_from` [s] (steps of `dt`) to the end of the run.
+    pub fn new(t_from: f64, dt: f64) -> Self {
+        let from_step = libm::round(t_from / dt) as u64;
+        StatsObserver {
+            from_step,
+            t_from: from_step as f64 * dt,
+            min: [T::zero(); 4],
+            max: [T::zero(); 4],
+            seen: false,
+            stick_s: 0.0,
+            window_s: 0.0,
+            first_onset: 0.0,
+            last_onset: 0.0,
+            onsets: 0,
+            transitions: 0,
+        }
+    }
+
+    /// Start of the window actually used [s].
+    pub fn window_start(&self) -> f64 {
+        self.t_from
+    }
+
+    fn include(&mut self, z: &[T; 4]) {
+        if !self.seen {
+            self.min = *z;
+            self.max = *z;
+            self.seen = true;
+            return;
+        }
+        for i in 0..4 {
+            self.min[i] = self.min[i].min(z[i]);
+            self.max[i] = self.max[i].max(z[i]);
+        }
+    }
+
+    pub fn finish(&self) -> RunStats {
+        let f = |a: [T; 4]| [a[0].to_f64(), a[1].to_f64(), a[2].to_f64(), a[3].to_f64()];
+        let hz = if self.onsets >= 2 && self.last_onset > self.first_onset {
+            (self.onsets - 1) as f64 / (self.last_onset - self.first_onset)
+        } else {
+            0.0
+        };
+        RunStats {
+            min: f(self.min),
+            max: f(self.max),
+            stick_fraction: if self.window_s > 0.0 { self.stick_s / self.window_s } else { 0.0 },
+            stick_slip_hz: hz,
+            slip_onsets: self.onsets,
+            transitions: self.transitions,
+            window_s: self.window_s,
+        }
+    }
+}
+
+/// The derivative of quantity `i` at `z`: x' for x, x'' for x', phi' for phi, phi'' for phi'.
+#[inline]
+fn derivative<T: Real>(prop: &Propagator<T>, regime: Regime, z: &[T; 4], i: usize) -> T {
+    match i {
+        0 => z[1],
+        1 => prop.accelerations(regime, z).0,
+        2 => z[3],
+        _ => prop.accelerations(regime, z).1,
+    }
+}
+
+impl<T: Real> Observer<T> for StatsObserver<T> {
+    fn segment(&mut self, seg: &Segment<T>, prop: &Propagator<T>) {
+        if seg.step < self.from_step {
+            return;
+        }
+        let len = (seg.p1 - seg.p0) as f64 / Propagator::<T>::UNITS as f64 * prop.h_sub;
+        self.window_s += len;
+        if seg.regime == Regime::Stick {
+            self.stick_s += len;
+        }
+        self.include(&seg.z0);
+        self.include(&seg.z1);
+        for i in 0..4 {
+            let d0 = derivative(prop, seg.regime, &seg.z0, i);
+            let d1 = derivative(prop, seg.regime, &seg.z1, i);
+            let zero = T::zero();
+            let rising = d0 > zero && d1 < zero;
+            let falling = d0 < zero && d1 > zero;
+            if !(rising || falling) || seg.p1 - seg.p0 < 2 {
+                continue;
+            }
+            let positive = d0 > zero;
+            let (_, zp) = prop.lift(seg.regime, &seg.z0, seg.p0, seg.p1, |c| {
+                let d = derivative(prop, seg.regime, c, i);
+                if positive {
+                    d > zero
+                } else {
+                    d < zero
+                }
+            });
+            let zq = apply(prop.flow(seg.regime, 0), &zp);
+            self.include(&zp);
+            self.include(&zq);
+        }
+    }
+
+    fn transition(&mut self, tr: &Transition<T>) {
+        if tr.t < self.t_from {
+            return;
+        }
+        self.transitions += 1;
+        if tr.from == Regime::Stick {
+            if self.onsets == 0 {
+                self.first_onset = tr.t;
+            }
+            self.last_onset = tr.t;
+            self.onsets += 1;
+        }
+    }
+}
