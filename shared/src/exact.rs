@@ -15,6 +15,8 @@
 //! is kept as an integer step count and formed in f64 only when reported.
 
 use crate::coefficients::Coefficients;
+use crate::halt::Limits;
+pub use crate::halt::Halt;
 use crate::propagator::{apply, Propagator};
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
@@ -25,10 +27,6 @@ use crate::stickslip::{Guards, Regime};
 pub const TRANSITIONS_PER_STEP: usize = 8;
 /// More transitions than this inside one substep halt the run ([`Halt::TransitionStorm`]).
 pub const MAX_TRANSITIONS_PER_SUBSTEP: u32 = 64;
-/// |phi| beyond this is taken as divergence [rad].
-pub const PHI_LIMIT: f64 = 0.5;
-/// |x| beyond this is taken as divergence [m].
-pub const X_LIMIT: f64 = 1.0;
 
 /// The pad's state: translation and rotation with their rates (SI).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -89,32 +87,6 @@ pub trait Observer<T: Real> {
 /// The observer that looks at nothing.
 impl<T: Real> Observer<T> for () {}
 
-/// Why a run stopped early. Never a NaN in the output: the step that would produce one stops.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Halt {
-    /// A state value became NaN or infinite at time `t` [s].
-    NonFinite { t: f64 },
-    /// phi or x left the plausible range at time `t`, in `regime`, whose rotational stiffness
-    /// margin K_eff [N m/rad] is given: <= 0 is the model's own divergence (sprag).
-    Diverged { t: f64, regime: Regime, stiffness_margin: f64 },
-    /// The normal force N = c_N phi [N] went negative at time `t`: the pad lifts off and the
-    /// model is outside its validity.
-    ContactLoss { t: f64, n: f64 },
-    /// More than [`MAX_TRANSITIONS_PER_SUBSTEP`] transitions inside one substep at time `t`.
-    TransitionStorm { t: f64 },
-}
-
-impl Halt {
-    pub fn time(&self) -> f64 {
-        match *self {
-            Halt::NonFinite { t }
-            | Halt::Diverged { t, .. }
-            | Halt::ContactLoss { t, .. }
-            | Halt::TransitionStorm { t } => t,
-        }
-    }
-}
-
 /// Constants of the no-transition fast path, in `T`.
 #[derive(Clone, Copy, Debug)]
 struct FastPath<T> {
@@ -127,7 +99,6 @@ struct FastPath<T> {
     mu_s_c_n: T,
     /// mu_s N_0 for the 1-DOF scene (N constant).
     mu_s_n0: T,
-    phi_floor: T,
     c_n: T,
     n0: T,
     mu_k: T,
@@ -141,7 +112,7 @@ pub struct ExactStepper<T: Real> {
     fast: FastPath<T>,
     rotation: bool,
     dt: f64,
-    margins: [f64; 3],
+    limits: Limits<T>,
     z: [T; 4],
     regime: Regime,
     step: u64,
@@ -166,11 +137,7 @@ impl<T: Real> ExactStepper<T> {
         let guards = Guards::<T>::new(scene, &co);
         let t = T::from_f64;
         let a = Self::stick_fold(&prop, scene.v);
-        let margins = [
-            co.k_rot,
-            co.effective_rotational_stiffness(scene, 1.0, scene.mu_k),
-            co.effective_rotational_stiffness(scene, -1.0, scene.mu_k),
-        ];
+        let limits = Limits::new(scene, &co);
         let fast = FastPath {
             stick_rot: a,
             v: t(scene.v),
@@ -178,7 +145,6 @@ impl<T: Real> ExactStepper<T> {
             c_x_v: t(scene.c_x * scene.v),
             mu_s_c_n: t(scene.mu_s * co.c_n),
             mu_s_n0: t(scene.mu_s * co.n0),
-            phi_floor: t(-(1e-6 * libm::fabs(co.phi0) + 1e-12)),
             c_n: t(co.c_n),
             n0: t(co.n0),
             mu_k: t(scene.mu_k),
@@ -192,7 +158,7 @@ impl<T: Real> ExactStepper<T> {
             fast,
             rotation: scene.rotation,
             dt: scene.dt,
-            margins,
+            limits,
             z,
             regime: Regime::Stick,
             step: 0,
@@ -470,22 +436,6 @@ impl<T: Real> ExactStepper<T> {
     /// End-of-substep checks: finite, in range, in contact.
     #[inline(always)]
     fn check(&self, sub: u32) -> Result<(), Halt> {
-        let z = &self.z;
-        let finite = z[0].is_finite() && z[1].is_finite() && z[2].is_finite() && z[3].is_finite();
-        if !finite {
-            return Err(Halt::NonFinite { t: self.time_at(sub, Propagator::<T>::UNITS) });
-        }
-        if z[0].abs() > T::from_f64(X_LIMIT) || z[2].abs() > T::from_f64(PHI_LIMIT) {
-            return Err(Halt::Diverged {
-                t: self.time_at(sub, Propagator::<T>::UNITS),
-                regime: self.regime,
-                stiffness_margin: self.margins[self.regime.index()],
-            });
-        }
-        if self.rotation && z[2] < self.fast.phi_floor {
-            let n = self.fast.c_n.to_f64() * z[2].to_f64();
-            return Err(Halt::ContactLoss { t: self.time_at(sub, Propagator::<T>::UNITS), n });
-        }
-        Ok(())
+        self.limits.check(&self.z, self.regime, || self.time_at(sub, Propagator::<T>::UNITS))
     }
 }

@@ -15,9 +15,12 @@
 #![forbid(unsafe_code)]
 
 pub mod coefficients;
+pub mod digest;
 pub mod exact;
 pub mod friction;
+pub mod halt;
 pub mod linalg;
+pub mod methods;
 pub mod propagator;
 pub mod real;
 pub mod scene;

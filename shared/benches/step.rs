@@ -1,0 +1,72 @@
+//! One step of each method, f32 and f64, on the 2-DOF pull_center scene at the rig's rate
+//! (1/25600 s) and on the 1-DOF oracle: `cargo bench -p stickslip-model --bench step`.
+//! The steppers run on continuously, so the measured mean includes transitions at their
+//! natural rate (about 90 per second of simulated time, one per 290 steps); a run that
+//! halts (explicit Euler loses contact on pull_center) is restarted, outside the timing.
+
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
+use std::hint::black_box;
+use stickslip_model::methods::{AnyMethod, Method, MethodKind};
+use stickslip_model::{Caliper, Coefficients, ExactStepper, Real, Scene};
+
+fn oracle_1dof() -> Scene {
+    let mut s = Scene::case(Caliper::Push, 0.040);
+    s.rotation = false;
+    s.m = 1.0;
+    s.k_g = 100.0;
+    s.v = 0.05;
+    s.mu_s = 0.6;
+    s.mu_k = 0.4;
+    let co = Coefficients::of(&s);
+    s.f_n = 10.0 * co.k_rot / (co.c_n * co.a_n);
+    s
+}
+
+fn bench_method<T: Real>(c: &mut Criterion, scene_name: &str, scene: &Scene, kind: MethodKind) {
+    let id = format!("step/{scene_name}/{}/{}", kind.name(), T::NAME);
+    c.bench_function(&id, |b| {
+        b.iter_batched_ref(
+            || AnyMethod::<T>::new(kind, scene).unwrap(),
+            |m| {
+                for _ in 0..1000 {
+                    if black_box(m.step()).is_err() {
+                        break;
+                    }
+                }
+            },
+            BatchSize::LargeInput,
+        )
+    });
+}
+
+fn exact_direct<T: Real>(c: &mut Criterion, scene_name: &str, scene: &Scene) {
+    // the exact stepper without the enum dispatch: the figure the bound is about
+    let id = format!("exact_direct_1000_steps/{scene_name}/{}", T::NAME);
+    let mut st = ExactStepper::<T>::new(scene).unwrap();
+    c.bench_function(&id, |b| {
+        b.iter(|| {
+            for _ in 0..1000 {
+                black_box(st.step()).unwrap();
+            }
+        })
+    });
+}
+
+fn benches(c: &mut Criterion) {
+    let pull = Scene::case(Caliper::Pull, 0.040);
+    let oracle = oracle_1dof();
+    exact_direct::<f64>(c, "pull_center", &pull);
+    exact_direct::<f32>(c, "pull_center", &pull);
+    exact_direct::<f64>(c, "oracle_1dof", &oracle);
+    for kind in MethodKind::ALL {
+        bench_method::<f64>(c, "pull_center", &pull, kind);
+        bench_method::<f32>(c, "pull_center", &pull, kind);
+    }
+}
+
+criterion_group! {
+    name = step;
+    config = Criterion::default().sample_size(20).warm_up_time(std::time::Duration::from_millis(300)).measurement_time(std::time::Duration::from_secs(1));
+    targets = benches
+}
+criterion_main!(step);

@@ -1,0 +1,86 @@
+//! Why a run stops early, and the checks that stop it: a finite state, a plausible range, and
+//! a closed contact. No NaN or infinity ever leaves a stepper: the step that would produce one
+//! stops the run with a classified [`Halt`] instead.
+
+use crate::coefficients::Coefficients;
+use crate::real::Real;
+use crate::scene::Scene;
+use crate::stickslip::Regime;
+
+/// |phi| beyond this is taken as divergence [rad].
+pub const PHI_LIMIT: f64 = 0.5;
+/// |x| beyond this is taken as divergence [m].
+pub const X_LIMIT: f64 = 1.0;
+
+/// Why a run stopped early. Never a NaN in the output: the step that would produce one stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Halt {
+    /// A state value became NaN or infinite at time `t` [s].
+    NonFinite { t: f64 },
+    /// phi or x left the plausible range at time `t`, in `regime`, whose rotational stiffness
+    /// margin K_eff [N m/rad] is given: <= 0 is the model's own divergence (sprag).
+    Diverged { t: f64, regime: Regime, stiffness_margin: f64 },
+    /// The normal force N = c_N phi [N] went negative at time `t`: the pad lifts off and the
+    /// model is outside its validity.
+    ContactLoss { t: f64, n: f64 },
+    /// More than [`MAX_TRANSITIONS_PER_SUBSTEP`] transitions inside one substep at time `t`.
+    TransitionStorm { t: f64 },
+}
+
+impl Halt {
+    pub fn time(&self) -> f64 {
+        match *self {
+            Halt::NonFinite { t }
+            | Halt::Diverged { t, .. }
+            | Halt::ContactLoss { t, .. }
+            | Halt::TransitionStorm { t } => t,
+        }
+    }
+}
+
+/// The end-of-step checks of every stepper, with the scene's constants in `T`.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits<T> {
+    /// Rotational stiffness margin of each regime, K_eff [N m/rad] (index: `Regime::index`).
+    pub margins: [f64; 3],
+    rotation: bool,
+    phi_floor: T,
+    x_limit: T,
+    phi_limit: T,
+    c_n: f64,
+}
+
+impl<T: Real> Limits<T> {
+    pub fn new(scene: &Scene, co: &Coefficients) -> Self {
+        Limits {
+            margins: [
+                co.k_rot,
+                co.effective_rotational_stiffness(scene, 1.0, scene.mu_k),
+                co.effective_rotational_stiffness(scene, -1.0, scene.mu_k),
+            ],
+            rotation: scene.rotation,
+            // a rounding-level negative phi with no load is not a lift-off
+            phi_floor: T::from_f64(-(1e-6 * libm::fabs(co.phi0) + 1e-12)),
+            x_limit: T::from_f64(X_LIMIT),
+            phi_limit: T::from_f64(PHI_LIMIT),
+            c_n: co.c_n,
+        }
+    }
+
+    /// Checks state `z` = [x, x', phi, phi'] reached in `regime`; `t` gives the time if a
+    /// halt must be reported.
+    #[inline(always)]
+    pub fn check(&self, z: &[T; 4], regime: Regime, t: impl Fn() -> f64) -> Result<(), Halt> {
+        let finite = z[0].is_finite() && z[1].is_finite() && z[2].is_finite() && z[3].is_finite();
+        if !finite {
+            return Err(Halt::NonFinite { t: t() });
+        }
+        if z[0].abs() > self.x_limit || z[2].abs() > self.phi_limit {
+            return Err(Halt::Diverged { t: t(), regime, stiffness_margin: self.margins[regime.index()] });
+        }
+        if self.rotation && z[2] < self.phi_floor {
+            return Err(Halt::ContactLoss { t: t(), n: self.c_n * z[2].to_f64() });
+        }
+        Ok(())
+    }
+}
