@@ -1,11 +1,12 @@
 //! An event-driven reference simulation of the model, independent of `stickslip_model`'s
 //! stepper: its own right-hand side (written from docs/model.md, not from the crate's
 //! matrices), the adaptive DOP853 integrator of the `ode_solvers` crate (Hairer-Wanner,
-//! order 8, here at rtol = atol-scaled 1e-12), and event location by bisection on re-integrated
-//! sub-intervals to 1e-13 s. It takes only the scene's data from the crate.
+//! order 8 with step-size control; default rtol 1e-12, atol 1e-16), and event location by
+//! bisection on re-integrated sub-intervals (default to 1e-13 s). It takes only the scene's
+//! data from the crate.
 //!
-//! It is slow (tens of milliseconds per simulated second) and allocates; it is the yardstick,
-//! not the product.
+//! It is slow (tens of milliseconds per simulated second) and allocates; it is the yardstick
+//! of the tests and the adaptive baseline of `stickslip accuracy`, not the product.
 
 use ode_solvers::dop853::Dop853;
 use ode_solvers::{OutputType, System, Vector4};
@@ -113,14 +114,35 @@ impl System<f64, Y> for Rhs {
     }
 }
 
-const RTOL: f64 = 1e-12;
-const ATOL: f64 = 1e-16;
-const T_TOL: f64 = 1e-13;
+/// Tolerances of a reference run.
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerances {
+    /// Relative tolerance of DOP853's step-size control.
+    pub rtol: f64,
+    /// Absolute tolerance [state units: m, m/s, rad, rad/s].
+    pub atol: f64,
+    /// Width to which transitions and extrema are bisected [s].
+    pub t_tol: f64,
+}
 
-/// Step-end states of one DOP853 run in `mode` from (t0, y0) to t1.
-fn integrate(p: Phys, mode: Mode, t0: f64, y0: Y, t1: f64, h_max: f64) -> (Vec<f64>, Vec<Y>) {
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances { rtol: 1e-12, atol: 1e-16, t_tol: 1e-13 }
+    }
+}
+
+impl Tolerances {
+    /// A looser run for the work-precision baseline: atol scaled with rtol, transitions to
+    /// min(1e-13 s, rtol x 1e-3 s).
+    pub fn loose(rtol: f64) -> Self {
+        Tolerances { rtol, atol: rtol * 1e-4, t_tol: (rtol * 1e-3).max(1e-13) }
+    }
+}
+
+/// Step-end states of one DOP853 run in `mode` from (t0, y0) to t1, and the accepted steps.
+fn integrate(p: Phys, mode: Mode, t0: f64, y0: Y, t1: f64, h_max: f64, tol: Tolerances) -> Result<(Vec<f64>, Vec<Y>, u64), String> {
     if t1 <= t0 {
-        return (vec![t0], vec![y0]);
+        return Ok((vec![t0], vec![y0], 0));
     }
     let mut solver = Dop853::from_param(
         Rhs { p, mode },
@@ -128,8 +150,8 @@ fn integrate(p: Phys, mode: Mode, t0: f64, y0: Y, t1: f64, h_max: f64) -> (Vec<f
         t1,
         t1 - t0,
         y0,
-        RTOL,
-        ATOL,
+        tol.rtol,
+        tol.atol,
         0.9,
         0.0,
         0.333,
@@ -140,13 +162,19 @@ fn integrate(p: Phys, mode: Mode, t0: f64, y0: Y, t1: f64, h_max: f64) -> (Vec<f
         1000,
         OutputType::Sparse,
     );
-    solver.integrate().expect("DOP853 failed in the reference simulation");
-    (solver.x_out().clone(), solver.y_out().clone())
+    let stats = solver
+        .integrate()
+        .map_err(|e| format!("reference DOP853 failed from t = {t0} s in {mode:?}: {e:?}"))?;
+    let (xs, ys) = (solver.x_out().clone(), solver.y_out().clone());
+    if ys.iter().any(|y| !y.iter().all(|v| v.is_finite())) {
+        return Err(format!("reference DOP853 produced a non-finite state after t = {t0} s in {mode:?}"));
+    }
+    Ok((xs, ys, stats.accepted_steps as u64))
 }
 
-fn state_at(p: Phys, mode: Mode, t0: f64, y0: Y, t: f64, h_max: f64) -> Y {
-    let (_, ys) = integrate(p, mode, t0, y0, t, h_max);
-    *ys.last().unwrap()
+fn state_at(p: Phys, mode: Mode, t0: f64, y0: Y, t: f64, h_max: f64, tol: Tolerances) -> Result<Y, String> {
+    let (_, ys, _) = integrate(p, mode, t0, y0, t, h_max, tol)?;
+    Ok(*ys.last().unwrap())
 }
 
 /// Statistics of the window, as in the product's contract.
@@ -165,15 +193,26 @@ impl RefStats {
     }
 }
 
-/// A reference run: the transitions (time, from, to) and the window statistics.
+/// A reference run: the transitions (time, from, to), the window statistics (when asked for),
+/// the final state and the work done.
 pub struct RefRun {
     pub transitions: Vec<(f64, Mode, Mode)>,
     pub stats: RefStats,
+    /// [x, x', phi, phi'] at `scene.duration`.
+    pub final_state: [f64; 4],
+    /// DOP853 steps accepted on the main path (not counting the bisections' re-integrations).
+    pub accepted_steps: u64,
 }
 
-/// Simulates `scene` from the default initial state to `scene.duration`, window statistics
-/// over [scene.stats_from, scene.duration].
+/// Simulates `scene` from the default initial state to `scene.duration` at the default (tight)
+/// tolerances, window statistics over [scene.stats_from, scene.duration].
 pub fn simulate(scene: &Scene) -> RefRun {
+    simulate_with(scene, Tolerances::default(), true).expect("the reference run failed")
+}
+
+/// As [`simulate`], with given tolerances; `with_stats = false` skips the extremum search
+/// (the window's extrema stay zero) for timing the trajectory alone.
+pub fn simulate_with(scene: &Scene, tol: Tolerances, with_stats: bool) -> Result<RefRun, String> {
     let p = Phys::of(scene);
     // the fastest period bounds the step so no guard or extremum is stepped over
     let omega_max = (p.kg / p.m).sqrt().max(if p.rotation {
@@ -194,6 +233,7 @@ pub fn simulate(scene: &Scene) -> RefRun {
     let mut ext: Option<([f64; 4], [f64; 4])> = None;
     let mut stick_time = 0.0;
     let mut onsets: Vec<f64> = Vec::new();
+    let mut accepted = 0u64;
     let include = |ext: &mut Option<([f64; 4], [f64; 4])>, y: &Y| {
         let v = [y[0], y[1], y[2], y[3]];
         match ext {
@@ -209,7 +249,8 @@ pub fn simulate(scene: &Scene) -> RefRun {
     while t < t_end {
         // next stop: the window start (if ahead) or the end
         let stop = if t < t_win { t_win } else { t_end };
-        let (ts, ys) = integrate(p, mode, t, y, stop, h_max);
+        let (ts, ys, acc) = integrate(p, mode, t, y, stop, h_max, tol)?;
+        accepted += acc;
         // first step end where the guard fired (never at the segment's own start)
         let fired = (1..ts.len()).find(|&k| p.guard(mode, &ys[k]) >= 0.0);
         let (seg_end, y_end, event) = match fired {
@@ -219,9 +260,9 @@ pub fn simulate(scene: &Scene) -> RefRun {
                 let (mut lo, mut hi) = (ts[k - 1], ts[k]);
                 let y_lo0 = ys[k - 1];
                 let mut y_hi = ys[k];
-                while hi - lo > T_TOL {
+                while hi - lo > tol.t_tol {
                     let mid = 0.5 * (lo + hi);
-                    let ym = state_at(p, mode, ts[k - 1], y_lo0, mid, h_max);
+                    let ym = state_at(p, mode, ts[k - 1], y_lo0, mid, h_max, tol)?;
                     if p.guard(mode, &ym) >= 0.0 {
                         hi = mid;
                         y_hi = ym;
@@ -237,7 +278,7 @@ pub fn simulate(scene: &Scene) -> RefRun {
             if mode == Mode::Stick {
                 stick_time += seg_end - t;
             }
-            let last = fired.unwrap_or(ts.len() - 1);
+            let last = if with_stats { fired.unwrap_or(ts.len() - 1) } else { 0 };
             include(&mut ext, &y);
             include(&mut ext, &y_end);
             for k in 1..=last {
@@ -253,9 +294,9 @@ pub fn simulate(scene: &Scene) -> RefRun {
                         let (mut lo, mut hi) = (ts[k - 1], hi_t);
                         let sign_a = da[c] > 0.0;
                         let mut best = y_a;
-                        while hi - lo > T_TOL {
+                        while hi - lo > tol.t_tol {
                             let mid = 0.5 * (lo + hi);
-                            let ym = state_at(p, mode, ts[k - 1], y_a, mid, h_max);
+                            let ym = state_at(p, mode, ts[k - 1], y_a, mid, h_max, tol)?;
                             if (p.rhs(mode, &ym)[c] > 0.0) == sign_a {
                                 lo = mid;
                             } else {
@@ -309,7 +350,9 @@ pub fn simulate(scene: &Scene) -> RefRun {
     } else {
         0.0
     };
-    RefRun {
+    Ok(RefRun {
+        final_state: [y[0], y[1], y[2], y[3]],
+        accepted_steps: accepted,
         transitions,
         stats: RefStats {
             min,
@@ -318,5 +361,5 @@ pub fn simulate(scene: &Scene) -> RefRun {
             stick_slip_hz: hz,
             slip_onsets: onsets.len(),
         },
-    }
+    })
 }
