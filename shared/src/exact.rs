@@ -253,9 +253,23 @@ impl<T: Real> ExactStepper<T> {
         }
     }
 
-    /// One step of `dt`, with no observer.
+    /// One step of `dt`, with no observer. The common step (one substep, no guard fired, the
+    /// state in range) takes a short path; anything else goes through [`Self::step_observed`].
     #[inline]
     pub fn step(&mut self) -> Result<usize, Halt> {
+        if self.prop.n_sub == 1 && self.halted.is_none() {
+            let regime = self.regime;
+            let z1 = self.fast_substep(regime, &self.z);
+            if !self.fires(regime, &z1) && self.limits.in_range(&z1) {
+                self.z = z1;
+                if regime == Regime::Stick {
+                    self.anchor_subs += 1;
+                }
+                self.step += 1;
+                self.n_reported = 0;
+                return Ok(0);
+            }
+        }
         self.step_observed(&mut ())
     }
 

@@ -11,13 +11,17 @@ use crate::stickslip::Regime;
 pub const PHI_LIMIT: f64 = 0.5;
 /// |x| beyond this is taken as divergence [m].
 pub const X_LIMIT: f64 = 1.0;
+/// |x'| beyond this is taken as divergence [m/s].
+pub const XDOT_LIMIT: f64 = 1e3;
+/// |phi'| beyond this is taken as divergence [rad/s].
+pub const PHIDOT_LIMIT: f64 = 1e7;
 
 /// Why a run stopped early. Never a NaN in the output: the step that would produce one stops.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Halt {
     /// A state value became NaN or infinite at time `t` [s].
     NonFinite { t: f64 },
-    /// phi or x left the plausible range at time `t`, in `regime`, whose rotational stiffness
+    /// x, phi or their rates left the plausible range at time `t`, in `regime`, whose rotational stiffness
     /// margin K_eff [N m/rad] is given: <= 0 is the model's own divergence (sprag).
     Diverged { t: f64, regime: Regime, stiffness_margin: f64 },
     /// The normal force N = c_N phi [N] went negative at time `t`: the pad lifts off and the
@@ -46,7 +50,9 @@ pub struct Limits<T> {
     rotation: bool,
     phi_floor: T,
     x_limit: T,
+    xdot_limit: T,
     phi_limit: T,
+    phidot_limit: T,
     c_n: f64,
 }
 
@@ -62,25 +68,43 @@ impl<T: Real> Limits<T> {
             // a rounding-level negative phi with no load is not a lift-off
             phi_floor: T::from_f64(-(1e-6 * libm::fabs(co.phi0) + 1e-12)),
             x_limit: T::from_f64(X_LIMIT),
+            xdot_limit: T::from_f64(XDOT_LIMIT),
             phi_limit: T::from_f64(PHI_LIMIT),
+            phidot_limit: T::from_f64(PHIDOT_LIMIT),
             c_n: co.c_n,
         }
     }
 
     /// Checks state `z` = [x, x', phi, phi'] reached in `regime`; `t` gives the time if a
-    /// halt must be reported.
+    /// halt must be reported. The common case (all in range) is one branch: the comparisons are
+    /// combined without short-circuit, and a NaN fails every one of them.
     #[inline(always)]
     pub fn check(&self, z: &[T; 4], regime: Regime, t: impl Fn() -> f64) -> Result<(), Halt> {
+        if self.in_range(z) {
+            return Ok(());
+        }
+        self.classify(z, regime, t())
+    }
+
+    /// Whether `z` passes every check (false for any NaN).
+    #[inline(always)]
+    pub fn in_range(&self, z: &[T; 4]) -> bool {
+        (z[0].abs() <= self.x_limit)
+            & (z[1].abs() <= self.xdot_limit)
+            & (z[2] >= self.phi_floor)
+            & (z[2] <= self.phi_limit)
+            & (z[3].abs() <= self.phidot_limit)
+    }
+
+    #[cold]
+    fn classify(&self, z: &[T; 4], regime: Regime, t: f64) -> Result<(), Halt> {
         let finite = z[0].is_finite() && z[1].is_finite() && z[2].is_finite() && z[3].is_finite();
         if !finite {
-            return Err(Halt::NonFinite { t: t() });
-        }
-        if z[0].abs() > self.x_limit || z[2].abs() > self.phi_limit {
-            return Err(Halt::Diverged { t: t(), regime, stiffness_margin: self.margins[regime.index()] });
+            return Err(Halt::NonFinite { t });
         }
         if self.rotation && z[2] < self.phi_floor {
-            return Err(Halt::ContactLoss { t: t(), n: self.c_n * z[2].to_f64() });
+            return Err(Halt::ContactLoss { t, n: self.c_n * z[2].to_f64() });
         }
-        Ok(())
+        Err(Halt::Diverged { t, regime, stiffness_margin: self.margins[regime.index()] })
     }
 }
