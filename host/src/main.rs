@@ -1,1 +1,88 @@
-fn main(){}
+//! `stickslip`: the desktop tool of the stick-slip model (see `stickslip --help`).
+
+mod builtin;
+mod cli;
+mod commands;
+mod cycles;
+mod error;
+mod plots;
+mod report;
+mod run;
+mod scene_file;
+mod scene_source;
+mod series;
+
+use std::io::Write;
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use cli::{Cli, Command, RunOptions, SimulateArgs};
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            // One line: clap's message up to its first blank line (it starts with "error: "),
+            // without the usage block.
+            let text = e.render().to_string();
+            let msg: Vec<&str> = text
+                .lines()
+                .skip_while(|l| l.trim().is_empty())
+                .take_while(|l| !l.trim().is_empty())
+                .map(str::trim)
+                .collect();
+            let msg = if msg.is_empty() {
+                "error: bad command line".to_string()
+            } else {
+                msg.join(" ")
+            };
+            eprintln!("{msg} (see --help)");
+            return ExitCode::from(2);
+        }
+    };
+    let command = cli.command.unwrap_or_else(|| {
+        Command::Simulate(SimulateArgs {
+            scene: "push_center".into(),
+            csv: None,
+            json: false,
+            run: RunOptions {
+                dt: None,
+                duration: None,
+                stats_from: None,
+                precision: run::Precision::F64,
+            },
+        })
+    });
+    let result = match &command {
+        Command::Simulate(a) => commands::simulate(a),
+        Command::Cases(a) => commands::cases(a),
+        Command::Scenes(a) => commands::scenes(a),
+    };
+    match result {
+        Ok(out) => {
+            let mut stdout = std::io::stdout().lock();
+            match stdout
+                .write_all(out.as_bytes())
+                .and_then(|_| stdout.flush())
+            {
+                Ok(()) => ExitCode::SUCCESS,
+                // A closed pipe (`| head`) is not an error worth a message.
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: cannot write to stdout: {e}");
+                    ExitCode::from(1)
+                }
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code())
+        }
+    }
+}

@@ -1,0 +1,194 @@
+//! The three commands. Each returns what goes to stdout; errors go back to `main`.
+
+use std::path::Path;
+
+use crate::builtin;
+use crate::cli::{CasesArgs, RunOptions, ScenesAction, ScenesArgs, SimulateArgs};
+use crate::error::{HostError, Result};
+use crate::plots::{self, FigureContext, Line};
+use crate::report::{self, CaseJson, CasesJson, SimulateJson};
+use crate::run::{self, Precision, RunReport};
+use crate::scene_file;
+use crate::scene_source::{self, NamedScene, Overrides};
+use crate::series::{CsvSink, NoSink, Recorder};
+
+fn overrides(o: &RunOptions) -> Overrides {
+    Overrides {
+        dt: o.dt,
+        duration: o.duration,
+        stats_from: o.stats_from,
+    }
+}
+
+fn to_json<T: serde::Serialize>(v: &T) -> String {
+    // Serializing plain structs of numbers and strings cannot fail; no NaN reaches here
+    // (non-finite values are None, printed as null).
+    let mut s =
+        serde_json::to_string_pretty(v).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    s.push('\n');
+    s
+}
+
+pub fn simulate(a: &SimulateArgs) -> Result<String> {
+    let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &overrides(&a.run))?;
+    let precision = a.run.precision;
+    let report = match &a.csv {
+        Some(path) => {
+            let mut sink = CsvSink::create(path, precision == Precision::F32)?;
+            let r = run::run(&ns.scene, precision, &mut sink)?;
+            sink.finish()?;
+            r
+        }
+        None => run::run(&ns.scene, precision, &mut NoSink)?,
+    };
+    Ok(if a.json {
+        to_json(&SimulateJson::new(&ns, &report))
+    } else {
+        report::summary(&ns, &report)
+    })
+}
+
+/// The plotted window [s]: checked against the run length.
+fn plot_window(a: &CasesArgs, ns: &NamedScene) -> Result<(f64, f64)> {
+    let run_s = run::planned_steps(&ns.scene) as f64 * ns.scene.dt;
+    let from = a.plot_from.unwrap_or(ns.scene.stats_from);
+    let bad = |opt: &str, v: f64, rule: String| Err(HostError::Input(format!("{opt} {v}: {rule}")));
+    if !(from.is_finite() && from >= 0.0 && from < run_s) {
+        return bad(
+            "--plot-from",
+            from,
+            format!("plot start must satisfy 0 <= start < run length {run_s} s"),
+        );
+    }
+    let to = a.plot_to.unwrap_or((from + 0.1).min(run_s));
+    if !(to.is_finite() && to > from && to <= run_s * (1.0 + 1e-12)) {
+        return bad(
+            "--plot-to",
+            to,
+            format!("plot end must satisfy plot start {from} s < end <= run length {run_s} s"),
+        );
+    }
+    Ok((from, to))
+}
+
+pub fn cases(a: &CasesArgs) -> Result<String> {
+    let ov = overrides(&a.run);
+    let scenes = builtin::cases()
+        .into_iter()
+        .map(|b| scene_source::prepare(NamedScene::from_builtin(b), &ov))
+        .collect::<Result<Vec<_>>>()?;
+    let window = match &a.plots {
+        Some(_) => Some(plot_window(a, &scenes[0])?),
+        None => None,
+    };
+    let mut runs: Vec<(NamedScene, RunReport)> = Vec::with_capacity(scenes.len());
+    let mut recorded: Vec<Recorder> = Vec::new();
+    for ns in scenes {
+        let r = match window {
+            Some((from, to)) => {
+                let mut rec = Recorder::new(from, to);
+                let r = run::run(&ns.scene, a.run.precision, &mut rec)?;
+                recorded.push(rec);
+                r
+            }
+            None => run::run(&ns.scene, a.run.precision, &mut NoSink)?,
+        };
+        runs.push((ns, r));
+    }
+    if let (Some(dir), Some((from, to))) = (&a.plots, window) {
+        let n = write_figures(dir, &runs, &recorded, from, to)?;
+        eprintln!("stickslip: wrote {n} SVG figures to {}", dir.display());
+    }
+    if a.json {
+        let (ns0, r0) = &runs[0];
+        let j = CasesJson {
+            precision: a.run.precision.name(),
+            dt: ns0.scene.dt,
+            duration: ns0.scene.duration,
+            stats_from: r0.window_start,
+            cases: runs.iter().map(|(ns, r)| CaseJson::new(ns, r)).collect(),
+        };
+        Ok(to_json(&j))
+    } else {
+        Ok(report::cases_table(&runs))
+    }
+}
+
+fn write_figures(
+    dir: &Path,
+    runs: &[(NamedScene, RunReport)],
+    rec: &[Recorder],
+    from: f64,
+    to: f64,
+) -> Result<usize> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        HostError::Output(format!(
+            "{}: cannot create the figure directory: {e}",
+            dir.display()
+        ))
+    })?;
+    let mut n = 0;
+    for caliper in ["push", "pull"] {
+        let idx: Vec<usize> = (0..runs.len())
+            .filter(|&i| runs[i].0.scene.caliper.name() == caliper)
+            .collect();
+        let Some(&first) = idx.first() else { continue };
+        let lines: Vec<Line> = idx
+            .iter()
+            .map(|&i| {
+                let ns = &runs[i].0;
+                let place = ns.name.rsplit('_').next().unwrap_or("");
+                let place = match place {
+                    "trail" => "trailing",
+                    "center" => "centre",
+                    "lead" => "leading",
+                    p => p,
+                };
+                Line {
+                    label: format!("β = {:.3} m ({place})", ns.scene.beta),
+                    samples: &rec[i].samples,
+                }
+            })
+            .collect();
+        let s = &runs[first].0.scene;
+        let ctx = FigureContext {
+            caliper,
+            from,
+            to,
+            run_s: run::planned_steps(s) as f64 * s.dt,
+            v: s.v,
+        };
+        n += plots::caliper_figures(dir, &ctx, &lines)?.len();
+    }
+    Ok(n)
+}
+
+pub fn scenes(a: &ScenesArgs) -> Result<String> {
+    match &a.action {
+        None => {
+            let all = builtin::all();
+            let w = all.iter().map(|b| b.name.len()).max().unwrap_or(4).max(4);
+            let mut out = format!(
+                "{:<w$}  {:<7}  {:>8}  description\n",
+                "name", "caliper", "beta [m]"
+            );
+            for b in all {
+                out.push_str(&format!(
+                    "{:<w$}  {:<7}  {:>8}  {}\n",
+                    b.name,
+                    b.scene.caliper.name(),
+                    format!("{:.3}", b.scene.beta),
+                    b.description
+                ));
+            }
+            out.push_str(
+                "\n`stickslip scenes show NAME` prints one as a scene file to copy and edit.\n",
+            );
+            Ok(out)
+        }
+        Some(ScenesAction::Show { name }) => {
+            let ns = scene_source::prepare(scene_source::resolve(name)?, &Overrides::default())?;
+            Ok(scene_file::to_toml(&ns.name, &ns.description, &ns.scene))
+        }
+    }
+}

@@ -1,0 +1,431 @@
+//! What the commands print: the human summary and the JSON of `simulate`, the Markdown table
+//! and the JSON of `cases`. No NaN or infinity is ever printed: a missing value is `n/a` in
+//! text and `null` in JSON.
+
+use serde::Serialize;
+use stickslip_model::{Coefficients, Halt};
+
+use crate::run::{Outcome, RunReport};
+use crate::scene_source::NamedScene;
+
+/// Scientific notation with `sig` significant digits, or "n/a".
+pub fn sci(v: Option<f64>, sig: usize) -> String {
+    match v {
+        Some(v) if v.is_finite() => format!("{:.*e}", sig.saturating_sub(1), v),
+        _ => "n/a".into(),
+    }
+}
+
+/// `mean ± sd` with the sd to two significant digits and the mean to the same decimal place.
+pub fn pm(mean: f64, sd: f64) -> String {
+    if sd.is_nan() || sd <= 0.0 {
+        return format!("{} ± 0", sig6(mean));
+    }
+    let d = 1 - sd.log10().floor() as i32;
+    if d > 9 {
+        return format!("{} ± {:.1e}", sig6(mean), sd);
+    }
+    let d = d.max(0) as usize;
+    format!("{mean:.d$} ± {sd:.d$}")
+}
+
+/// Six significant digits, plain notation where reasonable.
+fn sig6(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+        let d = (5 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
+        format!("{v:.d$}")
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
+fn finite(v: f64) -> Option<f64> {
+    v.is_finite().then_some(v)
+}
+
+/// One line on how the run ended.
+pub fn outcome_line(o: &Outcome) -> String {
+    match o {
+        Outcome::Completed => "completed".into(),
+        Outcome::Halted { halt, self_locked } => {
+            let kw = o.keyword();
+            let what = match *halt {
+                Halt::Diverged { t, regime: stickslip_model::Regime::Stick, .. } if *self_locked => format!(
+                    "at t = {t:.6} s the state left the plausible range (|x| > 1 m or |phi| > 0.5 rad) in stick: \
+                     the pad self-locks (K - s mu_s w c_N <= 0), the friction limit grows faster than the \
+                     guide force and it never slips"
+                ),
+                Halt::ContactLoss { t, n } => format!(
+                    "at t = {t:.6} s the normal force went negative (N = {} N): the pad lifts off and the \
+                     model no longer applies",
+                    sci(finite(n), 4)
+                ),
+                Halt::Diverged { t, regime, stiffness_margin } if stiffness_margin <= 0.0 => format!(
+                    "at t = {t:.6} s phi diverged in {} with rotational stiffness K_eff = {} N m/rad <= 0: \
+                     the pad sprags (self-locks)",
+                    regime.name(),
+                    sci(finite(stiffness_margin), 4)
+                ),
+                Halt::Diverged { t, regime, stiffness_margin } => format!(
+                    "at t = {t:.6} s the state left the plausible range (|x| > 1 m or |phi| > 0.5 rad) in {} \
+                     (K_eff = {} N m/rad)",
+                    regime.name(),
+                    sci(finite(stiffness_margin), 4)
+                ),
+                Halt::NonFinite { t } => format!("at t = {t:.6} s a state value stopped being a finite number"),
+                Halt::TransitionStorm { t } => {
+                    format!("at t = {t:.6} s more than 64 regime changes fell inside one substep")
+                }
+            };
+            format!("halted, {kw}: {what}")
+        }
+    }
+}
+
+/// The human summary of `simulate`.
+pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
+    let s = &ns.scene;
+    let co = Coefficients::of(s);
+    let mut out = String::new();
+    let mut line = |k: &str, v: String| out.push_str(&format!("{k:<22}{v}\n"));
+    line("scene", format!("{} ({})", ns.name, ns.origin_short()));
+    if !ns.description.is_empty() {
+        line("description", ns.description.clone());
+    }
+    let guide = match s.caliper {
+        stickslip_model::Caliper::Push => "guide and pivot at the trailing edge",
+        stickslip_model::Caliper::Pull => "guide and pivot at the leading edge",
+    };
+    line("caliper", format!("{} ({guide})", s.caliper.name()));
+    line(
+        "beta",
+        format!(
+            "{} m from the trailing edge (pad length 2 l = {} m)",
+            s.beta,
+            2.0 * s.l
+        ),
+    );
+    if !s.rotation {
+        line(
+            "rotation",
+            format!("off: phi held at {:.6e} rad, N = {:.6} N", co.phi0, co.n0),
+        );
+    }
+    line("precision", r.precision.name().into());
+    let rate = 1.0 / s.dt;
+    line(
+        "dt",
+        format!(
+            "{:?} s ({} steps/s)",
+            s.dt,
+            if rate.fract() == 0.0 {
+                format!("{rate}")
+            } else {
+                format!("{rate:.3}")
+            }
+        ),
+    );
+    let simulated = r.steps_planned as f64 * s.dt;
+    let mut dur_note = if (simulated - s.duration).abs() > 1e-9 * s.duration {
+        format!(", {simulated} s simulated")
+    } else {
+        String::new()
+    };
+    if r.steps_done < r.steps_planned {
+        dur_note.push_str(&format!(", {} completed before the halt", r.steps_done));
+    }
+    line(
+        "duration",
+        format!("{} s ({} steps{dur_note})", s.duration, r.steps_planned),
+    );
+    line(
+        "window",
+        format!(
+            "t in [{}, {}] s for the statistics ({:.6} s covered)",
+            r.window_start, simulated, r.stats.window_s
+        ),
+    );
+    line("outcome", outcome_line(&r.outcome));
+    for (i, (k, unit)) in [
+        ("x pp", "m"),
+        ("x' pp", "m/s"),
+        ("phi pp", "rad"),
+        ("phi' pp", "rad/s"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        match r.pp(i) {
+            Some(v) => line(k, format!("{} {unit}", sci(Some(v), 5))),
+            None => line(k, "n/a (the run halted before the window)".into()),
+        }
+    }
+    let c = &r.cycles;
+    if r.has_window() {
+        let per_cycle = match (c.stick_fraction.mean(), c.stick_fraction.sd()) {
+            (Some(m), Some(sd)) => format!(
+                "; per cycle {} ({} complete cycles, mean ± sd)",
+                pm(m, sd),
+                c.stick_fraction.n
+            ),
+            (Some(m), None) => format!("; the one complete cycle: {}", sig6(m)),
+            _ => String::new(),
+        };
+        line(
+            "stick fraction",
+            format!("{:.4} over the window{per_cycle}", r.stats.stick_fraction),
+        );
+        let hz = if r.stats.slip_onsets >= 2 {
+            let period = match (c.period.mean(), c.period.sd()) {
+                (Some(m), Some(sd)) => format!(
+                    "; period {} ms ({} cycles, mean ± sd)",
+                    pm(m * 1e3, sd * 1e3),
+                    c.period.n
+                ),
+                (Some(m), None) => format!("; period {} ms (one cycle)", sig6(m * 1e3)),
+                _ => String::new(),
+            };
+            format!("{:.4} Hz = 1 / mean period{period}", r.stats.stick_slip_hz)
+        } else {
+            "0 Hz (fewer than two slip onsets in the window: no sustained stick-slip)".to_string()
+        };
+        line("stick-slip frequency", hz);
+    } else {
+        line(
+            "stick fraction",
+            "n/a (the run halted before the window)".into(),
+        );
+        line(
+            "stick-slip frequency",
+            "n/a (the run halted before the window)".into(),
+        );
+    }
+    line(
+        "transitions",
+        format!(
+            "{} in the run, {} in the window ({} slip onsets)",
+            r.transitions, r.stats.transitions, r.stats.slip_onsets
+        ),
+    );
+    // The model crate's quasi-static estimate assumes the rotation is on.
+    let qs = if s.rotation {
+        let t1 = co.quasi_static_first_slip(s);
+        if t1.is_finite() {
+            format!(" (quasi-static estimate {t1:.6} s)")
+        } else {
+            " (quasi-static estimate: none, the pad self-locks)".into()
+        }
+    } else {
+        String::new()
+    };
+    line(
+        "first slip",
+        match r.first_slip {
+            Some(t) => format!("{t:.6} s{qs}"),
+            None => format!("none{qs}"),
+        },
+    );
+    out
+}
+
+/// The keys shared by `simulate --json` and each case of `cases --json`.
+#[derive(Serialize)]
+pub struct CaseJson {
+    pub name: String,
+    pub caliper: &'static str,
+    pub beta: f64,
+    pub x_pp: Option<f64>,
+    pub xdot_pp: Option<f64>,
+    pub phi_pp: Option<f64>,
+    pub phidot_pp: Option<f64>,
+    pub stick_fraction: Option<f64>,
+    pub stick_slip_hz: Option<f64>,
+    /// Only when the run halted (documented in `cases --help`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub outcome: Option<&'static str>,
+}
+
+impl CaseJson {
+    pub fn new(ns: &NamedScene, r: &RunReport) -> Self {
+        let w = r.has_window();
+        CaseJson {
+            name: ns.name.clone(),
+            caliper: ns.scene.caliper.name(),
+            beta: ns.scene.beta,
+            x_pp: r.pp(0),
+            xdot_pp: r.pp(1),
+            phi_pp: r.pp(2),
+            phidot_pp: r.pp(3),
+            stick_fraction: if w {
+                finite(r.stats.stick_fraction)
+            } else {
+                None
+            },
+            stick_slip_hz: if w {
+                finite(r.stats.stick_slip_hz)
+            } else {
+                None
+            },
+            outcome: match r.outcome {
+                Outcome::Completed => None,
+                o => Some(o.keyword()),
+            },
+        }
+    }
+}
+
+/// `simulate --json`.
+#[derive(Serialize)]
+pub struct SimulateJson {
+    pub name: String,
+    pub caliper: &'static str,
+    pub beta: f64,
+    pub x_pp: Option<f64>,
+    pub xdot_pp: Option<f64>,
+    pub phi_pp: Option<f64>,
+    pub phidot_pp: Option<f64>,
+    pub stick_fraction: Option<f64>,
+    pub stick_slip_hz: Option<f64>,
+    pub precision: &'static str,
+    pub dt: f64,
+    pub duration: f64,
+    pub steps: u64,
+    pub stats_from: f64,
+    pub outcome: &'static str,
+    pub halt_t_s: Option<f64>,
+    pub first_slip_s: Option<f64>,
+    pub transitions: u64,
+    pub slip_onsets: u64,
+    pub cycles: u64,
+    pub period_mean_s: Option<f64>,
+    pub period_sd_s: Option<f64>,
+    pub cycle_stick_fraction_mean: Option<f64>,
+    pub cycle_stick_fraction_sd: Option<f64>,
+}
+
+impl SimulateJson {
+    pub fn new(ns: &NamedScene, r: &RunReport) -> Self {
+        let c = CaseJson::new(ns, r);
+        SimulateJson {
+            name: c.name,
+            caliper: c.caliper,
+            beta: c.beta,
+            x_pp: c.x_pp,
+            xdot_pp: c.xdot_pp,
+            phi_pp: c.phi_pp,
+            phidot_pp: c.phidot_pp,
+            stick_fraction: c.stick_fraction,
+            stick_slip_hz: c.stick_slip_hz,
+            precision: r.precision.name(),
+            dt: ns.scene.dt,
+            duration: ns.scene.duration,
+            steps: r.steps_planned,
+            stats_from: r.window_start,
+            outcome: r.outcome.keyword(),
+            halt_t_s: r.outcome.halt_time(),
+            first_slip_s: r.first_slip,
+            transitions: r.transitions,
+            slip_onsets: r.stats.slip_onsets,
+            cycles: r.cycles.period.n,
+            period_mean_s: r.cycles.period.mean(),
+            period_sd_s: r.cycles.period.sd(),
+            cycle_stick_fraction_mean: r.cycles.stick_fraction.mean(),
+            cycle_stick_fraction_sd: r.cycles.stick_fraction.sd(),
+        }
+    }
+}
+
+/// `cases --json`.
+#[derive(Serialize)]
+pub struct CasesJson {
+    pub precision: &'static str,
+    pub dt: f64,
+    pub duration: f64,
+    pub stats_from: f64,
+    pub cases: Vec<CaseJson>,
+}
+
+/// Four significant digits, plain notation.
+fn sig4(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let d = (3 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
+    format!("{v:.d$}")
+}
+
+/// The Markdown tables of `cases`: the values (in the manner of the thesis's Table 2.1) and
+/// their cycle-to-cycle spread, with a caption and notes.
+pub fn cases_table(runs: &[(NamedScene, RunReport)]) -> String {
+    let mut out = String::new();
+    if let Some((ns, r)) = runs.first() {
+        out.push_str(&format!(
+            "Six cases over the statistics window t in [{}, {}] s ({}, dt = {:?} s). Peak-to-peak values are \
+             the extremes of the exact continuous motion, not of the samples.\n\n",
+            r.window_start,
+            r.steps_planned as f64 * ns.scene.dt,
+            r.precision.name(),
+            ns.scene.dt
+        ));
+    }
+    out.push_str(
+        "| case | caliper | beta [m] | x pp [m] | x' pp [m/s] | phi pp [rad] | phi' pp [rad/s] | stick fraction [-] | stick-slip frequency [Hz] |\n",
+    );
+    out.push_str("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+    let mut notes = Vec::new();
+    for (ns, r) in runs {
+        let (sf, hz) = if r.has_window() {
+            (
+                format!("{:.4}", r.stats.stick_fraction),
+                sig4(r.stats.stick_slip_hz),
+            )
+        } else {
+            ("n/a".into(), "n/a".into())
+        };
+        out.push_str(&format!(
+            "| {} | {} | {:.3} | {} | {} | {} | {} | {} | {} |\n",
+            ns.name,
+            ns.scene.caliper.name(),
+            ns.scene.beta,
+            sci(r.pp(0), 4),
+            sci(r.pp(1), 4),
+            sci(r.pp(2), 4),
+            sci(r.pp(3), 4),
+            sf,
+            hz
+        ));
+        if r.outcome != Outcome::Completed {
+            notes.push(format!("- {}: {}", ns.name, outcome_line(&r.outcome)));
+        }
+    }
+    out.push_str(
+        "\nStick fraction = time in stick / window length; stick-slip frequency = 1 / mean interval between \
+         slip onsets (stick-to-slip transitions) in the window.\n",
+    );
+    for n in &notes {
+        out.push_str(n);
+        out.push('\n');
+    }
+    out.push_str(
+        "\nCycle-to-cycle spread: a cycle runs from one slip onset to the next; complete cycles in the window \
+         only; mean ± sample standard deviation.\n\n\
+         | case | cycles | period [ms] | stick fraction per cycle [-] |\n\
+         |---|---:|---:|---:|\n",
+    );
+    for (ns, r) in runs {
+        let c = &r.cycles;
+        let cell = |w: &crate::cycles::Welford, scale: f64| match (w.mean(), w.sd()) {
+            (Some(m), Some(sd)) => pm(m * scale, sd * scale),
+            (Some(m), None) => sig6(m * scale),
+            _ => "n/a".into(),
+        };
+        out.push_str(&format!(
+            "| {} | {} | {} | {} |\n",
+            ns.name,
+            c.period.n,
+            cell(&c.period, 1e3),
+            cell(&c.stick_fraction, 1.0)
+        ));
+    }
+    out
+}

@@ -1,0 +1,199 @@
+//! Running one scene: the stepper in the chosen precision, the observers (window statistics,
+//! cycle spread, transition log) and the per-step sink; a halt is an outcome, not an error.
+
+use stickslip_model::propagator::Propagator;
+use stickslip_model::stats::{RunStats, StatsObserver};
+use stickslip_model::{
+    Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, Transition,
+};
+
+use crate::cycles::{CycleObserver, CycleStats};
+use crate::error::{HostError, Result};
+use crate::series::{Sample, Sink};
+
+/// The floating-point type the stepper runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Precision {
+    F32,
+    F64,
+}
+
+impl Precision {
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outcome {
+    Completed,
+    /// `self_locked`: the scene's pad can never slip forward (its rotational stiffness at the
+    /// static limit, K - s mu_s w c_N, is <= 0), so a divergence in stick is the sprag lock.
+    Halted {
+        halt: Halt,
+        self_locked: bool,
+    },
+}
+
+impl Outcome {
+    /// The JSON/summary keyword: completed, contact_loss, diverged, sprag, non_finite,
+    /// transition_storm.
+    pub fn keyword(&self) -> &'static str {
+        match self {
+            Outcome::Completed => "completed",
+            Outcome::Halted { halt, self_locked } => match *halt {
+                Halt::ContactLoss { .. } => "contact_loss",
+                Halt::Diverged {
+                    stiffness_margin, ..
+                } if stiffness_margin <= 0.0 => "sprag",
+                Halt::Diverged {
+                    regime: Regime::Stick,
+                    ..
+                } if *self_locked => "sprag",
+                Halt::Diverged { .. } => "diverged",
+                Halt::NonFinite { .. } => "non_finite",
+                Halt::TransitionStorm { .. } => "transition_storm",
+            },
+        }
+    }
+
+    /// Time of the halt [s].
+    pub fn halt_time(&self) -> Option<f64> {
+        match self {
+            Outcome::Completed => None,
+            Outcome::Halted { halt, .. } => Some(halt.time()),
+        }
+    }
+}
+
+/// Everything a report needs about one run.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    pub precision: Precision,
+    /// Steps the scene asks for, round(duration / dt).
+    pub steps_planned: u64,
+    /// Steps completed.
+    pub steps_done: u64,
+    /// Start of the statistics window actually used (nearest step boundary) [s].
+    pub window_start: f64,
+    pub stats: RunStats,
+    pub cycles: CycleStats,
+    pub outcome: Outcome,
+    /// First stick-to-slip transition of the run [s].
+    pub first_slip: Option<f64>,
+    /// Transitions in the whole run.
+    pub transitions: u64,
+}
+
+impl RunReport {
+    /// Whether the window holds any motion (a run that halts before it has none).
+    pub fn has_window(&self) -> bool {
+        self.stats.window_s > 0.0
+    }
+
+    /// Peak-to-peak of quantity `i` (0 x, 1 x', 2 phi, 3 phi'), None without a window or
+    /// if not finite.
+    pub fn pp(&self, i: usize) -> Option<f64> {
+        let v = self.stats.pp(i);
+        (self.has_window() && v.is_finite()).then_some(v)
+    }
+}
+
+/// Whole-run transition log: count and first slip.
+#[derive(Default)]
+struct EventLog {
+    transitions: u64,
+    first_slip: Option<f64>,
+}
+
+/// Forwards every segment and transition to the window statistics, the cycle spread and the
+/// event log. Segments with a non-finite state (the step that halts a run) are left out of
+/// the statistics.
+struct RunObserver<T: Real> {
+    stats: StatsObserver<T>,
+    cycles: CycleObserver,
+    log: EventLog,
+}
+
+impl<T: Real> Observer<T> for RunObserver<T> {
+    fn segment(&mut self, seg: &Segment<T>, prop: &Propagator<T>) {
+        let finite = seg.z0.iter().chain(seg.z1.iter()).all(|v| v.is_finite());
+        if finite {
+            self.stats.segment(seg, prop);
+        }
+    }
+
+    fn transition(&mut self, tr: &Transition<T>) {
+        self.stats.transition(tr);
+        self.cycles.transition(tr);
+        self.log.transitions += 1;
+        if tr.from == Regime::Stick && self.log.first_slip.is_none() {
+            self.log.first_slip = Some(tr.t);
+        }
+    }
+}
+
+/// Runs a validated scene for round(duration / dt) steps, handing each completed step to `sink`.
+pub fn run(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> Result<RunReport> {
+    match precision {
+        Precision::F32 => run_in::<f32>(scene, precision, sink),
+        Precision::F64 => run_in::<f64>(scene, precision, sink),
+    }
+}
+
+/// round(duration / dt), at least one.
+pub fn planned_steps(scene: &Scene) -> u64 {
+    ((scene.duration / scene.dt).round() as u64).max(1)
+}
+
+fn run_in<T: Real>(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> Result<RunReport> {
+    // The caller validated the scene; a failure here still gets a message, not a panic.
+    let mut stepper = ExactStepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+    let stats = StatsObserver::<T>::new(scene.stats_from, scene.dt);
+    let window_start = stats.window_start();
+    let mut obs = RunObserver {
+        stats,
+        cycles: CycleObserver::new(window_start),
+        log: EventLog::default(),
+    };
+    let steps_planned = planned_steps(scene);
+    let mut outcome = Outcome::Completed;
+    let mut steps_done = 0;
+    for _ in 0..steps_planned {
+        if let Err(halt) = stepper.step_observed(&mut obs) {
+            let co = Coefficients::of(scene);
+            let self_locked = co.effective_rotational_stiffness(scene, 1.0, scene.mu_s) <= 0.0;
+            outcome = Outcome::Halted { halt, self_locked };
+            break;
+        }
+        steps_done += 1;
+        let st = stepper.state();
+        sink.sample(&Sample {
+            t: stepper.time(),
+            z: [
+                st.x.to_f64(),
+                st.xdot.to_f64(),
+                st.phi.to_f64(),
+                st.phidot.to_f64(),
+            ],
+            n: stepper.normal_force().to_f64(),
+            f_f: stepper.friction_force().to_f64(),
+            regime: stepper.regime(),
+        })?;
+    }
+    Ok(RunReport {
+        precision,
+        steps_planned,
+        steps_done,
+        window_start,
+        stats: obs.stats.finish(),
+        cycles: obs.cycles.finish(),
+        outcome,
+        first_slip: obs.log.first_slip,
+        transitions: obs.log.transitions,
+    })
+}

@@ -1,0 +1,337 @@
+//! Scene files: TOML whose keys are the `Scene` field names, plus `name` and an optional
+//! `description`. Keys left out take the default pad's value (`DEFAULT_SCENE`, i.e. the
+//! built-in `push_center`); unknown keys are an error. `to_toml` writes every key with a
+//! comment giving its unit and meaning, in a form `parse` reads back to the same scene.
+
+use serde::Deserialize;
+use stickslip_model::{Caliper, Coefficients, Scene, DEFAULT_SCENE};
+
+/// `caliper = "push" | "pull"`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum CaliperKey {
+    Push,
+    Pull,
+}
+
+/// The file as written: every key optional.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneToml {
+    name: Option<String>,
+    description: Option<String>,
+    caliper: Option<CaliperKey>,
+    m: Option<f64>,
+    inertia: Option<f64>,
+    l: Option<f64>,
+    w: Option<f64>,
+    l_cl: Option<f64>,
+    l_ct: Option<f64>,
+    k_l: Option<f64>,
+    k_t: Option<f64>,
+    k_g: Option<f64>,
+    f_n: Option<f64>,
+    beta: Option<f64>,
+    v: Option<f64>,
+    mu_s: Option<f64>,
+    mu_k: Option<f64>,
+    c_x: Option<f64>,
+    c_phi: Option<f64>,
+    rotation: Option<bool>,
+    dt: Option<f64>,
+    duration: Option<f64>,
+    stats_from: Option<f64>,
+}
+
+/// A scene read from a file, not yet validated.
+#[derive(Clone, Debug)]
+pub struct ParsedScene {
+    pub name: Option<String>,
+    pub description: Option<String>,
+    pub scene: Scene,
+}
+
+/// Unit and meaning of each key, in file order (also used for `--help`).
+pub const KEYS: [(&str, &str); 23] = [
+    ("name", "scene name (reported in every output)"),
+    ("description", "one line for `stickslip scenes` (optional)"),
+    (
+        "caliper",
+        "\"push\": guide and pivot at the trailing edge; \"pull\": at the leading edge",
+    ),
+    ("m", "pad mass m [kg]"),
+    (
+        "inertia",
+        "moment of inertia about the pivot (supported edge, mid-thickness) I [kg m^2]",
+    ),
+    ("l", "pad half-length l [m] (the pad is 2 l long)"),
+    (
+        "w",
+        "pad half-thickness w [m] (friction face to pivot line)",
+    ),
+    (
+        "l_cl",
+        "centre of gravity to the leading contact spring l_cL [m], < l",
+    ),
+    (
+        "l_ct",
+        "centre of gravity to the trailing contact spring l_cT [m], < l",
+    ),
+    ("k_l", "leading contact spring stiffness k_L [N/m]"),
+    ("k_t", "trailing contact spring stiffness k_T [N/m]"),
+    ("k_g", "guide (abutment) stiffness along x k_g [N/m]"),
+    ("f_n", "normal load F_N [N]"),
+    (
+        "beta",
+        "load position from the trailing edge beta [m], 0 <= beta <= 2 l",
+    ),
+    ("v", "band speed V [m/s], > 0"),
+    ("mu_s", "static friction coefficient mu_s [-]"),
+    (
+        "mu_k",
+        "kinetic friction coefficient mu_k [-], 0 <= mu_k <= mu_s",
+    ),
+    ("c_x", "viscous damping on x c_x [N s/m]"),
+    ("c_phi", "viscous damping on phi c_phi [N m s/rad]"),
+    (
+        "rotation",
+        "true: 2-DOF pad; false: phi held at F_N a_N / K (1-DOF mass on a belt, N constant)",
+    ),
+    ("dt", "fixed time step [s]"),
+    ("duration", "run length [s]"),
+    (
+        "stats_from",
+        "start of the statistics window [s]; the window runs to `duration`",
+    ),
+];
+
+/// A TOML syntax, type or unknown-key error, located in the file.
+#[derive(Debug)]
+pub struct ParseError {
+    /// 1-based line and column, when the parser gave a position.
+    pub line_col: Option<(usize, usize)>,
+    pub message: String,
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(text.len());
+    let before = &text.as_bytes()[..offset];
+    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+    let line_start = before
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |p| p + 1);
+    let col = String::from_utf8_lossy(&before[line_start..])
+        .chars()
+        .count()
+        + 1;
+    (line, col)
+}
+
+/// Reads a scene file's text. The scene is the default pad with the file's keys applied.
+pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
+    let t: SceneToml = toml::from_str(text).map_err(|e| ParseError {
+        line_col: e.span().map(|s| line_col(text, s.start)),
+        message: e.message().trim().to_string(),
+    })?;
+    let mut s = DEFAULT_SCENE;
+    if let Some(c) = t.caliper {
+        s.caliper = match c {
+            CaliperKey::Push => Caliper::Push,
+            CaliperKey::Pull => Caliper::Pull,
+        };
+    }
+    macro_rules! take {
+        ($($f:ident),*) => { $( if let Some(v) = t.$f { s.$f = v; } )* };
+    }
+    take!(
+        m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi,
+        rotation, dt, duration, stats_from
+    );
+    Ok(ParsedScene {
+        name: t.name,
+        description: t.description,
+        scene: s,
+    })
+}
+
+/// The 1-based line on which `key` is set, if it is (for pointing at a value that fails
+/// validation).
+pub fn key_line(text: &str, key: &str) -> Option<usize> {
+    text.lines()
+        .position(|line| {
+            let l = line.trim_start();
+            l.strip_prefix(key)
+                .map(|rest| rest.trim_start().starts_with('='))
+                .unwrap_or(false)
+        })
+        .map(|i| i + 1)
+}
+
+/// A float as a TOML float that parses back to the same f64 (shortest round-trip digits).
+pub fn toml_float(v: f64) -> String {
+    if v != 0.0 && v == v.trunc() && v.abs() >= 1e4 {
+        format!("{v:e}") // 1e6, 2.5e5: valid TOML floats
+    } else {
+        format!("{v:?}") // 0.3, 150.0, 3.90625e-5
+    }
+}
+
+fn toml_string(s: &str) -> String {
+    // A basic string with the escapes TOML needs.
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            c if (c as u32) < 0x20 || c as u32 == 0x7f => {
+                out.push_str(&format!("\\u{:04X}", c as u32))
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// The value of each key of `s`, as TOML, in [`KEYS`] order (name and description excluded).
+fn values(s: &Scene) -> Vec<(&'static str, String)> {
+    let f = toml_float;
+    vec![
+        ("caliper", toml_string(s.caliper.name())),
+        ("m", f(s.m)),
+        ("inertia", f(s.inertia)),
+        ("l", f(s.l)),
+        ("w", f(s.w)),
+        ("l_cl", f(s.l_cl)),
+        ("l_ct", f(s.l_ct)),
+        ("k_l", f(s.k_l)),
+        ("k_t", f(s.k_t)),
+        ("k_g", f(s.k_g)),
+        ("f_n", f(s.f_n)),
+        ("beta", f(s.beta)),
+        ("v", f(s.v)),
+        ("mu_s", f(s.mu_s)),
+        ("mu_k", f(s.mu_k)),
+        ("c_x", f(s.c_x)),
+        ("c_phi", f(s.c_phi)),
+        ("rotation", s.rotation.to_string()),
+        ("dt", f(s.dt)),
+        ("duration", f(s.duration)),
+        ("stats_from", f(s.stats_from)),
+    ]
+}
+
+/// The scene as a complete, commented scene file.
+pub fn to_toml(name: &str, description: &str, s: &Scene) -> String {
+    let co = Coefficients::of(s);
+    let mut out = String::new();
+    out.push_str(&format!("# stickslip scene `{name}`: {description}\n"));
+    out.push_str(
+        "#\n\
+         # SI units throughout. Run it with `stickslip simulate FILE`. Keys left out of a scene file\n\
+         # take the default pad's value (the built-in push_center); unknown keys are an error.\n\
+         # Values that break a rule (e.g. m <= 0, mu_k > mu_s, beta off the pad) are rejected.\n",
+    );
+    let g = |v: f64| -> String {
+        // seven significant digits, shortest form
+        format!("{:.6e}", v)
+            .parse::<f64>()
+            .map_or_else(|_| v.to_string(), |r| format!("{r}"))
+    };
+    out.push_str(&format!(
+        "# Derived, for reference (not keys): K = {} N m/rad, c_N = {} N/rad, a_N = {} m,\n\
+         # static rotation phi0 = F_N a_N / K = {} rad, static normal force N0 = c_N phi0 = {} N.\n\n",
+        g(co.k_rot),
+        g(co.c_n),
+        g(co.a_n),
+        g(co.phi0),
+        g(co.n0)
+    ));
+    let mut lines: Vec<(String, &str)> = vec![
+        (format!("name = {}", toml_string(name)), KEYS[0].1),
+        (
+            format!("description = {}", toml_string(description)),
+            KEYS[1].1,
+        ),
+    ];
+    for (key, value) in values(s) {
+        let meaning = KEYS.iter().find(|(k, _)| *k == key).map_or("", |(_, m)| *m);
+        lines.push((format!("{key} = {value}"), meaning));
+    }
+    let width = lines
+        .iter()
+        .map(|(l, _)| l.len())
+        .filter(|&n| n <= 40)
+        .max()
+        .unwrap_or(0);
+    for (line, meaning) in lines {
+        let mut comment = meaning.to_string();
+        if line.starts_with("dt = ") {
+            let rate = 1.0 / s.dt;
+            if rate == rate.round() && rate < 1e12 {
+                comment.push_str(&format!(" (= 1/{} s)", rate as u64));
+            }
+        }
+        out.push_str(&format!("{line:<width$}  # {comment}\n"));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::builtin;
+
+    #[test]
+    fn every_builtin_round_trips_exactly() {
+        for b in builtin::all() {
+            let text = to_toml(&b.name, &b.description, &b.scene);
+            let p = parse(&text).unwrap_or_else(|e| panic!("{}: {:?}\n{text}", b.name, e));
+            assert_eq!(p.scene, b.scene, "{}", b.name);
+            assert_eq!(p.name.as_deref(), Some(b.name.as_str()));
+            assert_eq!(p.description.as_deref(), Some(b.description.as_str()));
+        }
+    }
+
+    #[test]
+    fn omitted_keys_take_the_default_pad() {
+        let p = parse("name = \"x\"\nm = 2\n").unwrap();
+        let mut want = DEFAULT_SCENE;
+        want.m = 2.0;
+        assert_eq!(p.scene, want);
+    }
+
+    #[test]
+    fn floats_survive_formatting() {
+        for v in [
+            0.3,
+            1e6,
+            2e5,
+            3.90625e-5,
+            150.0,
+            15.073529411764707,
+            1e-12,
+            0.0,
+            1.5e4,
+            123456.0,
+            1e300,
+        ] {
+            let text = format!("m = {}", toml_float(v));
+            let t: toml::Table = toml::from_str(&text).unwrap();
+            assert_eq!(t["m"].as_float(), Some(v), "{text}");
+        }
+    }
+
+    #[test]
+    fn errors_are_located() {
+        let e = parse("m = 1\nbogus = 3\n").unwrap_err();
+        assert_eq!(e.line_col.map(|p| p.0), Some(2));
+        assert!(e.message.contains("bogus"), "{}", e.message);
+        assert_eq!(key_line("# m = 2\n  m= 3\n", "m"), Some(2));
+        assert_eq!(key_line("mu_s = 3\n", "m"), None);
+    }
+}

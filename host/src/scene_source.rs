@@ -1,0 +1,174 @@
+//! Where a scene comes from (a built-in name or a scene file), the command-line overrides,
+//! and validation with messages that name the file, the field and the rule.
+
+use std::path::{Path, PathBuf};
+
+use stickslip_model::{Scene, SceneError};
+
+use crate::builtin;
+use crate::error::{HostError, Result};
+use crate::scene_file;
+
+/// Where a scene was read from.
+#[derive(Clone, Debug)]
+pub enum Origin {
+    Builtin,
+    /// The file and its text (to point at the line of a rejected value).
+    File(PathBuf, String),
+}
+
+/// A scene with its name, description and origin.
+#[derive(Clone, Debug)]
+pub struct NamedScene {
+    pub name: String,
+    pub description: String,
+    pub origin: Origin,
+    pub scene: Scene,
+}
+
+impl NamedScene {
+    pub fn from_builtin(b: builtin::Builtin) -> Self {
+        NamedScene {
+            name: b.name,
+            description: b.description,
+            origin: Origin::Builtin,
+            scene: b.scene,
+        }
+    }
+
+    /// How to name the scene's origin in a message.
+    pub fn origin_label(&self) -> String {
+        match &self.origin {
+            Origin::Builtin => format!("built-in scene `{}`", self.name),
+            Origin::File(p, _) => p.display().to_string(),
+        }
+    }
+
+    /// "built-in" or the file path, for summaries.
+    pub fn origin_short(&self) -> String {
+        match &self.origin {
+            Origin::Builtin => "built-in".into(),
+            Origin::File(p, _) => p.display().to_string(),
+        }
+    }
+}
+
+fn looks_like_path(arg: &str) -> bool {
+    arg.contains('/') || arg.contains('\\') || arg.ends_with(".toml") || Path::new(arg).is_file()
+}
+
+/// A built-in name or a path to a scene file. Not yet validated.
+pub fn resolve(arg: &str) -> Result<NamedScene> {
+    // A built-in name wins over a file of the same name (write `./NAME` for the file).
+    if let Some(b) = builtin::find(arg) {
+        return Ok(NamedScene::from_builtin(b));
+    }
+    if !looks_like_path(arg) {
+        return Err(HostError::Input(format!(
+            "unknown scene `{arg}`: not a built-in scene ({}) and not a scene file",
+            builtin::names()
+        )));
+    }
+    load_file(Path::new(arg))
+}
+
+/// Reads and parses a scene file (syntax, types and unknown keys are checked here).
+pub fn load_file(path: &Path) -> Result<NamedScene> {
+    let shown = path.display();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| HostError::Input(format!("{shown}: cannot read the scene file: {e}")))?;
+    let parsed = scene_file::parse(&text).map_err(|e| {
+        let at = e
+            .line_col
+            .map_or(String::new(), |(l, c)| format!("line {l}, column {c}: "));
+        HostError::Input(format!("{shown}: {at}{}", e.message))
+    })?;
+    let stem = path
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    Ok(NamedScene {
+        name: parsed.name.unwrap_or(stem),
+        description: parsed.description.unwrap_or_default(),
+        origin: Origin::File(path.to_path_buf(), text),
+        scene: parsed.scene,
+    })
+}
+
+/// Run settings given on the command line; each replaces the scene's value.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Overrides {
+    pub dt: Option<f64>,
+    pub duration: Option<f64>,
+    pub stats_from: Option<f64>,
+}
+
+impl Overrides {
+    fn option_for(&self, field: &str) -> Option<(&'static str, f64)> {
+        match field {
+            "dt" => self.dt.map(|v| ("--dt", v)),
+            "duration" => self.duration.map(|v| ("--duration", v)),
+            "stats_from" => self.stats_from.map(|v| ("--stats-from", v)),
+            _ => None,
+        }
+    }
+
+    fn describe(&self) -> String {
+        let mut parts = Vec::new();
+        for (opt, v) in [
+            ("--dt", self.dt),
+            ("--duration", self.duration),
+            ("--stats-from", self.stats_from),
+        ] {
+            if let Some(v) = v {
+                parts.push(format!("{opt} {v}"));
+            }
+        }
+        parts.join(" ")
+    }
+
+    fn any(&self) -> bool {
+        self.dt.is_some() || self.duration.is_some() || self.stats_from.is_some()
+    }
+}
+
+/// Applies the overrides and validates the scene; the error names the file (and line) or the
+/// option, the field and the rule.
+pub fn prepare(mut ns: NamedScene, ov: &Overrides) -> Result<NamedScene> {
+    if let Some(v) = ov.dt {
+        ns.scene.dt = v;
+    }
+    if let Some(v) = ov.duration {
+        ns.scene.duration = v;
+    }
+    if let Some(v) = ov.stats_from {
+        ns.scene.stats_from = v;
+    }
+    match ns.scene.validate() {
+        Ok(()) => Ok(ns),
+        Err(e) => Err(HostError::Input(validation_message(&ns, ov, &e))),
+    }
+}
+
+fn validation_message(ns: &NamedScene, ov: &Overrides, e: &SceneError) -> String {
+    let value = e.value;
+    let detail = format!("field `{}` = {value}: {}", e.field, e.rule);
+    if let Some((opt, _)) = ov.option_for(e.field) {
+        return format!("{opt}: {detail} (scene `{}`)", ns.name);
+    }
+    let mut origin = ns.origin_label();
+    if let Origin::File(_, text) = &ns.origin {
+        match scene_file::key_line(text, e.field) {
+            Some(line) => origin.push_str(&format!(": line {line}")),
+            None => origin.push_str(&format!(" (`{}` not set: default pad value)", e.field)),
+        }
+    }
+    if ov.any() {
+        origin.push_str(&format!(" with {}", ov.describe()));
+    }
+    let hint = if e.field == "stats_from" && ov.duration.is_some() && ov.stats_from.is_none() {
+        " (give --stats-from below the duration)"
+    } else {
+        ""
+    };
+    format!("{origin}: {detail}{hint}")
+}

@@ -1,0 +1,144 @@
+//! The per-step time series of a run and where it goes: a CSV file (`simulate --csv`) or
+//! memory (the figures of `cases --plots`).
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use stickslip_model::Regime;
+
+use crate::error::{HostError, Result};
+
+/// The state at the end of one step (SI units).
+#[derive(Clone, Copy, Debug)]
+pub struct Sample {
+    /// Time [s].
+    pub t: f64,
+    /// x [m], x' [m/s], phi [rad], phi' [rad/s].
+    pub z: [f64; 4],
+    /// Normal contact force N [N].
+    pub n: f64,
+    /// Friction force on the pad F_f [N] (along +x, the band's direction).
+    pub f_f: f64,
+    pub regime: Regime,
+}
+
+/// Receives the state after every completed step of a run.
+pub trait Sink {
+    fn sample(&mut self, s: &Sample) -> Result<()>;
+}
+
+/// Takes nothing.
+pub struct NoSink;
+
+impl Sink for NoSink {
+    fn sample(&mut self, _s: &Sample) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// The CSV header: one column per quantity, unit in the name.
+pub const CSV_HEADER: [&str; 8] = [
+    "t_s",
+    "x_m",
+    "xdot_m_per_s",
+    "phi_rad",
+    "phidot_rad_per_s",
+    "n_N",
+    "f_f_N",
+    "regime",
+];
+
+/// Writes one row per step. In f32 runs the state is written with f32's shortest digits.
+pub struct CsvSink {
+    path: PathBuf,
+    writer: csv::Writer<BufWriter<File>>,
+    f32_values: bool,
+}
+
+impl CsvSink {
+    pub fn create(path: &Path, f32_values: bool) -> Result<Self> {
+        let file = File::create(path).map_err(|e| {
+            HostError::Output(format!(
+                "{}: cannot create the CSV file: {e}",
+                path.display()
+            ))
+        })?;
+        let mut writer = csv::WriterBuilder::new()
+            .has_headers(false)
+            .from_writer(BufWriter::new(file));
+        writer.write_record(CSV_HEADER).map_err(|e| {
+            HostError::Output(format!(
+                "{}: cannot write the CSV file: {e}",
+                path.display()
+            ))
+        })?;
+        Ok(CsvSink {
+            path: path.to_path_buf(),
+            writer,
+            f32_values,
+        })
+    }
+
+    fn err(&self, e: impl std::fmt::Display) -> HostError {
+        HostError::Output(format!(
+            "{}: cannot write the CSV file: {e}",
+            self.path.display()
+        ))
+    }
+
+    /// Flushes the file; call once after the run.
+    pub fn finish(mut self) -> Result<()> {
+        self.writer.flush().map_err(|e| self.err(e))
+    }
+}
+
+impl Sink for CsvSink {
+    fn sample(&mut self, s: &Sample) -> Result<()> {
+        let r = s.regime.name();
+        let res = if self.f32_values {
+            let f = |v: f64| v as f32;
+            self.writer.serialize((
+                s.t,
+                f(s.z[0]),
+                f(s.z[1]),
+                f(s.z[2]),
+                f(s.z[3]),
+                f(s.n),
+                f(s.f_f),
+                r,
+            ))
+        } else {
+            self.writer
+                .serialize((s.t, s.z[0], s.z[1], s.z[2], s.z[3], s.n, s.f_f, r))
+        };
+        res.map_err(|e| self.err(e))
+    }
+}
+
+/// Keeps the samples with t in [from, to] [s] (for the figures).
+pub struct Recorder {
+    pub from: f64,
+    pub to: f64,
+    pub samples: Vec<(f64, [f64; 4])>,
+}
+
+impl Recorder {
+    pub fn new(from: f64, to: f64) -> Self {
+        Recorder {
+            from,
+            to,
+            samples: Vec::new(),
+        }
+    }
+}
+
+impl Sink for Recorder {
+    fn sample(&mut self, s: &Sample) -> Result<()> {
+        // A little slack: the window ends are usually step boundaries.
+        if s.t >= self.from - 1e-12 && s.t <= self.to + 1e-12 {
+            self.samples.push((s.t, s.z));
+        }
+        Ok(())
+    }
+}
