@@ -1,9 +1,10 @@
-//! The three commands. Each returns what goes to stdout; errors go back to `main`.
+//! The commands. Each returns what goes to stdout; errors go back to `main`.
 
 use std::path::Path;
 
 use crate::builtin;
-use crate::cli::{CasesArgs, RunOptions, ScenesAction, ScenesArgs, SimulateArgs};
+use crate::cli::{AccuracyArgs, CasesArgs, RunOptions, ScenesAction, ScenesArgs, SimulateArgs, StabilityArgs};
+use crate::{accuracy, numerics_plots, stability};
 use crate::error::{HostError, Result};
 use crate::plots::{self, FigureContext, Line};
 use crate::report::{self, CaseJson, CasesJson, SimulateJson};
@@ -191,4 +192,73 @@ pub fn scenes(a: &ScenesArgs) -> Result<String> {
             Ok(scene_file::to_toml(&ns.name, &ns.description, &ns.scene))
         }
     }
+}
+
+/// A report whose `--check` failed is still printed; the failure sets the exit code.
+fn checked(out: String, failures: Vec<String>) -> Result<String> {
+    if failures.is_empty() {
+        return Ok(out);
+    }
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    let _ = stdout.write_all(out.as_bytes()).and_then(|_| stdout.flush());
+    Err(HostError::Check(format!("check failed: {}", failures.join("; "))))
+}
+
+fn stderr_is_terminal() -> bool {
+    use std::io::IsTerminal;
+    std::io::stderr().is_terminal()
+}
+
+pub fn accuracy(a: &AccuracyArgs) -> Result<String> {
+    if a.repeats == Some(0) {
+        return Err(HostError::Input("--repeats: must be at least 1".into()));
+    }
+    let opts = accuracy::Options {
+        quick: a.quick,
+        repeats: a.repeats.unwrap_or(if a.quick { 1 } else { 3 }),
+        progress: stderr_is_terminal(),
+    };
+    let rep = accuracy::run(&opts)?;
+    if let Some(path) = &a.plot {
+        numerics_plots::accuracy(&rep, path)?;
+    }
+    let out = if a.json { to_json(&rep) } else { accuracy::markdown(&rep) };
+    let failures = if a.check {
+        rep.checks
+            .iter()
+            .filter(|c| !c.passed)
+            .map(|c| format!("{} = {} (bound {:e})", c.what, c.value.map_or("none".into(), |v| format!("{v:.3e}")), c.bound))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    checked(out, failures)
+}
+
+pub fn stability(a: &StabilityArgs) -> Result<String> {
+    let rep = stability::run(&stability::Options { quick: a.quick, progress: stderr_is_terminal() })?;
+    if let Some(path) = &a.plot {
+        numerics_plots::stability(&rep, path)?;
+    }
+    let out = if a.json { to_json(&rep) } else { stability::markdown(&rep) };
+    let mut failures = Vec::new();
+    if a.check {
+        for prec in ["f64", "f32"] {
+            let ok = rep.rows.iter().any(|r| {
+                r.sweep == "contact_stiffness" && r.contact_stiffness == 1e10 && r.method == "exact" && r.precision == prec && r.outcome == "bounded"
+            });
+            if !ok {
+                failures.push(format!("exact {prec} not bounded at contact stiffness 1e10 N/m"));
+            }
+        }
+        if !stability::all_finite(&rep) {
+            failures.push("a row holds a non-finite value".into());
+        }
+        let known = ["bounded", "sprag", "contact_loss", "method_unstable"];
+        if rep.rows.iter().any(|r| !known.contains(&r.outcome.as_str())) {
+            failures.push("a row is not classified".into());
+        }
+    }
+    checked(out, failures)
 }

@@ -9,6 +9,8 @@ pub enum HostError {
     Input(String),
     /// An output could not be written (CSV, SVG). Exit code 1.
     Output(String),
+    /// A bound of a report's `--check` failed. Exit code 3.
+    Check(String),
 }
 
 impl HostError {
@@ -16,6 +18,7 @@ impl HostError {
         match self {
             HostError::Input(_) => 2,
             HostError::Output(_) => 1,
+            HostError::Check(_) => 3,
         }
     }
 }
@@ -23,7 +26,7 @@ impl HostError {
 impl fmt::Display for HostError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let msg = match self {
-            HostError::Input(m) | HostError::Output(m) => m,
+            HostError::Input(m) | HostError::Output(m) | HostError::Check(m) => m,
         };
         // Always one line: fold any line breaks a library put in its message.
         let mut first = true;

@@ -1,23 +1,13 @@
 //! `stickslip`: the desktop tool of the stick-slip model (see `stickslip --help`).
 
-mod builtin;
-mod cli;
-mod commands;
-mod cycles;
-mod error;
-mod plots;
-mod report;
-mod run;
-mod scene_file;
-mod scene_source;
-mod series;
 
 use std::io::Write;
 use std::process::ExitCode;
 
 use clap::Parser;
 
-use cli::{Cli, Command, RunOptions, SimulateArgs};
+use stickslip::cli::{Cli, Command, RunOptions, SimulateArgs};
+use stickslip::{commands, run};
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -63,6 +53,8 @@ fn main() -> ExitCode {
         Command::Simulate(a) => commands::simulate(a),
         Command::Cases(a) => commands::cases(a),
         Command::Scenes(a) => commands::scenes(a),
+        Command::Accuracy(a) => commands::accuracy(a),
+        Command::Stability(a) => commands::stability(a),
     };
     match result {
         Ok(out) => {

@@ -69,9 +69,10 @@ impl Coefficients {
     }
 
     /// Quasi-static time from rest to the first slip (no damping):
-    /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)). Infinite when the pad self-locks.
+    /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)); with the rotation held (N constant) the
+    /// bracket is 1. Infinite when the pad self-locks.
     pub fn quasi_static_first_slip(&self, scene: &Scene) -> f64 {
-        let lock = 1.0 - self.s * scene.mu_s * scene.w * self.c_n / self.k_rot;
+        let lock = if scene.rotation { 1.0 - self.s * scene.mu_s * scene.w * self.c_n / self.k_rot } else { 1.0 };
         if lock <= 0.0 {
             return f64::INFINITY;
         }

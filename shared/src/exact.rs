@@ -372,11 +372,18 @@ impl<T: Real> ExactStepper<T> {
         let mut entered_stick_at: Option<u64> = None;
         let mut count = 0u32;
         let mut transitions = 0usize;
+        // a guard that fired but left the regime unchanged (a slip that touched V_r = 0 and
+        // slides on in the same direction) is a touch, not a crossing: it is not tested again
+        // in this substep, or a grazing contact would fire it at every unit
+        let mut touched: Option<(Regime, usize)> = None;
         loop {
             // earliest fired guard of the current regime
             let (gs, n) = self.guards.of(regime);
             let mut best: Option<(u64, [T; 4], usize)> = None;
             for (which, g) in gs.iter().take(n).enumerate() {
+                if touched == Some((regime, which)) {
+                    continue;
+                }
                 if g.fired(&z_end) {
                     let (p, zp) = self.prop.lift(regime, &z, pos, units, |c| !g.fired(c));
                     if best.map_or(true, |b| p < b.0) {
@@ -398,7 +405,10 @@ impl<T: Real> ExactStepper<T> {
                 entered_stick_at = Some(at);
                 self.anchor_x = zn[0];
             }
-            if next != regime {
+            if next == regime {
+                touched = Some((regime, which));
+            } else {
+                touched = None;
                 let tr = Transition { t: self.time_at(sub, at), from: regime, to: next, state: State::from_array(zn) };
                 obs.transition(&tr);
                 if self.n_reported < TRANSITIONS_PER_STEP {

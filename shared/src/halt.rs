@@ -46,6 +46,8 @@ impl Halt {
 #[derive(Clone, Copy, Debug)]
 pub struct Limits<T> {
     /// Rotational stiffness margin of each regime, K_eff [N m/rad] (index: `Regime::index`).
+    /// Stick: K - s mu_s w c_N, the stiffness at the static limit (<= 0: the pad self-locks
+    /// and is carried along for good); slip: K - s sigma mu_k w c_N.
     pub margins: [f64; 3],
     rotation: bool,
     phi_floor: T,
@@ -60,7 +62,7 @@ impl<T: Real> Limits<T> {
     pub fn new(scene: &Scene, co: &Coefficients) -> Self {
         Limits {
             margins: [
-                co.k_rot,
+                co.effective_rotational_stiffness(scene, 1.0, scene.mu_s),
                 co.effective_rotational_stiffness(scene, 1.0, scene.mu_k),
                 co.effective_rotational_stiffness(scene, -1.0, scene.mu_k),
             ],

@@ -26,7 +26,8 @@ pub struct RunStats {
     pub slip_onsets: u64,
     /// All transitions in the window.
     pub transitions: u64,
-    /// Window length actually covered [s].
+    /// Window length actually covered [s]; 0 when the run ended before the window (then
+    /// every other field is 0 too and means nothing).
     pub window_s: f64,
 }
 
@@ -78,6 +79,10 @@ impl<T: Real> StatsObserver<T> {
     }
 
     fn include(&mut self, z: &[T; 4]) {
+        // the segments of a step that halts may hold a non-finite state: never let it in
+        if !(z[0].is_finite() && z[1].is_finite() && z[2].is_finite() && z[3].is_finite()) {
+            return;
+        }
         if !self.seen {
             self.min = *z;
             self.max = *z;

@@ -1,3 +1,2 @@
-//! Cross-crate checks of the model crate. The library part holds the independent reference
-//! simulation used by the tests in `tests/tests/`.
-pub mod reference;
+//! Cross-crate tests live in `tests/tests/`; the reference simulation they use is
+//! `stickslip::reference` (host/src/reference.rs).

@@ -42,7 +42,7 @@ impl<T: Real> Rk4Karnopp<T> {
         scene.validate()?;
         let co = Coefficients::of(scene);
         let plant = Plant::<T>::new(scene, &co);
-        let eta = (0.01 * scene.v).max((scene.mu_s - scene.mu_k) * co.n0 * scene.dt / scene.m);
+        let eta = (0.001 * scene.v).max(0.5 * (scene.mu_s - scene.mu_k) * co.n0 * scene.dt / scene.m);
         Ok(Rk4Karnopp {
             plant,
             limits: Limits::new(scene, &co),

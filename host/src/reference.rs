@@ -123,19 +123,22 @@ pub struct Tolerances {
     pub atol: f64,
     /// Width to which transitions and extrema are bisected [s].
     pub t_tol: f64,
+    /// Largest step, as a fraction of 1 / omega_max (the fastest mode's period over 2 pi).
+    pub h_max_factor: f64,
 }
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Tolerances { rtol: 1e-12, atol: 1e-16, t_tol: 1e-13 }
+        Tolerances { rtol: 1e-12, atol: 1e-16, t_tol: 1e-13, h_max_factor: 0.05 }
     }
 }
 
 impl Tolerances {
     /// A looser run for the work-precision baseline: atol scaled with rtol, transitions to
-    /// min(1e-13 s, rtol x 1e-3 s).
+    /// max(1e-13 s, rtol x 1e-3 s), steps up to 1/12 of the fastest period (the step-size
+    /// control, not a cap, sets them).
     pub fn loose(rtol: f64) -> Self {
-        Tolerances { rtol, atol: rtol * 1e-4, t_tol: (rtol * 1e-3).max(1e-13) }
+        Tolerances { rtol, atol: rtol * 1e-4, t_tol: (rtol * 1e-3).max(1e-13), h_max_factor: 0.5 }
     }
 }
 
@@ -220,7 +223,7 @@ pub fn simulate_with(scene: &Scene, tol: Tolerances, with_stats: bool) -> Result
     } else {
         0.0
     });
-    let h_max = 0.05 / omega_max;
+    let h_max = tol.h_max_factor / omega_max;
     let mut t = 0.0;
     let mut y = Y::new(0.0, p.v, p.phi0, 0.0);
     if !p.rotation {

@@ -1,0 +1,284 @@
+//! `stickslip stability`: sweeps of stiff and extreme cases around the default scene
+//! (push_center), every method, f32 and f64, each run classified:
+//!
+//! - `bounded`: the run completed;
+//! - `sprag`: the model itself diverges (a slip regime with rotational stiffness
+//!   K_eff = K - s sigma mu_k w c_N <= 0), or self-locks in stick (s mu_s w c_N >= K: the pad
+//!   never breaks away); the row gives the stiffness margin;
+//! - `contact_loss`: N = c_N phi < 0, the model is outside its validity;
+//! - `method_unstable`: an artefact of the method (it halted where the exact method, the
+//!   arbiter, does not); the row gives omega_max dt and the method's limit on it.
+//!
+//! Whether a halt is the model's or the method's is decided by the exact f64 run of the same
+//! scene. No NaN or infinity reaches an output: every stepper stops the step that would
+//! produce one.
+
+use serde::Serialize;
+use stickslip_model::methods::{AnyMethod, Method, MethodKind};
+use stickslip_model::propagator::fastest_rate;
+use stickslip_model::{Coefficients, Halt, Real, Regime, Scene};
+
+use crate::builtin;
+use crate::error::{HostError, Result};
+
+/// One swept parameter: its key in the rows and its values.
+pub struct Sweep {
+    pub key: &'static str,
+    pub unit: &'static str,
+    pub values: &'static [f64],
+    apply: fn(&mut Scene, f64),
+}
+
+fn set_contact(s: &mut Scene, v: f64) {
+    s.k_l = v;
+    s.k_t = v;
+}
+fn set_mu(s: &mut Scene, v: f64) {
+    // keep the default ratio mu_k / mu_s = 0.35 / 0.45 (so mu_k <= mu_s)
+    s.mu_s = v;
+    s.mu_k = v * (0.35 / 0.45);
+}
+fn set_damping(s: &mut Scene, zeta: f64) {
+    let co = Coefficients::of(s);
+    s.c_x = zeta * 2.0 * (s.k_g * s.m).sqrt();
+    s.c_phi = zeta * 2.0 * (co.k_rot * s.inertia).sqrt();
+}
+
+pub const SWEEPS: [Sweep; 8] = [
+    Sweep { key: "contact_stiffness", unit: "N/m", values: &[1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10], apply: set_contact },
+    Sweep { key: "k_g", unit: "N/m", values: &[1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9], apply: |s, v| s.k_g = v },
+    Sweep { key: "mu_s", unit: "-", values: &[0.0, 0.25, 0.5, 1.0, 1.5, 2.0], apply: set_mu },
+    Sweep { key: "v", unit: "m/s", values: &[1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0], apply: |s, v| s.v = v },
+    Sweep { key: "beta", unit: "m", values: &[0.0, 0.02, 0.04, 0.06, 0.08], apply: |s, v| s.beta = v },
+    Sweep { key: "f_n", unit: "N", values: &[0.0, 10.0, 100.0, 1e3, 1e4], apply: |s, v| s.f_n = v },
+    Sweep { key: "damping_ratio", unit: "-", values: &[0.0, 0.01, 0.1, 0.5, 1.0], apply: set_damping },
+    Sweep { key: "dt", unit: "s", values: &[1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2], apply: |s, v| s.dt = v },
+];
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    /// Which parameter this row's sweep varies.
+    pub sweep: String,
+    pub method: String,
+    pub precision: String,
+    pub dt: f64,
+    pub contact_stiffness: f64,
+    pub k_g: f64,
+    pub mu_s: f64,
+    pub mu_k: f64,
+    pub v: f64,
+    pub beta: f64,
+    pub f_n: f64,
+    pub damping_ratio: f64,
+    /// Fastest mode of the scene times dt [rad].
+    pub omega_dt: f64,
+    /// The method's stability limit on omega dt for an undamped oscillator; null: none.
+    pub omega_dt_limit: Option<f64>,
+    /// bounded | sprag | contact_loss | method_unstable
+    pub outcome: String,
+    /// Time of the halt [s], null when bounded.
+    pub t_halt: Option<f64>,
+    /// Smallest rotational stiffness margin of the scene, K_eff [N m/rad] (<= 0: sprag).
+    pub stiffness_margin: f64,
+    pub detail: String,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub rows: Vec<Row>,
+    pub duration_s: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Verdict {
+    Bounded,
+    Sprag,
+    ContactLoss,
+    Other,
+}
+
+fn run_method<T: Real>(kind: MethodKind, scene: &Scene) -> Result<Option<Halt>> {
+    let mut m = AnyMethod::<T>::new(kind, scene).map_err(|e| HostError::Input(format!("stability scene: {e}")))?;
+    let n = (scene.duration / scene.dt).round() as u64;
+    for _ in 0..n {
+        if let Err(h) = m.step() {
+            return Ok(Some(h));
+        }
+    }
+    Ok(None)
+}
+
+/// The model's own verdict on a scene: the exact f64 run, plus self-locking in stick.
+fn arbiter(scene: &Scene) -> Result<(Verdict, Option<Halt>)> {
+    let co = Coefficients::of(scene);
+    let mut m = AnyMethod::<f64>::new(MethodKind::Exact, scene).map_err(|e| HostError::Input(e.to_string()))?;
+    let n = (scene.duration / scene.dt).round() as u64;
+    let mut slipped = false;
+    for _ in 0..n {
+        match m.step() {
+            Err(h) => {
+                let v = match h {
+                    Halt::Diverged { stiffness_margin, .. } if stiffness_margin <= 0.0 => Verdict::Sprag,
+                    Halt::ContactLoss { .. } => Verdict::ContactLoss,
+                    _ => Verdict::Other,
+                };
+                return Ok((v, Some(h)));
+            }
+            Ok(_) => slipped |= m.regime() != Regime::Stick,
+        }
+    }
+    if !slipped && co.quasi_static_first_slip(scene).is_infinite() && scene.f_n > 0.0 {
+        return Ok((Verdict::Sprag, None));
+    }
+    Ok((Verdict::Bounded, None))
+}
+
+fn classify(kind: MethodKind, halt: Option<Halt>, model: Verdict) -> (&'static str, String) {
+    match (halt, model) {
+        (None, Verdict::Sprag) if kind == MethodKind::Exact => ("sprag", "self-locking in stick: the pad never breaks away".into()),
+        (None, _) => ("bounded", String::new()),
+        (Some(Halt::Diverged { stiffness_margin, regime, .. }), Verdict::Sprag) => {
+            ("sprag", format!("phi diverged in {} with K_eff = {stiffness_margin:.4e} N m/rad", regime.name()))
+        }
+        (Some(Halt::ContactLoss { n, .. }), Verdict::ContactLoss) => ("contact_loss", format!("N = {n:.3e} N < 0")),
+        (Some(h), _) => ("method_unstable", format!("{h:?}")),
+    }
+}
+
+pub struct Options {
+    pub quick: bool,
+    pub progress: bool,
+}
+
+/// Runs every sweep.
+pub fn run(opts: &Options) -> Result<Report> {
+    let mut base = builtin::find("push_center").expect("built-in").scene;
+    base.duration = if opts.quick { 0.1 } else { 0.2 };
+    base.stats_from = base.duration / 2.0;
+    let total: usize = SWEEPS.iter().map(|s| s.values.len()).sum::<usize>() * MethodKind::ALL.len() * 2;
+    let bar = if opts.progress {
+        let b = indicatif::ProgressBar::new(total as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Some(b)
+    } else {
+        None
+    };
+    let mut rows = Vec::new();
+    for sweep in &SWEEPS {
+        for &value in sweep.values {
+            let mut scene = base;
+            (sweep.apply)(&mut scene, value);
+            scene.validate().map_err(|e| HostError::Input(format!("sweep {} = {value}: {e}", sweep.key)))?;
+            let co = Coefficients::of(&scene);
+            let (model, _) = arbiter(&scene)?;
+            let omega_dt = fastest_rate(&scene, &co) * scene.dt;
+            let zeta = if sweep.key == "damping_ratio" { value } else { 0.0 };
+            for kind in MethodKind::ALL {
+                for precision in ["f64", "f32"] {
+                    if let Some(b) = &bar {
+                        b.set_message(format!("{} = {value:e}, {} {precision}", sweep.key, kind.name()));
+                    }
+                    let halt = if precision == "f64" { run_method::<f64>(kind, &scene)? } else { run_method::<f32>(kind, &scene)? };
+                    let (outcome, detail) = classify(kind, halt, model);
+                    rows.push(Row {
+                        sweep: sweep.key.into(),
+                        method: kind.name().into(),
+                        precision: precision.into(),
+                        dt: scene.dt,
+                        contact_stiffness: scene.k_l,
+                        k_g: scene.k_g,
+                        mu_s: scene.mu_s,
+                        mu_k: scene.mu_k,
+                        v: scene.v,
+                        beta: scene.beta,
+                        f_n: scene.f_n,
+                        damping_ratio: zeta,
+                        omega_dt,
+                        omega_dt_limit: kind.omega_dt_limit(),
+                        outcome: outcome.into(),
+                        t_halt: halt.map(|h| h.time()),
+                        stiffness_margin: co.sprag_margin(&scene),
+                        detail,
+                    });
+                    if let Some(b) = &bar {
+                        b.inc(1);
+                    }
+                }
+            }
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    Ok(Report { rows, duration_s: base.duration })
+}
+
+/// Every numeric field of every row is finite (the report's promise).
+pub fn all_finite(rep: &Report) -> bool {
+    rep.rows.iter().all(|r| {
+        [r.dt, r.contact_stiffness, r.k_g, r.mu_s, r.mu_k, r.v, r.beta, r.f_n, r.damping_ratio, r.omega_dt, r.stiffness_margin]
+            .iter()
+            .chain(r.t_halt.iter())
+            .chain(r.omega_dt_limit.iter())
+            .all(|v| v.is_finite())
+    })
+}
+
+/// The Markdown summary: per sweep, the outcome of each method and precision at each value.
+pub fn markdown(rep: &Report) -> String {
+    let mut out = format!(
+        "# Stability sweeps around push_center ({} s runs)\n\nOutcomes: bounded, sprag (the model diverges), contact_loss \
+         (N < 0: outside the model's validity), method_unstable (an artefact of the method; see omega_max dt against the \
+         method's limit: explicit Euler none, symplectic Euler 2, RK4 2.83, exact and Moreau-Jean unconditional).\n\n",
+        rep.duration_s
+    );
+    for sweep in &SWEEPS {
+        out.push_str(&format!("## {} [{}]\n\n| method | precision |", sweep.key, sweep.unit));
+        for v in sweep.values {
+            out.push_str(&format!(" {v:e} |"));
+        }
+        out.push_str("\n|---|---|");
+        for _ in sweep.values {
+            out.push_str("---|");
+        }
+        out.push('\n');
+        // omega dt per value (the same for every method)
+        out.push_str("| omega_max dt | |");
+        for v in sweep.values {
+            let w = rep.rows.iter().find(|r| r.sweep == sweep.key && value_of(r, sweep.key) == *v).map(|r| r.omega_dt);
+            out.push_str(&format!(" {} |", w.map_or("-".into(), |w| format!("{w:.2e}"))));
+        }
+        out.push('\n');
+        for kind in MethodKind::ALL {
+            for precision in ["f64", "f32"] {
+                out.push_str(&format!("| {} | {precision} |", kind.name()));
+                for v in sweep.values {
+                    let r = rep.rows.iter().find(|r| {
+                        r.sweep == sweep.key && r.method == kind.name() && r.precision == precision && value_of(r, sweep.key) == *v
+                    });
+                    out.push_str(&format!(" {} |", r.map_or("-", |r| r.outcome.as_str())));
+                }
+                out.push('\n');
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The swept value of a row.
+pub fn value_of(r: &Row, key: &str) -> f64 {
+    match key {
+        "contact_stiffness" => r.contact_stiffness,
+        "k_g" => r.k_g,
+        "mu_s" => r.mu_s,
+        "v" => r.v,
+        "beta" => r.beta,
+        "f_n" => r.f_n,
+        "damping_ratio" => r.damping_ratio,
+        _ => r.dt,
+    }
+}
