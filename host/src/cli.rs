@@ -75,7 +75,7 @@ and <= 1e-5 (f32); pull_center exact f64 at least 10x faster than DOP853 at erro
 
 const STABILITY_AFTER: &str = "\
 Sweeps, one parameter at a time around push_center (0.2 s runs; --quick 0.1 s): contact
-stiffness k_l = k_t 1e4..1e10 N/m, k_g 1e3..1e9 N/m, mu_s 0..2 (mu_k = 0.78 mu_s), V 1e-6..10
+stiffness k_l = k_t 1e4..1e10 N/m, k_g 1e3..1e9 N/m, mu_s 0..2 and 4, 8 (mu_k = 0.78 mu_s), V 1e-6..10
 m/s, beta 0..0.08 m, F_N 0..1e4 N, damping ratio 0..1 (of both modes), dt 1e-7..1e-2 s.
 Outcomes: bounded; sprag (the model diverges, or self-locks in stick: stiffness margin given);
 contact_loss (N < 0, outside the model's validity); method_unstable (the method halted where

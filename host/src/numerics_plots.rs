@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use stickslip_model::methods::MethodKind;
 
 use crate::accuracy;
@@ -147,19 +148,22 @@ pub fn stability(rep: &stability::Report, path: &Path) -> Result<()> {
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_labels(n)
-            .y_labels(m)
-            .x_label_formatter(&|v| {
-                let i = v.floor() as usize;
-                values.get(i).map_or(String::new(), |x| format!("{x:.0e}"))
-            })
-            .y_label_formatter(&|v| {
-                let i = v.floor() as usize;
-                labels_ref.get(m.saturating_sub(i + 1)).cloned().unwrap_or_default()
-            })
-            .label_style(("sans-serif", 10))
+            .disable_y_axis()
+            .disable_x_axis()
             .draw()
             .map_err(|e| out_err(path, e))?;
+        // one label per column, under its centre
+        let below = TextStyle::from(("sans-serif", 10).into_font()).pos(Pos::new(HPos::Center, VPos::Top));
+        for (i, v) in values.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
+            root.draw(&Text::new(format!("{v:e}"), (px, py + 4), below.clone())).map_err(|e| out_err(path, e))?;
+        }
+        // one label per row, drawn beside it (axis ticks would skip rows)
+        let style = TextStyle::from(("sans-serif", 10).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
+        for (j, label) in labels_ref.iter().enumerate() {
+            let (px, py) = chart.backend_coord(&(0.0, (m - j - 1) as f64 + 0.5));
+            root.draw(&Text::new(label.clone(), (px - 6, py), style.clone())).map_err(|e| out_err(path, e))?;
+        }
         for (j, label) in labels.iter().enumerate() {
             let (method, prec) = label.split_once(' ').unwrap_or((label, ""));
             for (i, v) in values.iter().enumerate() {

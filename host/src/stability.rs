@@ -47,7 +47,8 @@ fn set_damping(s: &mut Scene, zeta: f64) {
 pub const SWEEPS: [Sweep; 8] = [
     Sweep { key: "contact_stiffness", unit: "N/m", values: &[1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10], apply: set_contact },
     Sweep { key: "k_g", unit: "N/m", values: &[1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9], apply: |s, v| s.k_g = v },
-    Sweep { key: "mu_s", unit: "-", values: &[0.0, 0.25, 0.5, 1.0, 1.5, 2.0], apply: set_mu },
+    // 0 to 2 as asked, then 4 and 8: past K / (w c_N) = 6.0 the default pad sprags
+    Sweep { key: "mu_s", unit: "-", values: &[0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 4.0, 8.0], apply: set_mu },
     Sweep { key: "v", unit: "m/s", values: &[1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0], apply: |s, v| s.v = v },
     Sweep { key: "beta", unit: "m", values: &[0.0, 0.02, 0.04, 0.06, 0.08], apply: |s, v| s.beta = v },
     Sweep { key: "f_n", unit: "N", values: &[0.0, 10.0, 100.0, 1e3, 1e4], apply: |s, v| s.f_n = v },
@@ -97,15 +98,18 @@ enum Verdict {
     Other,
 }
 
-fn run_method<T: Real>(kind: MethodKind, scene: &Scene) -> Result<Option<Halt>> {
+/// Runs a method over the scene: its halt, if any, and whether the pad ever left stick.
+fn run_method<T: Real>(kind: MethodKind, scene: &Scene) -> Result<(Option<Halt>, bool)> {
     let mut m = AnyMethod::<T>::new(kind, scene).map_err(|e| HostError::Input(format!("stability scene: {e}")))?;
     let n = (scene.duration / scene.dt).round() as u64;
+    let mut slipped = false;
     for _ in 0..n {
         if let Err(h) = m.step() {
-            return Ok(Some(h));
+            return Ok((Some(h), true));
         }
+        slipped |= m.regime() != Regime::Stick;
     }
-    Ok(None)
+    Ok((None, slipped))
 }
 
 /// The model's own verdict on a scene: the exact f64 run, plus self-locking in stick.
@@ -133,9 +137,9 @@ fn arbiter(scene: &Scene) -> Result<(Verdict, Option<Halt>)> {
     Ok((Verdict::Bounded, None))
 }
 
-fn classify(kind: MethodKind, halt: Option<Halt>, model: Verdict) -> (&'static str, String) {
+fn classify(halt: Option<Halt>, slipped: bool, model: Verdict) -> (&'static str, String) {
     match (halt, model) {
-        (None, Verdict::Sprag) if kind == MethodKind::Exact => ("sprag", "self-locking in stick: the pad never breaks away".into()),
+        (None, Verdict::Sprag) if !slipped => ("sprag", "self-locking in stick: the pad never breaks away".into()),
         (None, _) => ("bounded", String::new()),
         (Some(Halt::Diverged { stiffness_margin, regime, .. }), Verdict::Sprag) => {
             ("sprag", format!("phi diverged in {} with K_eff = {stiffness_margin:.4e} N m/rad", regime.name()))
@@ -181,8 +185,9 @@ pub fn run(opts: &Options) -> Result<Report> {
                     if let Some(b) = &bar {
                         b.set_message(format!("{} = {value:e}, {} {precision}", sweep.key, kind.name()));
                     }
-                    let halt = if precision == "f64" { run_method::<f64>(kind, &scene)? } else { run_method::<f32>(kind, &scene)? };
-                    let (outcome, detail) = classify(kind, halt, model);
+                    let (halt, slipped) =
+                        if precision == "f64" { run_method::<f64>(kind, &scene)? } else { run_method::<f32>(kind, &scene)? };
+                    let (outcome, detail) = classify(halt, slipped, model);
                     rows.push(Row {
                         sweep: sweep.key.into(),
                         method: kind.name().into(),
