@@ -1,0 +1,69 @@
+//! `accuracy` and `stability`: the JSON contracts, every run classified, no NaN anywhere, and
+//! the bounds of `--check` (the short versions, as CI runs them).
+
+use std::process::Command;
+
+use serde_json::Value;
+
+fn run(args: &[&str]) -> (i32, Value) {
+    let o = Command::new(env!("CARGO_BIN_EXE_stickslip")).args(args).output().expect("runs");
+    let text = String::from_utf8(o.stdout).expect("UTF-8");
+    assert!(!text.contains("NaN") && !text.contains("inf"), "{args:?} printed a non-finite value");
+    let v = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{args:?}: not JSON ({e})"));
+    (o.status.code().unwrap_or(-1), v)
+}
+
+#[test]
+fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
+    let (code, v) = run(&["stability", "--quick", "--json", "--check"]);
+    assert_eq!(code, 0);
+    let rows = v["rows"].as_array().expect("rows");
+    // 8 sweeps, 5 methods, 2 precisions
+    let values = 7 + 7 + 8 + 8 + 5 + 5 + 5 + 6;
+    assert_eq!(rows.len(), values * 5 * 2);
+    for r in rows {
+        for key in ["method", "precision", "dt", "contact_stiffness", "k_g", "mu_s", "v", "beta", "f_n", "damping_ratio", "outcome"] {
+            assert!(!r[key].is_null(), "row without {key}: {r}");
+        }
+        let o = r["outcome"].as_str().unwrap();
+        assert!(["bounded", "sprag", "contact_loss", "method_unstable"].contains(&o), "{o}");
+        if r["method"] == "exact" {
+            assert_ne!(o, "method_unstable", "the exact method failed: {r}");
+        }
+    }
+    let stiff = rows.iter().filter(|r| r["sweep"] == "contact_stiffness" && r["contact_stiffness"] == 1e10 && r["method"] == "exact");
+    assert_eq!(stiff.filter(|r| r["outcome"] == "bounded").count(), 2);
+    // explicit Euler on the undamped rotation at the rig's rate is an artefact, and is named so
+    let ee = rows.iter().find(|r| r["sweep"] == "contact_stiffness" && r["contact_stiffness"] == 1e6 && r["method"] == "explicit_euler").unwrap();
+    assert_eq!(ee["outcome"], "method_unstable");
+    // past mu = K / (w c_N) the pad self-locks: the model's finding, not the method's
+    let sprag = rows.iter().find(|r| r["sweep"] == "mu_s" && r["mu_s"] == 8.0 && r["method"] == "exact").unwrap();
+    assert_eq!(sprag["outcome"], "sprag");
+    assert!(sprag["stiffness_margin"].as_f64().unwrap() < 0.0);
+}
+
+#[test]
+fn accuracy_report_meets_its_bounds() {
+    let (code, v) = run(&["accuracy", "--quick", "--json", "--check"]);
+    assert_eq!(code, 0, "a bound failed: {}", v["checks"]);
+    let rows = v["rows"].as_array().expect("rows");
+    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3));
+    for r in rows {
+        for key in ["scene", "method", "precision", "run_s"] {
+            assert!(!r[key].is_null(), "row without {key}: {r}");
+        }
+        let adaptive = r["method"] == "dop853_adaptive";
+        assert_eq!(r["dt"].is_null(), adaptive, "{r}");
+    }
+    let exact = |scene: &str, prec: &str| {
+        rows.iter()
+            .find(|r| r["scene"] == scene && r["method"] == "exact" && r["precision"] == prec && r["dt"] == 1.0 / 25600.0)
+            .and_then(|r| r["error"].as_f64())
+            .expect("row")
+    };
+    assert!(exact("oracle_1dof", "f64") <= 1e-9);
+    assert!(exact("oracle_1dof", "f32") <= 1e-5);
+    assert!(v["speedup_at_equal_error"].as_f64().unwrap() >= 10.0);
+    let rc = &v["reference_check"];
+    assert!(rc["worst_time_difference_s"].as_f64().unwrap() < 1e-9);
+}
