@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# The project's test command (README): everything, from a fresh Debian machine (as root) or a
+# developer's machine.
+#
+#   1. cross toolchain: the rustup target if installed, else Debian's rustc-web/cargo-web/
+#      rust-web-src + binutils-arm-none-eabi + qemu-system-arm (installed when missing,
+#      nothing else is installed)                                          scripts/cross.sh
+#   2. firmware/ for thumbv7em-none-eabihf, release                  scripts/build-firmware.sh
+#   3. tests/on-target for thumbv7em-none-eabihf, release (bins digest, count)
+#   4. host workspace: cargo test --workspace --release
+#   5. the model on the emulated Cortex-M4F against the host, bit for bit:
+#      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
+#   6. instruction counts of ExactStepper<f32>::step() under QEMU   scripts/count-instructions.sh
+#   7. firmware size
+#
+# Exits non-zero at the first failure. Prints each stage's wall time at the end.
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+# The host toolchain is rustup's; make sure its cargo is found in a bare environment.
+if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
+    export PATH="$HOME/.cargo/bin:$PATH"
+fi
+
+locked=()
+if [ "${CI:-}" = true ]; then locked=(--locked); fi
+
+stage_names=()
+stage_secs=()
+t_all=$(date +%s)
+t_stage=$t_all
+current=""
+
+section() {
+    finish_stage
+    current="$1"
+    t_stage=$(date +%s)
+    echo
+    echo "=================================================================="
+    echo "== $1"
+    echo "=================================================================="
+}
+
+finish_stage() {
+    if [ -n "$current" ]; then
+        stage_names+=("$current")
+        stage_secs+=($(($(date +%s) - t_stage)))
+    fi
+    current=""
+}
+
+on_exit() {
+    local status=$?
+    if [ "$status" -ne 0 ]; then
+        echo
+        echo "test-all: FAILED (exit status $status) in stage: ${current:-setup}" >&2
+    fi
+}
+trap on_exit EXIT
+
+section "1/7 cross toolchain (scripts/cross.sh)"
+# shellcheck source=scripts/cross.sh
+. "$root/scripts/cross.sh"
+cross_describe
+echo "host:   $(cargo --version)"
+
+section "2/7 firmware build, thumbv7em-none-eabihf release (scripts/build-firmware.sh)"
+size_log="$(mktemp)"
+bash "$root/scripts/build-firmware.sh" | tee "$size_log"
+firmware_size="$(tail -n 3 "$size_log")"
+rm -f "$size_log"
+
+section "3/7 on-target test programs, thumbv7em-none-eabihf release (tests/on-target)"
+(cd "$root/tests/on-target" && cross_cargo build --release "${locked[@]}")
+on_target_dir="$root/tests/on-target/target/$CROSS_TARGET/release"
+arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count"
+
+section "4/7 host workspace: cargo test --workspace --release"
+cargo test --workspace --release
+
+section "5/7 model on the emulated Cortex-M4F == model on the host (QEMU netduinoplus2)"
+STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" \
+    cargo test --release -p stickslip-crosscheck --test on_target -- --ignored --nocapture
+
+section "6/7 instruction counts under QEMU (scripts/count-instructions.sh)"
+COUNT_ELF="$on_target_dir/count" bash "$root/scripts/count-instructions.sh"
+
+section "7/7 firmware size"
+echo "$firmware_size"
+finish_stage
+
+echo
+echo "== stage times (wall clock, seconds)"
+for i in "${!stage_names[@]}"; do
+    printf "%6d  %s\n" "${stage_secs[$i]}" "${stage_names[$i]}"
+done
+printf "%6d  total\n" $(($(date +%s) - t_all))
+echo "test-all: all stages passed"
