@@ -116,5 +116,6 @@ awk -v elf="$elf" '
         printf "instructions exact_f32_step_detail no_transition_stick=%d no_transition_slip=%d stick_to_slip=%d slip_transition=%d\n", net[1], net[3], net[2], net[4]
         printf "instructions exact_f32_step no_transition=%d with_transition=%d\n", no_tr, with_tr
         printf "bound (issue): <= 200 instructions for a step without a transition: %s\n", no_tr <= 200 ? "met" : "NOT met"
+        if (no_tr > 200) exit 1
     }
 ' "$work/counts" "$work/windows"

@@ -11,7 +11,9 @@
 #   5. the model on the emulated Cortex-M4F against the host, bit for bit:
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
 #   6. instruction counts of ExactStepper<f32>::step() under QEMU   scripts/count-instructions.sh
-#   7. firmware size
+#      (fails above 200 instructions for a step without a transition)
+#   7. the short accuracy and stability reports with --check (fail on a regressed bound)
+#   8. firmware size
 #
 # Exits non-zero at the first failure. Prints each stage's wall time at the end.
 set -euo pipefail
@@ -60,34 +62,40 @@ on_exit() {
 }
 trap on_exit EXIT
 
-section "1/7 cross toolchain (scripts/cross.sh)"
+section "1/8 cross toolchain (scripts/cross.sh)"
 # shellcheck source=scripts/cross.sh
 . "$root/scripts/cross.sh"
 cross_describe
 echo "host:   $(cargo --version)"
 
-section "2/7 firmware build, thumbv7em-none-eabihf release (scripts/build-firmware.sh)"
+section "2/8 firmware build, thumbv7em-none-eabihf release (scripts/build-firmware.sh)"
 size_log="$(mktemp)"
 bash "$root/scripts/build-firmware.sh" | tee "$size_log"
 firmware_size="$(tail -n 3 "$size_log")"
 rm -f "$size_log"
 
-section "3/7 on-target test programs, thumbv7em-none-eabihf release (tests/on-target)"
+section "3/8 on-target test programs, thumbv7em-none-eabihf release (tests/on-target)"
 (cd "$root/tests/on-target" && cross_cargo build --release "${locked[@]}")
 on_target_dir="$root/tests/on-target/target/$CROSS_TARGET/release"
 arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count"
 
-section "4/7 host workspace: cargo test --workspace --release"
+section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
 
-section "5/7 model on the emulated Cortex-M4F == model on the host (QEMU netduinoplus2)"
+section "5/8 model on the emulated Cortex-M4F == model on the host (QEMU netduinoplus2)"
 STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" \
     cargo test --release -p stickslip-crosscheck --test on_target -- --ignored --nocapture
 
-section "6/7 instruction counts under QEMU (scripts/count-instructions.sh)"
+section "6/8 instruction counts under QEMU (scripts/count-instructions.sh)"
 COUNT_ELF="$on_target_dir/count" bash "$root/scripts/count-instructions.sh"
 
-section "7/7 firmware size"
+section "7/8 short work-precision and stability reports, held to their bounds"
+# exit code 3 when a figure regresses past its bound (see `stickslip accuracy --help`)
+cargo run --release -q -p stickslip -- accuracy --quick --check
+cargo run --release -q -p stickslip -- stability --quick --check > /dev/null
+echo "stability --quick --check: every run classified, exact bounded at 1e10 N/m, no NaN"
+
+section "8/8 firmware size"
 echo "$firmware_size"
 finish_stage
 

@@ -40,6 +40,8 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// Exact for integers below 2^24 (f32) or 2^53 (f64).
     fn from_u64(v: u64) -> Self;
+    /// Exact below 2^24 (f32); always exact in f64. One instruction on the Cortex-M4F.
+    fn from_u32(v: u32) -> Self;
     fn abs(self) -> Self;
     fn is_finite(self) -> bool;
     fn sqrt(self) -> Self;
@@ -87,6 +89,10 @@ impl Real for f32 {
         v as f32
     }
     #[inline(always)]
+    fn from_u32(v: u32) -> Self {
+        v as f32
+    }
+    #[inline(always)]
     fn abs(self) -> Self {
         f32::abs(self)
     }
@@ -125,6 +131,10 @@ impl Real for f64 {
     }
     #[inline(always)]
     fn from_u64(v: u64) -> Self {
+        v as f64
+    }
+    #[inline(always)]
+    fn from_u32(v: u32) -> Self {
         v as f64
     }
     #[inline(always)]
