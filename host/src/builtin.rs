@@ -3,7 +3,7 @@
 //! (`oracle_1dof`). All of them start from the default pad of the model crate.
 
 use stickslip_model::scene::CASE_BETAS;
-use stickslip_model::{Caliper, Coefficients, Scene, DEFAULT_SCENE};
+use stickslip_model::{Caliper, Scene, DEFAULT_SCENE};
 
 /// A built-in scene.
 #[derive(Clone, Debug)]
@@ -15,7 +15,7 @@ pub struct Builtin {
 
 /// Normal contact force of the `oracle_1dof` scene, N0 = c_N F_N a_N / K [N] (docs: the
 /// closed-form mass on a moving belt with N = 10 N).
-pub const ORACLE_N0: f64 = 10.0;
+pub const ORACLE_N0: f64 = Scene::ORACLE_N0;
 
 fn position_word(tag: &str) -> &'static str {
     match tag {
@@ -63,18 +63,7 @@ fn thesis_mu() -> Builtin {
 /// The 1-DOF mass on a moving belt (rotation off, N constant), which has a closed form:
 /// m = 1 kg, k_g = 100 N/m, V = 0.05 m/s, mu_s = 0.6, mu_k = 0.4, N0 = 10 N.
 fn oracle_1dof() -> Builtin {
-    let mut scene = DEFAULT_SCENE;
-    scene.rotation = false;
-    scene.m = 1.0;
-    scene.k_g = 100.0;
-    scene.v = 0.05;
-    scene.mu_s = 0.6;
-    scene.mu_k = 0.4;
-    scene.duration = 6.0;
-    scene.stats_from = 1.3;
-    // N0 = c_N F_N a_N / K: solve for F_N with the pad's own coefficients.
-    let co = Coefficients::of(&scene);
-    scene.f_n = ORACLE_N0 * co.k_rot / (co.c_n * co.a_n);
+    let scene = Scene::oracle_1dof();
     Builtin {
         name: "oracle_1dof".into(),
         description:

@@ -7,20 +7,7 @@
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use std::hint::black_box;
 use stickslip_model::methods::{AnyMethod, Method, MethodKind};
-use stickslip_model::{Caliper, Coefficients, ExactStepper, Real, Scene};
-
-fn oracle_1dof() -> Scene {
-    let mut s = Scene::case(Caliper::Push, 0.040);
-    s.rotation = false;
-    s.m = 1.0;
-    s.k_g = 100.0;
-    s.v = 0.05;
-    s.mu_s = 0.6;
-    s.mu_k = 0.4;
-    let co = Coefficients::of(&s);
-    s.f_n = 10.0 * co.k_rot / (co.c_n * co.a_n);
-    s
-}
+use stickslip_model::{Caliper, ExactStepper, Real, Scene};
 
 fn bench_method<T: Real>(c: &mut Criterion, scene_name: &str, scene: &Scene, kind: MethodKind) {
     let id = format!("step/{scene_name}/{}/{}", kind.name(), T::NAME);
@@ -54,7 +41,7 @@ fn exact_direct<T: Real>(c: &mut Criterion, scene_name: &str, scene: &Scene) {
 
 fn benches(c: &mut Criterion) {
     let pull = Scene::case(Caliper::Pull, 0.040);
-    let oracle = oracle_1dof();
+    let oracle = Scene::oracle_1dof();
     exact_direct::<f64>(c, "pull_center", &pull);
     exact_direct::<f32>(c, "pull_center", &pull);
     exact_direct::<f64>(c, "oracle_1dof", &oracle);

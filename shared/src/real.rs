@@ -61,92 +61,54 @@ pub trait Real:
     }
 }
 
-impl Real for f32 {
-    const DYADIC_LEVELS: usize = 24;
-    const NAME: &'static str = "f32";
-    type DyadicTable = [[f32; 20]; 25];
-    fn empty_table() -> Self::DyadicTable {
-        [[0.0; 20]; 25]
-    }
-    #[inline(always)]
-    fn zero() -> Self {
-        0.0
-    }
-    #[inline(always)]
-    fn one() -> Self {
-        1.0
-    }
-    #[inline(always)]
-    fn from_f64(v: f64) -> Self {
-        v as f32
-    }
-    #[inline(always)]
-    fn to_f64(self) -> f64 {
-        self as f64
-    }
-    #[inline(always)]
-    fn from_u64(v: u64) -> Self {
-        v as f32
-    }
-    #[inline(always)]
-    fn from_u32(v: u32) -> Self {
-        v as f32
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f32::abs(self)
-    }
-    #[inline(always)]
-    fn is_finite(self) -> bool {
-        f32::is_finite(self)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        libm::sqrtf(self)
-    }
+macro_rules! impl_real {
+    ($t:ty, $levels:expr, $name:expr, $sqrt:path) => {
+        impl Real for $t {
+            const DYADIC_LEVELS: usize = $levels;
+            const NAME: &'static str = $name;
+            type DyadicTable = [[$t; 20]; $levels + 1];
+            fn empty_table() -> Self::DyadicTable {
+                [[0.0; 20]; $levels + 1]
+            }
+            #[inline(always)]
+            fn zero() -> Self {
+                0.0
+            }
+            #[inline(always)]
+            fn one() -> Self {
+                1.0
+            }
+            #[inline(always)]
+            fn from_f64(v: f64) -> Self {
+                v as $t
+            }
+            #[inline(always)]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline(always)]
+            fn from_u64(v: u64) -> Self {
+                v as $t
+            }
+            #[inline(always)]
+            fn from_u32(v: u32) -> Self {
+                v as $t
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                <$t>::is_finite(self)
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $sqrt(self)
+            }
+        }
+    };
 }
 
-impl Real for f64 {
-    const DYADIC_LEVELS: usize = 53;
-    const NAME: &'static str = "f64";
-    type DyadicTable = [[f64; 20]; 54];
-    fn empty_table() -> Self::DyadicTable {
-        [[0.0; 20]; 54]
-    }
-    #[inline(always)]
-    fn zero() -> Self {
-        0.0
-    }
-    #[inline(always)]
-    fn one() -> Self {
-        1.0
-    }
-    #[inline(always)]
-    fn from_f64(v: f64) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn to_f64(self) -> f64 {
-        self
-    }
-    #[inline(always)]
-    fn from_u64(v: u64) -> Self {
-        v as f64
-    }
-    #[inline(always)]
-    fn from_u32(v: u32) -> Self {
-        v as f64
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f64::abs(self)
-    }
-    #[inline(always)]
-    fn is_finite(self) -> bool {
-        f64::is_finite(self)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        libm::sqrt(self)
-    }
-}
+impl_real!(f32, 24, "f32", libm::sqrtf);
+impl_real!(f64, 53, "f64", libm::sqrt);

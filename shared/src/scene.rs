@@ -136,6 +136,28 @@ impl Scene {
         s
     }
 
+    /// Normal force of [`Scene::oracle_1dof`], N0 = c_N F_N a_N / K [N].
+    pub const ORACLE_N0: f64 = 10.0;
+
+    /// The closed-form check of docs/model.md: the 1-DOF mass on a moving belt (rotation held,
+    /// so N is constant): m = 1 kg, k_g = 100 N/m, V = 0.05 m/s, mu_s = 0.6, mu_k = 0.4, and F_N
+    /// chosen so that N0 = 10 N; a 6 s run (first breakaway at 1.2 s, then four cycles), the
+    /// statistics over [1.3, 6] s.
+    pub fn oracle_1dof() -> Scene {
+        let mut s = Scene::case(Caliper::Push, 0.040);
+        s.rotation = false;
+        s.m = 1.0;
+        s.k_g = 100.0;
+        s.v = 0.05;
+        s.mu_s = 0.6;
+        s.mu_k = 0.4;
+        s.duration = 6.0;
+        s.stats_from = 1.3;
+        let co = crate::coefficients::Coefficients::of(&s);
+        s.f_n = Self::ORACLE_N0 * co.k_rot / (co.c_n * co.a_n);
+        s
+    }
+
     /// Checks every field; the first violation is returned. A scene that passes can be
     /// stepped without panics (all derived quantities are finite and non-degenerate).
     pub fn validate(&self) -> Result<(), SceneError> {

@@ -3,21 +3,11 @@
 //! does not need to.
 
 use stickslip_model::methods::{AnyMethod, Method, MethodKind};
-use stickslip_model::{Caliper, Real, Regime, Scene};
+use stickslip_model::{Real, Regime, Scene};
 
 fn oracle(dt: f64) -> Scene {
-    let mut s = Scene::case(Caliper::Push, 0.040);
-    s.rotation = false;
-    s.m = 1.0;
-    s.k_g = 100.0;
-    s.v = 0.05;
-    s.mu_s = 0.6;
-    s.mu_k = 0.4;
-    let (d_l, d_t) = (s.l + s.l_cl, s.l - s.l_ct);
-    let k = s.k_l * d_l * d_l + s.k_t * d_t * d_t;
-    s.f_n = 10.0 * k / ((s.k_l * d_l + s.k_t * d_t) * s.beta);
+    let mut s = Scene::oracle_1dof();
     s.dt = dt;
-    s.duration = 6.0;
     s
 }
 

@@ -3,25 +3,12 @@
 //! the code under test.
 
 use stickslip_model::stats::StatsObserver;
-use stickslip_model::{Caliper, ExactStepper, Observer, Real, Regime, Scene, Transition};
+use stickslip_model::{ExactStepper, Observer, Real, Regime, Scene, Transition};
 
 /// The closed-form check values of model.md: m = 1, k = 100, N = 10, V = 0.05, 0.6 / 0.4.
 fn oracle_scene(dt: f64) -> Scene {
-    let mut s = Scene::case(Caliper::Push, 0.040);
-    s.rotation = false;
-    s.m = 1.0;
-    s.k_g = 100.0;
-    s.v = 0.05;
-    s.mu_s = 0.6;
-    s.mu_k = 0.4;
-    // N0 = c_N F_N a_N / K must be 10 N. Arms by hand for push: d_L = l + l_cL, d_T = l - l_cT.
-    let (d_l, d_t) = (s.l + s.l_cl, s.l - s.l_ct);
-    let k = s.k_l * d_l * d_l + s.k_t * d_t * d_t;
-    let c_n = s.k_l * d_l + s.k_t * d_t;
-    s.f_n = 10.0 * k / (c_n * s.beta);
+    let mut s = Scene::oracle_1dof();
     s.dt = dt;
-    s.duration = 6.0;
-    s.stats_from = 1.3;
     s
 }
 

@@ -102,18 +102,7 @@ fn pull_center_converges_at_every_step_size() {
 #[test]
 fn oracle_1dof_matches_the_reference_too() {
     // the reference on the closed-form scene: its own accuracy, for the record
-    let mut s = Scene::case(Caliper::Push, 0.040);
-    s.rotation = false;
-    s.m = 1.0;
-    s.k_g = 100.0;
-    s.v = 0.05;
-    s.mu_s = 0.6;
-    s.mu_k = 0.4;
-    let (d_l, d_t) = (s.l + s.l_cl, s.l - s.l_ct);
-    let k = s.k_l * d_l * d_l + s.k_t * d_t * d_t;
-    s.f_n = 10.0 * k / ((s.k_l * d_l + s.k_t * d_t) * s.beta);
-    s.duration = 6.0;
-    s.stats_from = 1.3;
+    let s = Scene::oracle_1dof();
     let r = reference::simulate(&s);
     let x_max = 0.4 * 10.0 / 100.0 + ((0.2f64 * 10.0 / 100.0).powi(2) + (0.05f64 / 10.0).powi(2)).sqrt();
     assert!(rel(r.stats.max[0], x_max) < 1e-9, "reference x_max {} vs {}", r.stats.max[0], x_max);

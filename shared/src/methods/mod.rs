@@ -10,6 +10,7 @@
 //! | RK4 + Karnopp band | 4 between transitions, 1 overall | omega h < 2.83 | band |V_r| < eta |
 //! | Moreau-Jean (theta = 1/2) | 2 between transitions, 1 overall | unconditional | set-valued law per step |
 
+pub mod core;
 pub mod moreau_jean;
 pub mod plant;
 pub mod rk4_karnopp;

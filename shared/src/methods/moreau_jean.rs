@@ -17,8 +17,8 @@
 //! (the trapezoidal rule), first order through transitions, no event location.
 
 use crate::coefficients::Coefficients;
-use crate::exact::{State, Transition};
-use crate::halt::{Halt, Limits};
+use crate::halt::Halt;
+use crate::methods::core::{core_accessors, StepCore};
 use crate::methods::plant::Plant;
 use crate::methods::Method;
 use crate::real::Real;
@@ -30,7 +30,6 @@ const THETA: f64 = 0.5;
 #[derive(Clone, Debug)]
 pub struct MoreauJean<T: Real> {
     plant: Plant<T>,
-    limits: Limits<T>,
     h: T,
     theta_h: T,
     one_minus_theta_h: T,
@@ -45,13 +44,7 @@ pub struct MoreauJean<T: Real> {
     inv1: T,
     /// A00 (the inverse of g = e_x A^-1 W).
     a00: T,
-    dt: f64,
-    z: [T; 4],
-    regime: Regime,
-    step: u64,
-    last: [Transition<T>; 1],
-    n_last: usize,
-    halted: Option<Halt>,
+    core: StepCore<T>,
 }
 
 impl<T: Real> MoreauJean<T> {
@@ -66,7 +59,6 @@ impl<T: Real> MoreauJean<T> {
         let t = T::from_f64;
         Ok(MoreauJean {
             plant,
-            limits: Limits::new(scene, &co),
             h: t(h),
             theta_h: t(th * h),
             one_minus_theta_h: t((1.0 - th) * h),
@@ -78,24 +70,14 @@ impl<T: Real> MoreauJean<T> {
             inv0: t(1.0 / a00),
             inv1: t(1.0 / a11),
             a00: t(a00),
-            dt: scene.dt,
-            z: [T::zero(), plant.v, plant.phi0, T::zero()],
-            regime: Regime::Stick,
-            step: 0,
-            last: [Transition { t: 0.0, from: Regime::Stick, to: Regime::Stick, state: State::default() }],
-            n_last: 0,
-            halted: None,
+            core: StepCore::new(scene, &co),
         })
     }
 }
 
 impl<T: Real> Method<T> for MoreauJean<T> {
     fn step(&mut self) -> Result<usize, Halt> {
-        if let Some(h) = self.halted {
-            return Err(h);
-        }
-        self.n_last = 0;
-        let z = self.z;
+        let z = self.core.begin()?;
         let p = &self.plant;
         // free velocities (no friction impulse)
         let vf0 = (self.a0 * z[1] - self.b0 * z[0]) * self.inv0;
@@ -118,31 +100,7 @@ impl<T: Real> Method<T> for MoreauJean<T> {
         let v1 = if p.rotation { vf1 + self.inv1 * p.s_w * impulse } else { T::zero() };
         let x = z[0] + (self.theta_h * v0 + self.one_minus_theta_h * z[1]);
         let phi = if p.rotation { z[2] + (self.theta_h * v1 + self.one_minus_theta_h * z[3]) } else { z[2] };
-        let next = [x, v0, phi, v1];
-        self.step += 1;
-        if regime != self.regime {
-            self.last[0] = Transition { t: self.step as f64 * self.dt, from: self.regime, to: regime, state: State::from_array(next) };
-            self.n_last = 1;
-            self.regime = regime;
-        }
-        self.z = next;
-        let t = self.step as f64 * self.dt;
-        if let Err(e) = self.limits.check(&self.z, self.regime, || t) {
-            self.halted = Some(e);
-            return Err(e);
-        }
-        Ok(self.n_last)
+        self.core.end([x, v0, phi, v1], regime)
     }
-    fn state(&self) -> State<T> {
-        State::from_array(self.z)
-    }
-    fn regime(&self) -> Regime {
-        self.regime
-    }
-    fn steps(&self) -> u64 {
-        self.step
-    }
-    fn transitions(&self) -> &[Transition<T>] {
-        &self.last[..self.n_last]
-    }
+    core_accessors!();
 }

@@ -12,8 +12,8 @@
 //! discontinuous at the band's edges), so first order overall.
 
 use crate::coefficients::Coefficients;
-use crate::exact::{State, Transition};
-use crate::halt::{Halt, Limits};
+use crate::halt::Halt;
+use crate::methods::core::{core_accessors, StepCore};
 use crate::methods::plant::Plant;
 use crate::methods::Method;
 use crate::real::Real;
@@ -23,18 +23,11 @@ use crate::stickslip::Regime;
 #[derive(Clone, Debug)]
 pub struct Rk4Karnopp<T: Real> {
     plant: Plant<T>,
-    limits: Limits<T>,
     h: T,
     half_h: T,
     sixth_h: T,
     eta: T,
-    dt: f64,
-    z: [T; 4],
-    regime: Regime,
-    step: u64,
-    last: [Transition<T>; 1],
-    n_last: usize,
-    halted: Option<Halt>,
+    core: StepCore<T>,
 }
 
 impl<T: Real> Rk4Karnopp<T> {
@@ -45,18 +38,11 @@ impl<T: Real> Rk4Karnopp<T> {
         let eta = (0.001 * scene.v).max(0.5 * (scene.mu_s - scene.mu_k) * co.n0 * scene.dt / scene.m);
         Ok(Rk4Karnopp {
             plant,
-            limits: Limits::new(scene, &co),
             h: T::from_f64(scene.dt),
             half_h: T::from_f64(scene.dt / 2.0),
             sixth_h: T::from_f64(scene.dt / 6.0),
             eta: T::from_f64(eta),
-            dt: scene.dt,
-            z: [T::zero(), plant.v, plant.phi0, T::zero()],
-            regime: Regime::Stick,
-            step: 0,
-            last: [Transition { t: 0.0, from: Regime::Stick, to: Regime::Stick, state: State::default() }],
-            n_last: 0,
-            halted: None,
+            core: StepCore::new(scene, &co),
         })
     }
 
@@ -101,11 +87,7 @@ impl<T: Real> Rk4Karnopp<T> {
 
 impl<T: Real> Method<T> for Rk4Karnopp<T> {
     fn step(&mut self) -> Result<usize, Halt> {
-        if let Some(h) = self.halted {
-            return Err(h);
-        }
-        self.n_last = 0;
-        let z = self.z;
+        let z = self.core.begin()?;
         let add = |a: &[T; 4], k: &[T; 4], s: T| [a[0] + s * k[0], a[1] + s * k[1], a[2] + s * k[2], a[3] + s * k[3]];
         let k1 = self.rhs(&z);
         let k2 = self.rhs(&add(&z, &k1, self.half_h));
@@ -116,31 +98,8 @@ impl<T: Real> Method<T> for Rk4Karnopp<T> {
         for i in 0..4 {
             n[i] = z[i] + self.sixth_h * (k1[i] + two * k2[i] + two * k3[i] + k4[i]);
         }
-        self.step += 1;
         let (_, regime) = self.friction(&n);
-        if regime != self.regime {
-            self.last[0] = Transition { t: self.step as f64 * self.dt, from: self.regime, to: regime, state: State::from_array(n) };
-            self.n_last = 1;
-            self.regime = regime;
-        }
-        self.z = n;
-        let t = self.step as f64 * self.dt;
-        if let Err(e) = self.limits.check(&self.z, self.regime, || t) {
-            self.halted = Some(e);
-            return Err(e);
-        }
-        Ok(self.n_last)
+        self.core.end(n, regime)
     }
-    fn state(&self) -> State<T> {
-        State::from_array(self.z)
-    }
-    fn regime(&self) -> Regime {
-        self.regime
-    }
-    fn steps(&self) -> u64 {
-        self.step
-    }
-    fn transitions(&self) -> &[Transition<T>] {
-        &self.last[..self.n_last]
-    }
+    core_accessors!();
 }

@@ -17,7 +17,7 @@
 use core::fmt;
 
 use stickslip_model::digest::{DigestBits, Fnv1a64};
-use stickslip_model::{Caliper, Coefficients, ExactStepper, Halt, Real, Scene, SceneError};
+use stickslip_model::{Caliper, ExactStepper, Halt, Real, Scene, SceneError};
 
 pub const TAG_STEP: u8 = b'S';
 pub const TAG_TRANSITION: u8 = b'T';
@@ -68,15 +68,7 @@ pub fn push_center() -> Scene {
 /// k_g = 100 N/m, V = 0.05 m/s, mu_s = 0.6, mu_k = 0.4, and F_N such that
 /// N0 = c_N F_N a_N / K = 10 N; run for [`ORACLE_DURATION`].
 pub fn oracle_1dof() -> Scene {
-    let mut s = Scene::case(Caliper::Push, 0.040);
-    s.rotation = false;
-    s.m = 1.0;
-    s.k_g = 100.0;
-    s.v = 0.05;
-    s.mu_s = 0.6;
-    s.mu_k = 0.4;
-    let co = Coefficients::of(&s);
-    s.f_n = 10.0 * co.k_rot / (co.c_n * co.a_n);
+    let s = Scene::oracle_1dof();
     with_run_settings(s, ORACLE_DURATION)
 }
 
