@@ -25,6 +25,7 @@ pub mod linalg;
 pub mod methods;
 pub mod propagator;
 pub mod real;
+pub mod rig;
 pub mod scene;
 pub mod stats;
 pub mod stickslip;

@@ -1,0 +1,157 @@
+//! A Butterworth band-pass as a cascade of biquads: designed once in f64 by the bilinear
+//! transform, run per sample in f32.
+//!
+//! **Design.** Band edges f_lo, f_hi [Hz] at rate fs are prewarped, Omega = 2 fs tan(pi f / fs),
+//! so that the digital filter has exactly the analog response at those edges. The analog
+//! prototype is the order-n Butterworth low-pass, poles p_k = exp(j theta_k),
+//! theta_k = pi/2 + pi (2k + 1) / (2n), k = 0..n. The low-pass to band-pass substitution
+//! S = (s^2 + Omega_0^2) / (B s), with Omega_0^2 = Omega_lo Omega_hi and B = Omega_hi - Omega_lo,
+//! turns each factor 1 / (S - p) into B s / (s^2 - p B s + Omega_0^2): two poles, the roots of
+//! s^2 - p B s + Omega_0^2. Each upper-half prototype pole p gives two roots s_1, s_2 and its
+//! conjugate gives their conjugates, so the 2n band-pass poles pair into n real sections
+//!
+//! ```text
+//! H_i(s) = B s / (s^2 + a_1 s + a_0),   a_1 = -2 Re(s_i),  a_0 = |s_i|^2
+//! ```
+//!
+//! (an odd n adds the real prototype pole -1: s^2 + B s + Omega_0^2). The product has unit gain
+//! at Omega_0, and |H(j Omega)|^2 = 1 / (1 + ((Omega^2 - Omega_0^2) / (Omega B))^(2n)). The
+//! bilinear transform s = K (1 - z^-1) / (1 + z^-1), K = 2 fs, maps each section to
+//!
+//! ```text
+//! H_i(z) = b_0 (1 - z^-2) / (1 + a_1' z^-1 + a_2' z^-2)
+//! b_0 = B K / d,  a_1' = 2 (a_0 - K^2) / d,  a_2' = (K^2 - a_1 K + a_0) / d,  d = K^2 + a_1 K + a_0
+//! ```
+//!
+//! and the digital magnitude at f is the analog one at Omega = 2 fs tan(pi f / fs), up to the
+//! rounding of the coefficients to f32.
+//!
+//! **Run.** Direct form I, y = b_0 (x - x[-2]) - a_1' y[-1] - a_2' y[-2]: three multiplies, three
+//! additions, no division. Direct form I keeps the section's state as past inputs and outputs,
+//! which are of the signal's own size (no internal gain), the safer choice in f32 for poles
+//! close to z = 1 (here |z| > 0.98 for a 100 Hz edge at 25.6 kHz).
+
+use super::{check, ConfigError};
+
+/// Sections of the groan-band filter: a 4th-order band-pass (2nd-order Butterworth prototype).
+pub const GROAN_SECTIONS: usize = 2;
+/// The groan band [Hz].
+pub const GROAN_BAND_HZ: (f64, f64) = (100.0, 500.0);
+
+/// One band-pass section, H(z) = b0 (1 - z^-2) / (1 + a1 z^-1 + a2 z^-2).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Section<T> {
+    pub b0: T,
+    pub a1: T,
+    pub a2: T,
+}
+
+/// The past inputs and outputs of one section (direct form I).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SectionState {
+    x1: f32,
+    x2: f32,
+    y1: f32,
+    y2: f32,
+}
+
+/// A designed band-pass: the f64 design and its f32 coefficients.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BandPass<const N: usize> {
+    /// The design in f64.
+    pub design: [Section<f64>; N],
+    /// The coefficients the filter runs with (the design rounded to f32).
+    pub sections: [Section<f32>; N],
+    /// Prewarped analog band edges Omega_lo, Omega_hi [rad/s].
+    pub omega_edges: (f64, f64),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Complex {
+    re: f64,
+    im: f64,
+}
+
+impl Complex {
+    fn mul(self, o: Complex) -> Complex {
+        Complex { re: self.re * o.re - self.im * o.im, im: self.re * o.im + self.im * o.re }
+    }
+    fn sub(self, o: Complex) -> Complex {
+        Complex { re: self.re - o.re, im: self.im - o.im }
+    }
+    fn add(self, o: Complex) -> Complex {
+        Complex { re: self.re + o.re, im: self.im + o.im }
+    }
+    fn scale(self, k: f64) -> Complex {
+        Complex { re: self.re * k, im: self.im * k }
+    }
+    /// Principal square root, with sqrt only: sqrt((|z| + re) / 2) + j sign(im) sqrt((|z| - re) / 2).
+    fn sqrt(self) -> Complex {
+        let r = libm::sqrt(self.re * self.re + self.im * self.im);
+        let re = libm::sqrt(((r + self.re) * 0.5).max(0.0));
+        let im = libm::sqrt(((r - self.re) * 0.5).max(0.0));
+        Complex { re, im: if self.im < 0.0 { -im } else { im } }
+    }
+}
+
+impl<const N: usize> BandPass<N> {
+    /// Designs the N-section (order 2N) Butterworth band-pass with edges `f_lo_hz`, `f_hi_hz`
+    /// at the sampling rate `fs_hz`.
+    pub fn butterworth(f_lo_hz: f64, f_hi_hz: f64, fs_hz: f64) -> Result<Self, ConfigError> {
+        check(N >= 1, "bandpass.sections", "must be >= 1", N as f64)?;
+        check(fs_hz.is_finite() && fs_hz > 0.0, "bandpass.fs_hz", "must be > 0 Hz", fs_hz)?;
+        check(f_lo_hz.is_finite() && f_lo_hz > 0.0, "bandpass.f_lo_hz", "must be > 0 Hz", f_lo_hz)?;
+        check(
+            f_hi_hz.is_finite() && f_hi_hz > f_lo_hz && f_hi_hz < 0.5 * fs_hz,
+            "bandpass.f_hi_hz",
+            "must satisfy f_lo < f_hi < fs / 2",
+            f_hi_hz,
+        )?;
+        let pi = core::f64::consts::PI;
+        let k = 2.0 * fs_hz;
+        let w_lo = k * libm::tan(pi * f_lo_hz / fs_hz);
+        let w_hi = k * libm::tan(pi * f_hi_hz / fs_hz);
+        let bw = w_hi - w_lo;
+        let w0_sq = w_lo * w_hi;
+        let mut analog = [(0.0f64, 0.0f64); N]; // (a1, a0) of s^2 + a1 s + a0
+        let mut n = 0usize;
+        for i in 0..N / 2 {
+            let theta = pi / 2.0 + pi * (2 * i + 1) as f64 / (2 * N) as f64;
+            let p = Complex { re: libm::cos(theta), im: libm::sin(theta) };
+            // roots of s^2 - p B s + Omega_0^2
+            let pb = p.scale(bw);
+            let disc = pb.mul(pb).sub(Complex { re: 4.0 * w0_sq, im: 0.0 }).sqrt();
+            for s in [pb.add(disc).scale(0.5), pb.sub(disc).scale(0.5)] {
+                analog[n] = (-2.0 * s.re, s.re * s.re + s.im * s.im);
+                n += 1;
+            }
+        }
+        if N % 2 == 1 {
+            analog[n] = (bw, w0_sq);
+        }
+        let mut design = [Section::<f64>::default(); N];
+        let mut sections = [Section::<f32>::default(); N];
+        for (i, &(a1, a0)) in analog.iter().enumerate() {
+            let d = k * k + a1 * k + a0;
+            let s = Section { b0: bw * k / d, a1: 2.0 * (a0 - k * k) / d, a2: (k * k - a1 * k + a0) / d };
+            design[i] = s;
+            sections[i] = Section { b0: s.b0 as f32, a1: s.a1 as f32, a2: s.a2 as f32 };
+        }
+        Ok(BandPass { design, sections, omega_edges: (w_lo, w_hi) })
+    }
+
+    /// Filters one sample through the cascade; `state` holds one channel's past values.
+    #[inline(always)]
+    pub fn run(&self, state: &mut [SectionState; N], x: f32) -> f32 {
+        let mut v = x;
+        for (s, st) in self.sections.iter().zip(state.iter_mut()) {
+            let y = s.b0 * (v - st.x2) - s.a1 * st.y1 - s.a2 * st.y2;
+            st.x2 = st.x1;
+            st.x1 = v;
+            st.y2 = st.y1;
+            st.y1 = y;
+            v = y;
+        }
+        v
+    }
+}

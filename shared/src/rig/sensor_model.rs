@@ -1,0 +1,311 @@
+//! The inverse of the measurement: the model's motion to the frames the rig's ADC would return.
+//! For tests (signals whose truth is known) and for the virtual rig.
+//!
+//! Per sample, after one step of the exact stepper (so frame `i` shows the state at
+//! t = (i + 1) dt, and the transitions of that step are those the frame is the first to see):
+//!
+//! - `disc_x` = the band's acceleration along x: 0, the model's band runs at constant V.
+//! - `pad_x` = x'' of the pad, from [`Plant::accelerations`] in the stepper's regime (exactly
+//!   0 in stick, a jump of about -(mu_s - mu_k) N / m at breakaway).
+//! - `pad_trail`, `pad_lead` = the y accelerations of two points of the pad, from the rotation:
+//!   see [`SensorGeometry`].
+//! - actuator line pressure = F_N / A (the scene's F_N, the piston area A); band line pressure =
+//!   a configured constant (the band starts moving near 0.6 to 0.7 bar).
+//!
+//! Then, in this order: optional noise (white, from the seeded [`XorShift32`], Irwin-Hall
+//! shaped, bounded by 3.46 sigma), clipping at the accelerometers' measuring range (+-700
+//! m/s^2: the sensor saturates), and the ADC (nearest count, clamped to the rails) through the
+//! inverse of the [`Calibration`]. The noise-free physical values of the last frame are kept in
+//! [`SensorModel::truth`].
+//!
+//! The model is open loop: its band moves from the first frame and its pressures do not follow
+//! the valves.
+
+use super::calibration::{Calibration, Frame};
+use super::pneumatics::{actuator_bar_for, RIG_PISTON_AREA_M2};
+use super::prng::XorShift32;
+use super::{
+    check, ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X, PRESSURE_CHANNELS,
+};
+use crate::coefficients::Coefficients;
+use crate::exact::{ExactStepper, Halt};
+use crate::methods::plant::Plant;
+use crate::real::Real;
+use crate::scene::{Caliper, Scene, SceneError};
+use crate::stickslip::Regime;
+
+/// Where the two y accelerometers sit on the pad, and which way they read.
+///
+/// Geometry (docs/model.md): the pad, length 2l, rotates by phi about the pivot at its supported
+/// edge, at mid-thickness: the trailing edge for a push caliper, the leading edge for a pull
+/// caliper. Positive phi compresses the contact springs, i.e. moves every point of the pad
+/// toward the band by (distance from the pivot) * phi. A sensor at distance `u` from the
+/// trailing edge (toward the leading edge) is at the lever arm
+///
+/// ```text
+/// r = u        (push: pivot at the trailing edge)
+/// r = 2 l - u  (pull: pivot at the leading edge)
+/// ```
+///
+/// and, with y positive toward the band (the sense of the normal load), reads y'' = r phi''
+/// (the centripetal term r phi'^2 along the pad is neglected, and not sensed in y). So the sign
+/// is the same for both calipers; what the caliper changes is which edge is the pivot: the
+/// sensor near the pivot sees a small signal. An accelerometer mounted with its base on the
+/// backing plate reads positive *away* from the band: set `y_polarity` to -1 for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorGeometry {
+    /// Position of the `pad_trail` accelerometer, from the trailing edge [m], in [0, 2 l].
+    pub trail_from_trailing_edge_m: f64,
+    /// Position of the `pad_lead` accelerometer, from the trailing edge [m], in [0, 2 l].
+    pub lead_from_trailing_edge_m: f64,
+    /// +1: the y accelerometers read positive toward the band; -1: away from it.
+    pub y_polarity: f64,
+}
+
+impl SensorGeometry {
+    /// 5 mm in from each edge of the 80 mm pad, reading positive toward the band.
+    pub const RIG: SensorGeometry =
+        SensorGeometry { trail_from_trailing_edge_m: 0.005, lead_from_trailing_edge_m: 0.075, y_polarity: 1.0 };
+
+    /// Lever arms about the pivot of the trailing and leading sensors [m] for `scene`, times the
+    /// polarity.
+    pub fn arms(&self, scene: &Scene) -> Result<(f64, f64), ConfigError> {
+        let two_l = 2.0 * scene.l;
+        for (field, u) in [
+            ("geometry.trail_from_trailing_edge_m", self.trail_from_trailing_edge_m),
+            ("geometry.lead_from_trailing_edge_m", self.lead_from_trailing_edge_m),
+        ] {
+            check(u.is_finite() && u >= 0.0 && u <= two_l, field, "sensor must sit on the pad: 0 <= u <= 2 l", u)?;
+        }
+        check(
+            self.y_polarity == 1.0 || self.y_polarity == -1.0,
+            "geometry.y_polarity",
+            "must be +1 or -1",
+            self.y_polarity,
+        )?;
+        let arm = |u: f64| match scene.caliper {
+            Caliper::Push => u,
+            Caliper::Pull => two_l - u,
+        };
+        Ok((
+            self.y_polarity * arm(self.trail_from_trailing_edge_m),
+            self.y_polarity * arm(self.lead_from_trailing_edge_m),
+        ))
+    }
+}
+
+/// Noise added to the physical signals before clipping and quantisation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Noise {
+    /// Standard deviation on each accelerometer [m/s^2] (0: none).
+    pub accel_rms_m_s2: f64,
+    /// Standard deviation on each pressure [bar] (0: none).
+    pub pressure_rms_bar: f64,
+    /// Seed of the generator.
+    pub seed: u32,
+}
+
+impl Noise {
+    pub const NONE: Noise = Noise { accel_rms_m_s2: 0.0, pressure_rms_bar: 0.0, seed: 1 };
+}
+
+/// Everything the sensor model needs besides the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorModelConfig {
+    /// The calibration whose inverse makes the counts.
+    pub calibration: Calibration,
+    pub geometry: SensorGeometry,
+    /// Actuator piston area [m^2] (F_N = p A).
+    pub piston_area_m2: f64,
+    /// Band-drive cylinder line pressure [bar].
+    pub band_line_bar: f64,
+    pub noise: Noise,
+}
+
+impl SensorModelConfig {
+    /// The rig's nominal set-up, noise-free, band line at 0.65 bar.
+    pub const RIG: SensorModelConfig = SensorModelConfig {
+        calibration: super::calibration::RIG_CALIBRATION,
+        geometry: SensorGeometry::RIG,
+        piston_area_m2: RIG_PISTON_AREA_M2,
+        band_line_bar: 0.65,
+        noise: Noise::NONE,
+    };
+}
+
+impl Default for SensorModelConfig {
+    fn default() -> Self {
+        Self::RIG
+    }
+}
+
+/// Why a sensor model cannot be built.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SensorModelError {
+    Scene(SceneError),
+    Config(ConfigError),
+}
+
+impl From<SceneError> for SensorModelError {
+    fn from(e: SceneError) -> Self {
+        SensorModelError::Scene(e)
+    }
+}
+impl From<ConfigError> for SensorModelError {
+    fn from(e: ConfigError) -> Self {
+        SensorModelError::Config(e)
+    }
+}
+
+/// The noise-free physical values behind the last frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Truth<T> {
+    /// `disc_x`, `pad_x`, `pad_trail`, `pad_lead` [m/s^2], before noise and clipping.
+    pub accel_m_s2: [T; ACCEL_CHANNELS],
+    /// Actuator line, band line [bar].
+    pub pressure_bar: [T; PRESSURE_CHANNELS],
+    /// The model's regime at the sample instant.
+    pub regime: Option<Regime>,
+}
+
+/// Per-channel constants of the physical-value-to-count map, in `T`.
+#[derive(Clone, Copy, Debug)]
+struct ToCounts<T> {
+    /// count = offset + value * gain, per frame channel.
+    offset: [T; CHANNELS],
+    gain: [T; CHANNELS],
+    /// Sensor range of each accelerometer [m/s^2].
+    range: [T; ACCEL_CHANNELS],
+    max_count: T,
+}
+
+/// Makes one frame per call from the exact stepper's motion.
+#[derive(Clone, Debug)]
+pub struct SensorModel<T: Real> {
+    stepper: ExactStepper<T>,
+    plant: Plant<T>,
+    arm_trail: T,
+    arm_lead: T,
+    pressure: [T; PRESSURE_CHANNELS],
+    accel_sigma: T,
+    pressure_sigma: T,
+    rng: XorShift32,
+    to_counts: ToCounts<T>,
+    truth: Truth<T>,
+}
+
+impl<T: Real> SensorModel<T> {
+    pub fn new(scene: &Scene, cfg: &SensorModelConfig) -> Result<Self, SensorModelError> {
+        let stepper = ExactStepper::<T>::new(scene)?;
+        let cal = &cfg.calibration;
+        cal.validate()?;
+        let (arm_trail, arm_lead) = cfg.geometry.arms(scene)?;
+        check(
+            cfg.piston_area_m2.is_finite() && cfg.piston_area_m2 > 0.0,
+            "piston_area_m2",
+            "must be > 0 m^2",
+            cfg.piston_area_m2,
+        )?;
+        check(cfg.band_line_bar.is_finite(), "band_line_bar", "must be a finite pressure", cfg.band_line_bar)?;
+        let n = &cfg.noise;
+        check(
+            n.accel_rms_m_s2.is_finite() && n.accel_rms_m_s2 >= 0.0,
+            "noise.accel_rms_m_s2",
+            "must be >= 0",
+            n.accel_rms_m_s2,
+        )?;
+        check(
+            n.pressure_rms_bar.is_finite() && n.pressure_rms_bar >= 0.0,
+            "noise.pressure_rms_bar",
+            "must be >= 0",
+            n.pressure_rms_bar,
+        )?;
+        let t = T::from_f64;
+        let adc = &cal.adc;
+        let mut offset = [T::zero(); CHANNELS];
+        let mut gain = [T::zero(); CHANNELS];
+        let mut range = [T::zero(); ACCEL_CHANNELS];
+        for (i, a) in cal.accel.iter().enumerate() {
+            offset[i] = t(a.offset_counts);
+            gain[i] = t(a.counts_per_m_s2(adc));
+            range[i] = t(a.range_m_s2);
+        }
+        for (j, p) in cal.pressure.iter().enumerate() {
+            offset[ACCEL_CHANNELS + j] = t(p.zero_counts(adc));
+            gain[ACCEL_CHANNELS + j] = t(p.pin_volts_per_bar() / adc.volts_per_count());
+        }
+        let mut pressure = [T::zero(); PRESSURE_CHANNELS];
+        pressure[ACTUATOR] = t(actuator_bar_for(scene.f_n, cfg.piston_area_m2));
+        pressure[BAND] = t(cfg.band_line_bar);
+        Ok(SensorModel {
+            plant: Plant::new(scene, &Coefficients::of(scene)),
+            stepper,
+            arm_trail: t(arm_trail),
+            arm_lead: t(arm_lead),
+            pressure,
+            accel_sigma: t(n.accel_rms_m_s2),
+            pressure_sigma: t(n.pressure_rms_bar),
+            rng: XorShift32::new(n.seed),
+            to_counts: ToCounts { offset, gain, range, max_count: t(adc.max_count() as f64) },
+            truth: Truth::default(),
+        })
+    }
+
+    /// The stepper behind the frames (its state, regime and the transitions of the last step
+    /// are the truth of the last frame).
+    pub fn stepper(&self) -> &ExactStepper<T> {
+        &self.stepper
+    }
+
+    /// The noise-free physical values of the last frame.
+    pub fn truth(&self) -> &Truth<T> {
+        &self.truth
+    }
+
+    /// Steps the model once and returns the frame of the new state. A halted model (a finding
+    /// such as sprag or contact loss, see [`Halt`]) yields no more frames.
+    #[allow(clippy::needless_range_loop)] // parallel per-channel arrays
+    pub fn next_frame(&mut self) -> Result<Frame, Halt> {
+        self.stepper.step()?;
+        let regime = self.stepper.regime();
+        let z = self.stepper.state().to_array();
+        let (xdd, phidd) = self.plant.accelerations(regime, &z);
+        let mut accel = [T::zero(); ACCEL_CHANNELS];
+        accel[DISC_X] = T::zero();
+        accel[PAD_X] = xdd;
+        accel[PAD_TRAIL] = self.arm_trail * phidd;
+        accel[PAD_LEAD] = self.arm_lead * phidd;
+        self.truth = Truth { accel_m_s2: accel, pressure_bar: self.pressure, regime: Some(regime) };
+
+        let k = &self.to_counts;
+        let mut frame = Frame::default();
+        for i in 0..ACCEL_CHANNELS {
+            let mut a = accel[i];
+            if self.accel_sigma > T::zero() {
+                a += self.accel_sigma * self.rng.unit_noise::<T>();
+            }
+            // the sensor saturates at its measuring range
+            a = a.min(k.range[i]).max(-k.range[i]);
+            frame.counts[i] = Self::count(k.offset[i] + a * k.gain[i], k.max_count);
+        }
+        for j in 0..PRESSURE_CHANNELS {
+            let mut p = self.pressure[j];
+            if self.pressure_sigma > T::zero() {
+                p += self.pressure_sigma * self.rng.unit_noise::<T>();
+            }
+            let c = ACCEL_CHANNELS + j;
+            frame.counts[c] = Self::count(k.offset[c] + p * k.gain[c], k.max_count);
+        }
+        Ok(frame)
+    }
+
+    /// Nearest count (half up), clamped to [0, max].
+    #[inline(always)]
+    fn count(c: T, max: T) -> u16 {
+        let c = c.min(max);
+        if !(c > T::zero()) {
+            return 0;
+        }
+        (c + T::from_f64(0.5)).to_f64() as u16
+    }
+}
