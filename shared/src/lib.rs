@@ -15,6 +15,8 @@
 #![forbid(unsafe_code)]
 // `!(a < b)` is deliberate throughout: it is true for NaN, which must count as a fired guard.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Units are written in brackets in doc comments (`[kg]`, `[N/m]`), not links.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 pub mod coefficients;
 pub mod digest;

@@ -24,6 +24,9 @@ pub struct Plant<T> {
     pub mu_s: T,
     pub mu_k: T,
     pub rotation: bool,
+    /// 1 / m [1/kg] and 1 / I [1/(kg m^2)]: multiplied, not divided, on every evaluation.
+    pub inv_m: T,
+    pub inv_inertia: T,
     /// N_0 = c_N phi_0 [N], the constant normal force without rotation.
     pub n0: T,
     pub phi0: T,
@@ -46,6 +49,8 @@ impl<T: Real> Plant<T> {
             mu_s: t(scene.mu_s),
             mu_k: t(scene.mu_k),
             rotation: scene.rotation,
+            inv_m: t(1.0 / scene.m),
+            inv_inertia: t(1.0 / scene.inertia),
             n0: t(co.n0),
             phi0: t(co.phi0),
         }
@@ -70,9 +75,9 @@ impl<T: Real> Plant<T> {
     /// x'' and phi'' with a given friction force `f_f` [N] acting on the pad.
     #[inline(always)]
     pub fn accelerations_with(&self, z: &[T; 4], f_f: T, sticking: bool) -> (T, T) {
-        let xdd = if sticking { T::zero() } else { (f_f - self.k_g * z[0] - self.c_x * z[1]) / self.m };
+        let xdd = if sticking { T::zero() } else { (f_f - self.k_g * z[0] - self.c_x * z[1]) * self.inv_m };
         let phidd = if self.rotation {
-            (self.load_moment + self.s_w * f_f - self.k_rot * z[2] - self.c_phi * z[3]) / self.inertia
+            (self.load_moment + self.s_w * f_f - self.k_rot * z[2] - self.c_phi * z[3]) * self.inv_inertia
         } else {
             T::zero()
         };
