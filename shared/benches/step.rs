@@ -45,6 +45,11 @@ fn benches(c: &mut Criterion) {
     exact_direct::<f64>(c, "pull_center", &pull);
     exact_direct::<f32>(c, "pull_center", &pull);
     exact_direct::<f64>(c, "oracle_1dof", &oracle);
+    // damping is part of each regime's flow: it must cost nothing per step
+    let mut damped = pull;
+    damped.c_x = 50.0;
+    damped.c_phi = 0.05;
+    exact_direct::<f64>(c, "pull_center_damped", &damped);
     for kind in MethodKind::ALL {
         bench_method::<f64>(c, "pull_center", &pull, kind);
         bench_method::<f32>(c, "pull_center", &pull, kind);
