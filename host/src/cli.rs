@@ -17,9 +17,9 @@ the default pad's value (the built-in push_center); unknown keys are an error. S
 
 Exit codes: 0 success (a run that halts, e.g. on contact loss or sprag, is a finding and still
 exits 0, with the outcome reported); 2 bad input (unknown scene, unreadable or invalid scene
-file, bad option value), with one line on stderr naming the file or option, the field and the
-rule; 1 an output file could not be written; 3 a bound of `accuracy --check` or
-`stability --check` failed (the report is still printed).";
+file or recording, bad option value), with one line on stderr naming the file or option, the
+field (or line and column) and the rule; 1 an output file could not be written; 3 a bound of
+`accuracy --check` or `stability --check` failed (the report is still printed).";
 
 #[derive(Debug, Parser)]
 #[command(
@@ -52,6 +52,218 @@ pub enum Command {
     /// f64, each run classified bounded / sprag / contact_loss / method_unstable
     #[command(after_help = STABILITY_AFTER)]
     Stability(StabilityArgs),
+    /// Analyse an accelerometer recording (CSV: time [s]; disc_x, pad_x, pad_trail, pad_lead
+    /// [m/s^2]): peak-to-peak, RMS, spectral peak, groan-band RMS per channel, and the rig
+    /// estimator's stick fraction and stick-slip frequency
+    #[command(after_help = ANALYZE_AFTER)]
+    Analyze(AnalyzeArgs),
+    /// The virtual rig: a scene's motion through the rig's sensor model (100 mV/g, noise,
+    /// 12-bit ADC, 700 m/s^2 clipping) into the rig's estimator; estimated against true stick
+    /// fraction, stick-slip frequency and peak-to-peak
+    #[command(after_help = SIL_AFTER)]
+    Sil(SilArgs),
+    /// Model against measurement: a scene through the virtual rig and a recording through the
+    /// same analysis, per channel side by side, with the ratios measured / model
+    #[command(after_help = COMPARE_AFTER)]
+    Compare(CompareArgs),
+    /// Decode the firmware's raw defmt log stream (RTT capture or defmt-semihosting output)
+    /// with the firmware ELF into CSV or JSON records
+    #[command(after_help = crate::recorded::decode::DECODE_AFTER)]
+    Decode(DecodeArgs),
+}
+
+const ANALYZE_AFTER: &str = "\
+The CSV: a header naming the time column (t or time) and the channels disc_x, pad_x, pad_trail,
+pad_lead in any order (case-insensitive; other columns are ignored; up to 64 preamble lines
+before the header are skipped). Units may follow a name: `pad_x [m/s^2]`, `pad_x (m/s²)`,
+`time [s]`, `t_s`, `pad_x_m_s2`; time in s (default), ms or us, accelerations in m/s^2
+(default), mm/s^2 or g (9.80665 m/s^2). Separator: `;` if the header has one (then numbers may
+use a decimal comma, 1,234), else tab, else `,` (decimal point only). Quotes, spaces around
+values, blank lines and lines of separators only are accepted.
+
+The time column must increase strictly and be nearly uniform: each interval within 1 % of the
+mean interval of the rows before it, plus twice the time's printed resolution. The sample rate
+is (rows - 1) / (t_last - t_first); it must exceed 1000 Hz (the groan band's 500 Hz edge).
+Memory does not grow with the file: running statistics, the estimator per sample, Welch
+spectra over fixed segments, a 2048-bucket envelope for the figures.
+
+Per channel, over the rows at t >= --from: peak-to-peak (max - min, as in the thesis's Table
+3.1) and RMS (about zero) [m/s^2]; spectral peak [Hz]: the largest bin above 0 Hz of a Welch
+PSD (periodic Hann window, 50 % overlap, each segment's mean removed; the samples after the
+last complete segment are left out; a record shorter than a segment is one segment), good to
+one bin; groan-band RMS [m/s^2]: RMS of the rig's 100-500 Hz
+band-pass (4th-order Butterworth) output. Stick fraction [-] and stick-slip frequency [Hz]:
+from the rig's estimator (shared::rig::estimator, the firmware's code) fed every row as
+calibrated accelerations: samples estimated in stick / samples; (n - 1) / (t_last onset -
+t_first onset) over its n stick-to-slip onsets (null with fewer than two). Its thresholds come
+from a breakaway jump J (slip onset above J/2, stick at most J/4 of pad_x - disc_x):
+--breakaway-jump, else (mu_s - mu_k) N0 / m of --scene (push_center: 33.2 m/s^2). A recording
+whose pad_x swings less than J/2 is all stick: set J to the breakaway jump seen in pad_x.
+
+--json prints {\"file\", \"channels\": {\"disc_x\": {\"pp\", \"rms\", \"peak_hz\", \"groan_rms\",
+\"mean\", \"min\", \"max\"}, \"pad_x\": ..., \"pad_trail\": ..., \"pad_lead\": ...},
+\"stick_fraction\", \"stick_slip_hz\", \"slip_onsets\", \"sample_rate_hz\", \"samples\" (analysed),
+\"rows\", \"duration_s\" (samples / rate), \"from_s\", \"t_first_s\", \"t_last_s\",
+\"time_resolution_s\" (printed resolution of the time column), \"samples_at_range\" (any channel
+at or beyond 700 m/s^2), \"spectrum\": {\"method\", \"window\", \"overlap\", \"segment_samples\",
+\"segments\", \"resolution_hz\"}, \"estimator\": {\"breakaway_jump_m_s2\", \"slip_onset_m_s2\",
+\"stick_max_m_s2\", \"setup_rate_hz\"}}; m/s^2, Hz, s.
+
+--plots DIR writes disc_x.svg, pad_x.svg, pad_trail.svg, pad_lead.svg (acceleration [m/s^2]
+against time [s], like the thesis's Fig. 3.2 to 3.5) and spectra.svg (the four PSDs
+[(m/s^2)^2/Hz], 0 to 2000 Hz, groan band shaded).
+
+Bad input (a missing column, an empty or non-numeric cell, a ragged row, a time column that
+does not increase or is not uniform, an empty file, a header without rows) exits with code 2
+and one line naming the file, the line and the column.";
+
+const SIL_AFTER: &str = "\
+Per sample (t = (i + 1) dt, one exact step of the scene; the rig's rate 25.6 kHz for the
+default dt): the model's motion gives pad_x = x'', pad_trail and pad_lead = r phi'' at sensors
+5 mm in from each edge of the pad (r: lever arm about the pivot edge), disc_x = 0 (the band runs
+at constant speed); then seeded white noise (--noise, bounded at 3.46 sigma), clipping at +-700
+m/s^2, 100 mV/g through a front-end gain of 0.2 into the 12-bit ADC (0.395 m/s^2 per count),
+calibration back to m/s^2, and the same analysis as `analyze` (the rig's estimator with the
+scene's breakaway jump, or --breakaway-jump). Statistics over t >= stats_from (default 0.5 s
+of a 1 s run). A scene with mu_s = mu_k has no breakaway jump: give --breakaway-jump.
+
+Truth from the model run itself: its regime at each sample (stick fraction), the exact times
+of its stick-to-slip transitions ((n - 1) / (t_n - t_1)), the noise-free accelerations before
+clipping and the ADC (peak-to-peak). Error = (estimated - true) / true; null where the truth is
+0 (disc_x).
+
+--json prints {\"scene\", \"caliper\", \"beta\" [m], \"sample_rate_hz\", \"stats_from\" [s],
+\"samples\", \"steps\", \"outcome\", \"halt_t_s\", \"noise_m_s2\", \"seed\", \"saturated_frames\",
+\"stick_fraction\", \"stick_slip_hz\", \"slip_onsets\": {\"estimated\", \"true\", \"error\"},
+\"channels\": {\"disc_x\": {\"pp\": {\"estimated\", \"true\", \"error\"}, \"rms\", \"peak_hz\",
+\"groan_rms\"}, ...}}.
+
+--csv FILE writes every sample's calibrated channels: t_s,disc_x_m_s2,pad_x_m_s2,
+pad_trail_m_s2,pad_lead_m_s2 (values that read back to the same numbers), which `analyze` and
+`compare` accept. --plots DIR writes the figures of `analyze --plots` for the window.";
+
+const COMPARE_AFTER: &str = "\
+The model side is `sil SCENE` (same options): the four channels the virtual rig records over
+t >= stats_from. The measured side is `analyze FILE` over t >= --from, with the scene's
+breakaway jump unless --breakaway-jump is given (it applies to the measured side, and to the
+model side only when the scene has no jump of its own: mu_s = mu_k). Per
+channel: peak-to-peak and RMS [m/s^2], spectral peak [Hz]; and the stick fraction [-] and the
+stick-slip frequency [Hz]; each as measured, model, and measured / model (null when the model
+value is 0 or missing).
+
+--json prints {\"scene\", \"file\", \"channels\": {\"disc_x\": {\"pp\", \"peak_hz\", \"rms\",
+\"groan_rms\": {\"measured\", \"model\", \"ratio\"}}, ...}, \"stick_fraction\": {...},
+\"stick_slip_hz\": {...}, \"measured\": {\"sample_rate_hz\", \"samples\", \"duration_s\", \"from_s\",
+\"resolution_hz\"}, \"model\": {...}, \"model_outcome\", \"model_noise_m_s2\"}.
+
+`sil SCENE --csv run.csv` then `compare SCENE run.csv --from <stats_from>` gives ratios of 1.";
+
+/// Options of the analysis shared by `analyze` and `compare`.
+#[derive(Debug, Args)]
+pub struct RecordOptions {
+    /// Welch segment length [samples], even, 16 to 1048576 (default: the smallest power of two
+    /// with a resolution of 2 Hz or finer, 16384 at 25.6 kHz, at most 65536)
+    #[arg(long, value_name = "N")]
+    pub segment: Option<usize>,
+    /// The estimator's breakaway jump J [m/s^2]: slip onset above J/2, stick at most J/4
+    /// (default: (mu_s - mu_k) N0 / m of the scene)
+    #[arg(long, value_name = "M_S2", allow_hyphen_values = true)]
+    pub breakaway_jump: Option<f64>,
+}
+
+#[derive(Debug, Args)]
+pub struct AnalyzeArgs {
+    /// The recording: a CSV file, or `-` for standard input
+    #[arg(value_name = "FILE")]
+    pub file: String,
+    /// Print one JSON object instead of the Markdown summary
+    #[arg(long)]
+    pub json: bool,
+    /// Write the SVG figures (each channel against time, the spectra) into DIR
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+    /// Start of the statistics on the file's time axis [s] (default: the first row); earlier
+    /// rows only run through the estimator and its filters
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub from: Option<f64>,
+    /// Scene whose breakaway jump and band speed set up the estimator (built-in name or TOML
+    /// file)
+    #[arg(long, value_name = "SCENE|FILE", default_value = "push_center")]
+    pub scene: String,
+    #[command(flatten)]
+    pub record: RecordOptions,
+}
+
+/// The virtual rig's sensor noise.
+#[derive(Debug, Args)]
+pub struct SilNoise {
+    /// White noise on each accelerometer [m/s^2 rms] (bounded at 3.46 sigma; 0: none)
+    #[arg(long, value_name = "M_S2", default_value_t = crate::recorded::sil::DEFAULT_NOISE_M_S2, allow_hyphen_values = true)]
+    pub noise: f64,
+    /// Seed of the noise generator
+    #[arg(long, value_name = "N", default_value_t = crate::recorded::sil::DEFAULT_SEED)]
+    pub seed: u32,
+}
+
+#[derive(Debug, Args)]
+pub struct SilArgs {
+    /// Built-in scene name (see `stickslip scenes`) or path to a TOML scene file
+    #[arg(value_name = "SCENE|FILE", default_value = "push_center")]
+    pub scene: String,
+    /// Print one JSON object instead of the Markdown summary
+    #[arg(long)]
+    pub json: bool,
+    /// Write every sample's calibrated channels to FILE (CSV, `analyze` reads it)
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write the SVG figures of the statistics window into DIR
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+    #[command(flatten)]
+    pub record: RecordOptions,
+    #[command(flatten)]
+    pub noise: SilNoise,
+    #[command(flatten)]
+    pub run: RunOptions,
+}
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// The model: built-in scene name or TOML scene file
+    #[arg(value_name = "SCENE|FILE")]
+    pub scene: String,
+    /// The measurement: a CSV recording as `analyze` reads it (`-`: standard input)
+    #[arg(value_name = "FILE")]
+    pub file: String,
+    /// Print one JSON object instead of the Markdown table
+    #[arg(long)]
+    pub json: bool,
+    /// Start of the statistics on the recording's time axis [s] (default: its first row)
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub from: Option<f64>,
+    #[command(flatten)]
+    pub record: RecordOptions,
+    #[command(flatten)]
+    pub noise: SilNoise,
+    #[command(flatten)]
+    pub run: RunOptions,
+}
+
+#[derive(Debug, Args)]
+pub struct DecodeArgs {
+    /// The firmware ELF the stream came from (its .defmt section and symbols)
+    #[arg(long, value_name = "FIRMWARE_ELF")]
+    pub elf: PathBuf,
+    /// The raw defmt byte stream (`-` or nothing: standard input)
+    #[arg(value_name = "FILE|-", default_value = "-")]
+    pub input: String,
+    /// Print one JSON object instead of CSV
+    #[arg(long)]
+    pub json: bool,
+    /// CSV of one kind of record only, with its fields as columns (transition, summary,
+    /// step_cost, halt, ...: see below)
+    #[arg(long, value_name = "KIND", conflicts_with = "json")]
+    pub kind: Option<String>,
 }
 
 const ACCURACY_AFTER: &str = "\

@@ -262,3 +262,98 @@ pub fn stability(a: &StabilityArgs) -> Result<String> {
     }
     checked(out, failures)
 }
+
+fn check_segment(segment: Option<usize>) -> Result<()> {
+    match segment {
+        Some(n) if n < 16 || n % 2 != 0 || n > 1 << 20 => Err(HostError::Input(format!(
+            "--segment {n}: the Welch segment must be an even number of samples from 16 to 1048576"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn check_jump(jump: Option<f64>) -> Result<()> {
+    match jump {
+        Some(j) if !(j.is_finite() && j > 0.0) => Err(HostError::Input(format!(
+            "--breakaway-jump {j}: must be a finite acceleration > 0 m/s^2"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn check_from(from: Option<f64>) -> Result<()> {
+    match from {
+        Some(f) if !f.is_finite() => Err(HostError::Input(format!("--from {f}: must be a finite time in s"))),
+        _ => Ok(()),
+    }
+}
+
+pub fn analyze(a: &crate::cli::AnalyzeArgs) -> Result<String> {
+    use crate::recorded::{self, figures, report, sil};
+    check_segment(a.record.segment)?;
+    check_jump(a.record.breakaway_jump)?;
+    check_from(a.from)?;
+    let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &Overrides::default())?;
+    let mut cfg = sil::analysis_config(&ns.scene, a.from.unwrap_or(f64::NEG_INFINITY), a.record.segment, a.plots.is_some());
+    cfg.breakaway_jump_m_s2 = sil::breakaway_jump(&ns, a.record.breakaway_jump)?;
+    let an = recorded::analyze_path(&a.file, cfg)?;
+    if let Some(dir) = &a.plots {
+        let n = figures::write_all(dir, &a.file, &an)?.len();
+        eprintln!("stickslip: wrote {n} SVG figures to {}", dir.display());
+    }
+    Ok(if a.json {
+        to_json(&report::AnalysisJson::new(&a.file, &an))
+    } else {
+        report::analysis_markdown(&a.file, &an)
+    })
+}
+
+fn sil_options(
+    segment: Option<usize>,
+    noise: &crate::cli::SilNoise,
+    figures: bool,
+    breakaway_jump_m_s2: Option<f64>,
+) -> crate::recorded::sil::SilOptions {
+    crate::recorded::sil::SilOptions { noise_m_s2: noise.noise, seed: noise.seed, segment, figures, breakaway_jump_m_s2 }
+}
+
+pub fn sil(a: &crate::cli::SilArgs) -> Result<String> {
+    use crate::recorded::{figures, report, sil};
+    check_segment(a.record.segment)?;
+    check_jump(a.record.breakaway_jump)?;
+    let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &overrides(&a.run))?;
+    let opts = sil_options(a.record.segment, &a.noise, a.plots.is_some(), a.record.breakaway_jump);
+    let r = sil::run(&ns, a.run.precision, &opts, a.csv.as_deref())?;
+    if let (Some(dir), Some(m)) = (&a.plots, &r.measured) {
+        let n = figures::write_all(dir, &format!("virtual rig, {}", ns.name), m)?.len();
+        eprintln!("stickslip: wrote {n} SVG figures to {}", dir.display());
+    }
+    Ok(if a.json { to_json(&report::SilJson::new(&r)) } else { report::sil_markdown(&r) })
+}
+
+pub fn compare(a: &crate::cli::CompareArgs) -> Result<String> {
+    use crate::recorded::{self, report, sil};
+    check_segment(a.record.segment)?;
+    check_jump(a.record.breakaway_jump)?;
+    check_from(a.from)?;
+    let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &overrides(&a.run))?;
+    let mut cfg = sil::analysis_config(&ns.scene, a.from.unwrap_or(f64::NEG_INFINITY), a.record.segment, false);
+    cfg.breakaway_jump_m_s2 = sil::breakaway_jump(&ns, a.record.breakaway_jump)?;
+    // the model side keeps the scene's own jump unless it has none (mu_s = mu_k)
+    let model_jump = match sil::breakaway_jump(&ns, None) {
+        Ok(_) => None,
+        Err(_) => a.record.breakaway_jump,
+    };
+    // the measurement first: a bad file is reported before the model runs
+    let measured = recorded::analyze_path(&a.file, cfg)?;
+    let model = sil::run(&ns, a.run.precision, &sil_options(a.record.segment, &a.noise, false, model_jump), None)?;
+    Ok(if a.json {
+        to_json(&report::CompareJson::new(&a.file, &measured, &model))
+    } else {
+        report::compare_markdown(&a.file, &measured, &model)
+    })
+}
+
+pub fn decode(a: &crate::cli::DecodeArgs) -> Result<String> {
+    crate::recorded::decode::run(a)
+}

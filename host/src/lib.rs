@@ -9,6 +9,7 @@ pub mod cycles;
 pub mod error;
 pub mod numerics_plots;
 pub mod plots;
+pub mod recorded;
 pub mod reference;
 pub mod report;
 pub mod run;

@@ -55,6 +55,10 @@ fn main() -> ExitCode {
         Command::Scenes(a) => commands::scenes(a),
         Command::Accuracy(a) => commands::accuracy(a),
         Command::Stability(a) => commands::stability(a),
+        Command::Analyze(a) => commands::analyze(a),
+        Command::Sil(a) => commands::sil(a),
+        Command::Compare(a) => commands::compare(a),
+        Command::Decode(a) => commands::decode(a),
     };
     match result {
         Ok(out) => {

@@ -1,0 +1,400 @@
+//! The streaming analysis of a four-channel record: running statistics, the rig's estimator
+//! sample by sample, Welch spectra and a bounded envelope for the figures. Fed one sample at
+//! a time, by the CSV reader (`analyze`, `compare`) or by the virtual rig (`sil`); memory
+//! does not grow with the record.
+//!
+//! **Time column.** Strictly increasing, and nearly uniform: every interval must lie within
+//! [`RATE_TOLERANCE`] (1 %) of the mean interval of the rows before it, plus twice the time
+//! column's printed resolution (a time printed to 1 us at 25.6 kHz is off by up to 0.5 us per
+//! row) and a few ulps. The sample rate reported is (rows - 1) / (t_last - t_first) over the
+//! whole column. The estimator and the groan band-pass are set up after the first
+//! [`PREVIEW_ROWS`] rows (held in a fixed buffer), at the rate those rows give.
+//!
+//! **Statistics** over the samples at t >= `from_s` (to a quarter of a sample interval):
+//! - peak-to-peak = max - min, RMS about zero (the IEPE accelerometers are AC-coupled; the rig's
+//!   window statistics use the same definition) and the mean, in f64 of the values as read;
+//! - groan-band RMS: RMS of the rig's groan band-pass output (4th-order Butterworth, 100 to
+//!   500 Hz, bilinear transform, f32: `shared::rig::bandpass`, run inside the estimator);
+//! - spectral peak: the largest bin above 0 Hz of the Welch PSD (see [`super::spectrum`]),
+//!   good to one bin (the resolution is reported);
+//! - stick fraction and stick-slip frequency from the rig's estimator (`shared::rig::estimator`,
+//!   the code the firmware runs), fed every row as calibrated accelerations (f32) from the first
+//!   row on: stick fraction = samples estimated in stick / samples; frequency = (n - 1) /
+//!   (time of the last onset - time of the first) over the n stick-to-slip onsets it decided,
+//!   none with fewer than two. Its contact thresholds come from a breakaway jump J [m/s^2]
+//!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`).
+
+use stickslip_model::rig::bandpass::GROAN_BAND_HZ;
+use stickslip_model::rig::calibration::{Calibrated, Saturation};
+use stickslip_model::rig::contact::{ContactEventKind, ContactThresholds};
+use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
+use stickslip_model::Regime;
+
+use super::envelope::{Bucket, Envelope};
+use super::spectrum::{default_segment, Spectrum, Welch, CH};
+
+/// Rows read before the sample rate is fixed for the estimator.
+pub const PREVIEW_ROWS: usize = 4096;
+/// Allowed deviation of one interval from the mean interval [-].
+pub const RATE_TOLERANCE: f64 = 0.01;
+/// The accelerometers' measuring range [m/s^2] (Type 4508: 700): samples at or beyond it are
+/// counted.
+pub const SENSOR_RANGE_M_S2: f64 = 700.0;
+
+/// What to compute.
+#[derive(Clone, Debug)]
+pub struct AnalysisConfig {
+    /// Statistics start [s] (samples before it only run through the estimator and filters).
+    pub from_s: f64,
+    /// Welch segment length [samples]; default [`default_segment`] of the rate.
+    pub segment: Option<usize>,
+    /// Breakaway jump J for the estimator's thresholds [m/s^2].
+    pub breakaway_jump_m_s2: f64,
+    /// Band speed for the estimator's configuration [m/s] (its lockstep model, which this
+    /// analysis does not start).
+    pub band_speed_m_s: f64,
+    /// Keep the envelope and spectra for figures.
+    pub figures: bool,
+}
+
+/// Statistics of one channel [m/s^2, Hz].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChannelStats {
+    pub pp: f64,
+    pub rms: f64,
+    pub mean: f64,
+    pub min: f64,
+    pub max: f64,
+    /// Frequency of the largest Welch bin above 0 Hz; `None` without a spectrum.
+    pub peak_hz: Option<f64>,
+    pub groan_rms: f64,
+}
+
+/// The result of an analysis.
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    pub channels: [ChannelStats; CH],
+    pub stick_fraction: f64,
+    /// `None` with fewer than two onsets.
+    pub stick_slip_hz: Option<f64>,
+    pub slip_onsets: u64,
+    /// From the whole time column [Hz].
+    pub sample_rate_hz: f64,
+    /// The rate the estimator and band-pass were set up with (first rows) [Hz].
+    pub setup_rate_hz: f64,
+    /// Rows read.
+    pub rows: u64,
+    /// Samples in the statistics.
+    pub samples: u64,
+    /// Time of the first and last analysed sample [s].
+    pub t_first: f64,
+    pub t_last: f64,
+    pub from_s: f64,
+    /// Coarsest printed resolution of the time column [s] (0 for generated samples).
+    pub time_resolution_s: f64,
+    /// Analysed samples with a channel at or beyond the sensor range.
+    pub samples_at_range: u64,
+    pub thresholds: ContactThresholds,
+    pub breakaway_jump_m_s2: f64,
+    pub spectrum: Option<Spectrum>,
+    /// Empty unless figures were asked for.
+    pub envelope: Vec<Bucket>,
+}
+
+impl Analysis {
+    /// Duration the analysed samples cover, samples / sample rate [s].
+    pub fn duration_s(&self) -> f64 {
+        self.samples as f64 / self.sample_rate_hz
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Pending {
+    t: f64,
+    a: [f64; CH],
+}
+
+struct Running {
+    fs: f64,
+    from_eff: f64,
+    est: Estimator,
+    welch: Welch,
+    envelope: Option<Envelope>,
+    n: u64,
+    t_first: f64,
+    t_last: f64,
+    min: [f64; CH],
+    max: [f64; CH],
+    sum: [f64; CH],
+    sq: [f64; CH],
+    groan_sq: [f64; CH],
+    stick: u64,
+    onsets: u64,
+    onset_first: f64,
+    onset_last: f64,
+    at_range: u64,
+}
+
+impl Running {
+    #[inline]
+    fn process(&mut self, t: f64, a: &[f64; CH]) {
+        let mut bits = 0u16;
+        for (i, v) in a.iter().enumerate() {
+            if v.abs() >= SENSOR_RANGE_M_S2 {
+                bits |= 1 << i;
+            }
+        }
+        let cal = Calibrated {
+            accel_m_s2: a.map(|v| v as f32),
+            pressure_bar: [0.0; 2],
+            saturation: Saturation { bits },
+        };
+        let s = self.est.update(&cal);
+        if s.window_ready {
+            let _ = self.est.take_window();
+        }
+        if t < self.from_eff {
+            return;
+        }
+        if self.n == 0 {
+            self.t_first = t;
+        }
+        self.t_last = t;
+        self.n += 1;
+        let g = self.est.last_groan();
+        for c in 0..CH {
+            let v = a[c];
+            if v < self.min[c] {
+                self.min[c] = v;
+            }
+            if v > self.max[c] {
+                self.max[c] = v;
+            }
+            self.sum[c] += v;
+            self.sq[c] += v * v;
+            let gv = g[c] as f64;
+            self.groan_sq[c] += gv * gv;
+        }
+        if bits != 0 {
+            self.at_range += 1;
+        }
+        if s.contact.regime == Regime::Stick {
+            self.stick += 1;
+        }
+        if matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip) {
+            if self.onsets == 0 {
+                self.onset_first = t;
+            }
+            self.onset_last = t;
+            self.onsets += 1;
+        }
+        self.welch.push(a);
+        if let Some(e) = &mut self.envelope {
+            e.push(t, a);
+        }
+    }
+}
+
+enum Phase {
+    Preview(Vec<Pending>),
+    Running(Box<Running>),
+}
+
+/// The streaming analysis (see the module documentation).
+pub struct Analyzer {
+    cfg: AnalysisConfig,
+    rows: u64,
+    t0: f64,
+    t_prev: f64,
+    line_first: u64,
+    line_prev: u64,
+    res_max: f64,
+    phase: Phase,
+}
+
+impl Analyzer {
+    pub fn new(cfg: AnalysisConfig) -> Self {
+        Analyzer {
+            cfg,
+            rows: 0,
+            t0: 0.0,
+            t_prev: 0.0,
+            line_first: 0,
+            line_prev: 0,
+            res_max: 0.0,
+            phase: Phase::Preview(Vec::with_capacity(PREVIEW_ROWS)),
+        }
+    }
+
+    /// Rows taken so far.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// Takes one sample: time [s], its printed resolution [s] (0 if exact), the four
+    /// accelerations [m/s^2]; `line` is named in errors. The error is one line starting with
+    /// "line N" (the caller adds the file).
+    pub fn push(&mut self, line: u64, t: f64, t_resolution: f64, a: &[f64; CH]) -> Result<(), String> {
+        self.check_time(line, t, t_resolution)?;
+        if self.rows == 0 {
+            self.t0 = t;
+            self.line_first = line;
+        }
+        self.t_prev = t;
+        self.line_prev = line;
+        self.rows += 1;
+        match &mut self.phase {
+            Phase::Running(r) => r.process(t, a),
+            Phase::Preview(buf) => {
+                buf.push(Pending { t, a: *a });
+                if buf.len() >= PREVIEW_ROWS {
+                    self.start()?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_time(&mut self, line: u64, t: f64, res: f64) -> Result<(), String> {
+        if !t.is_finite() {
+            return Err(format!("line {line}: time {t} is not a finite number"));
+        }
+        self.res_max = self.res_max.max(res);
+        if self.rows == 0 {
+            return Ok(());
+        }
+        let dt = t - self.t_prev;
+        if !(dt > 0.0) {
+            let hint = if dt == 0.0 && self.res_max > 0.0 {
+                format!(" (the time is printed to {:e} s: too few decimals for the sampling interval?)", self.res_max)
+            } else {
+                String::new()
+            };
+            return Err(format!(
+                "line {line}: time {t} s does not come after {} s (line {}): the time column must increase strictly{hint}",
+                self.t_prev, self.line_prev
+            ));
+        }
+        if self.rows >= 2 {
+            let mean = (self.t_prev - self.t0) / (self.rows - 1) as f64;
+            let eps = 8.0 * f64::EPSILON * t.abs().max(self.t0.abs());
+            let tol = RATE_TOLERANCE * mean + 2.0 * self.res_max + eps;
+            if (dt - mean).abs() > tol {
+                return Err(format!(
+                    "line {line}: interval {dt:.6e} s after line {} where the rows before have a mean interval of {mean:.6e} s: \
+                     the time column must be uniformly sampled (each interval within 1 % of the mean, plus twice the time's \
+                     printed resolution {:e} s): a missing, repeated or shifted row?",
+                    self.line_prev, self.res_max
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets up the estimator, filters and spectrum at the rate of the rows so far, and runs
+    /// the buffered rows through them.
+    fn start(&mut self) -> Result<(), String> {
+        let Phase::Preview(buf) = &mut self.phase else { return Ok(()) };
+        let buf = std::mem::take(buf);
+        let k = buf.len();
+        let fs = (k - 1) as f64 / (buf[k - 1].t - buf[0].t);
+        let lines = format!("lines {} to {}", self.line_first, self.line_prev);
+        let nyquist_min = 2.0 * GROAN_BAND_HZ.1;
+        if !(fs > nyquist_min) {
+            return Err(format!(
+                "{lines}: sample rate {fs:.6} Hz from the time column: the groan band ({} to {} Hz) needs more than {nyquist_min} Hz",
+                GROAN_BAND_HZ.0, GROAN_BAND_HZ.1
+            ));
+        }
+        let ecfg = EstimatorConfig {
+            fs_hz: fs,
+            contact: ContactThresholds::from_breakaway_jump(self.cfg.breakaway_jump_m_s2, fs),
+            window_samples: ((0.1 * fs).round() as u32).max(1),
+            band_speed_m_s: self.cfg.band_speed_m_s,
+            ..EstimatorConfig::default()
+        };
+        let est = Estimator::new(&ecfg).map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
+        let segment = self.cfg.segment.unwrap_or_else(|| default_segment(fs));
+        let mut r = Running {
+            fs,
+            from_eff: self.cfg.from_s - 0.25 / fs,
+            est,
+            welch: Welch::new(segment),
+            envelope: self.cfg.figures.then(Envelope::new),
+            n: 0,
+            t_first: 0.0,
+            t_last: 0.0,
+            min: [f64::INFINITY; CH],
+            max: [f64::NEG_INFINITY; CH],
+            sum: [0.0; CH],
+            sq: [0.0; CH],
+            groan_sq: [0.0; CH],
+            stick: 0,
+            onsets: 0,
+            onset_first: 0.0,
+            onset_last: 0.0,
+            at_range: 0,
+        };
+        for p in &buf {
+            r.process(p.t, &p.a);
+        }
+        self.phase = Phase::Running(Box::new(r));
+        Ok(())
+    }
+
+    /// The statistics. Errors (one line, starting with what is wrong): no rows, a single row,
+    /// no row at or after `from_s`.
+    pub fn finish(mut self) -> Result<Analysis, String> {
+        if self.rows == 0 {
+            return Err("no data rows".into());
+        }
+        if self.rows == 1 {
+            return Err(format!("line {}: a single data row: the sample rate needs at least two", self.line_first));
+        }
+        if matches!(self.phase, Phase::Preview(_)) {
+            self.start()?;
+        }
+        let Phase::Running(r) = self.phase else { unreachable!("started above") };
+        let r = *r;
+        if r.n == 0 {
+            return Err(format!(
+                "--from {} s: no row at or after it (the last row, line {}, is at {} s)",
+                self.cfg.from_s, self.line_prev, self.t_prev
+            ));
+        }
+        let sample_rate_hz = (self.rows - 1) as f64 / (self.t_prev - self.t0);
+        let spectrum = r.welch.finish(sample_rate_hz);
+        let n = r.n as f64;
+        let channels = std::array::from_fn(|c| ChannelStats {
+            pp: r.max[c] - r.min[c],
+            rms: (r.sq[c] / n).sqrt(),
+            mean: r.sum[c] / n,
+            min: r.min[c],
+            max: r.max[c],
+            peak_hz: spectrum.as_ref().and_then(|s| s.peak(c)).map(|p| p.1),
+            groan_rms: (r.groan_sq[c] / n).sqrt(),
+        });
+        let stick_slip_hz = (r.onsets >= 2 && r.onset_last > r.onset_first)
+            .then(|| (r.onsets - 1) as f64 / (r.onset_last - r.onset_first));
+        let thresholds = *r.est.contact().thresholds();
+        Ok(Analysis {
+            channels,
+            stick_fraction: r.stick as f64 / n,
+            stick_slip_hz,
+            slip_onsets: r.onsets,
+            sample_rate_hz,
+            setup_rate_hz: r.fs,
+            rows: self.rows,
+            samples: r.n,
+            t_first: r.t_first,
+            t_last: r.t_last,
+            from_s: self.cfg.from_s,
+            time_resolution_s: self.res_max,
+            samples_at_range: r.at_range,
+            thresholds,
+            breakaway_jump_m_s2: self.cfg.breakaway_jump_m_s2,
+            spectrum,
+            envelope: r.envelope.map(Envelope::finish).unwrap_or_default(),
+        })
+    }
+}

@@ -1,0 +1,549 @@
+//! The firmware's defmt log stream, decoded with the firmware ELF's defmt table
+//! (defmt-decoder 1.x, matching the firmware's defmt 1.x) into records.
+//!
+//! **Framing.** The firmware's defmt uses the rzCOBS encoding (the default of defmt 1.x, as
+//! the ELF's `_defmt_encoding_` symbol says): every frame ends with a 0x00 byte, so a stream
+//! can be cut anywhere and decoding resumes at the next frame. Each byte run between two zero
+//! bytes is one frame; a frame that does not decode (corrupted bytes, a frame cut by a lost
+//! buffer, a frame of another firmware) is dropped and its bytes counted as skipped; bytes
+//! after the last zero are an incomplete frame (a truncated capture). Runs of zeros are
+//! separators, not data. A run of more than [`MAX_FRAME_BYTES`] bytes without a zero is
+//! skipped as garbage. The raw encoding (`encoding-raw`) has no separators: decoding stops at
+//! the first frame that does not decode and the rest is counted as skipped.
+//!
+//! defmt has no checksum: a corrupted frame that still decodes gives a wrong record.
+//! defmt-decoder 1.2 reserves memory for a format slice (`{=[?]}`) before reading its
+//! elements, so a corrupted frame whose format has one could ask for gigabytes; the rig
+//! firmware's table has no format slice.
+//!
+//! **Records.** Each frame gives: its number in the stream (from 0, dropped frames included),
+//! the byte offset of its first byte, the timestamp (the firmware's `{=u64:us}` uptime,
+//! printed in seconds), the level, the message, and its parameters as fields. The log lines
+//! of firmware/src/main.rs are recognised by their format string and get a `kind` and named
+//! fields in SI units ([`KINDS`]); a line laid out as `name key={..} key={..}` (the record
+//! contract of firmware/src/records.rs) is kind `name` with its keys as fields; any other line
+//! is kind `log` with fields `arg0`, `arg1`...
+
+use std::io::Read;
+
+use defmt_decoder::{DecodeError, Encoding, Table};
+use defmt_parser::{Fragment, Type};
+use serde::Serialize;
+use serde_json::Value;
+
+use crate::cli::DecodeArgs;
+use crate::error::{HostError, Result};
+
+/// Longest frame accepted [bytes] (the firmware's longest is under 100).
+pub const MAX_FRAME_BYTES: usize = 1 << 16;
+
+pub const DECODE_AFTER: &str = "\
+The stream: the raw bytes the firmware's defmt logger sent (rzCOBS frames, each ending with
+0x00), as saved from the RTT up-channel by a debug-probe tool, or as defmt-semihosting prints
+them under QEMU (`qemu-system-arm ... -semihosting-config enable=on,target=native > log.defmt`).
+A truncated or corrupted stream decodes what can be recovered: a frame that does not decode is
+dropped and its bytes skipped, bytes after the last frame separator are an incomplete frame;
+stderr gets one line with the counts (frames decoded and dropped, bytes skipped, incomplete
+bytes). defmt has no checksum: a corrupted frame that still decodes gives a wrong record.
+
+Kinds (the log lines of firmware/src/main.rs, recognised by their format string) and fields:
+startup (version, sysclk_hz); stepper_built (build_us, caliper, beta_m, substeps); stepping
+(period_ticks, tick_hz, step_hz, dt_denominator); transition (t_s, from, to, x_m, xdot_m_s,
+phi_rad); summary (t_s, wall_us, transitions, logged, regime, x_m, phi_rad); step_cost
+(mean_cycles, max_cycles, cycles_per_tick, late_ticks, overruns); halt (t_s, and n_N, regime,
+stiffness_margin_nm_per_rad as the halt has them); scene_rejected (field, value, rule);
+no_core_peripherals. A line laid out as `name key={..} key={..} ...` (the record layout of
+firmware/src/records.rs: boot, state, event, window, ...) is kind `name` with its keys as
+fields (an array `[a, b, c, d]` as a JSON array, in CSV as key_0 ... key_3); any other line:
+log (arg0, arg1, ...).
+
+CSV (default): frame,offset,timestamp_s,level,kind,message, one row per decoded frame.
+--kind KIND: only that kind, columns frame,timestamp_s and its fields (exit 2 if the stream
+has none).
+--json prints {\"records\": [{\"frame\", \"offset\", \"timestamp\", \"timestamp_s\", \"level\", \"kind\",
+\"message\", \"fields\": {...}}...], \"stream\": {\"encoding\", \"bytes\", \"frames_decoded\",
+\"frames_dropped\", \"bytes_skipped\", \"incomplete_bytes\"}}.
+
+Exit codes: 0 (also when frames were lost: the counts say so), 2 an unreadable or defmt-less
+ELF, a --kind with no record, an unreadable stream.";
+
+/// A firmware log line: its format string, kind and field names.
+pub struct Kind {
+    pub format: &'static str,
+    pub kind: &'static str,
+    pub fields: &'static [&'static str],
+}
+
+/// The log lines of firmware/src/main.rs.
+pub const KINDS: &[Kind] = &[
+    Kind {
+        format: "stickslip firmware {=str}: STM32F407VG at {=u64} Hz",
+        kind: "startup",
+        fields: &["version", "sysclk_hz"],
+    },
+    Kind {
+        format: "ExactStepper<f32> built in {=u64} us: {=str} caliper, beta {=f64} m, {=u32} substep(s) per step",
+        kind: "stepper_built",
+        fields: &["build_us", "caliper", "beta_m", "substeps"],
+    },
+    Kind {
+        format: "stepping every {=u64} ticks of {=u64} Hz: {=u64} Hz (model dt 1/{=u64} s)",
+        kind: "stepping",
+        fields: &["period_ticks", "tick_hz", "step_hz", "dt_denominator"],
+    },
+    Kind {
+        format: "t={=f64} s {=str} -> {=str}: x={=f32} m x'={=f32} m/s phi={=f32} rad",
+        kind: "transition",
+        fields: &["t_s", "from", "to", "x_m", "xdot_m_s", "phi_rad"],
+    },
+    Kind {
+        format: "model t={=f64} s (wall {=u64} us): {=u32} transitions ({=u32} logged), regime {=str}, x={=f32} m, phi={=f32} rad",
+        kind: "summary",
+        fields: &["t_s", "wall_us", "transitions", "logged", "regime", "x_m", "phi_rad"],
+    },
+    Kind {
+        format: "step cost: mean {=u64} max {=u32} cycles of {=u64} per tick; latest tick {=u64} ticks late, {=u32} overruns",
+        kind: "step_cost",
+        fields: &["mean_cycles", "max_cycles", "cycles_per_tick", "late_ticks", "overruns"],
+    },
+    Kind {
+        format: "core peripherals already taken: step cycle counts will read 0",
+        kind: "no_core_peripherals",
+        fields: &[],
+    },
+    Kind {
+        format: "scene rejected: field {=str} = {=f64}: {=str}",
+        kind: "scene_rejected",
+        fields: &["field", "value", "rule"],
+    },
+    Kind { format: "model halted at t={=f64} s: non-finite state", kind: "halt", fields: &["t_s"] },
+    Kind {
+        format: "model halted at t={=f64} s: diverged in {=str} (rotational stiffness margin {=f64} N m/rad)",
+        kind: "halt",
+        fields: &["t_s", "regime", "stiffness_margin_nm_per_rad"],
+    },
+    Kind {
+        format: "model halted at t={=f64} s: contact lost (N = {=f64} N)",
+        kind: "halt",
+        fields: &["t_s", "n_N"],
+    },
+    Kind { format: "model halted at t={=f64} s: transition storm", kind: "halt", fields: &["t_s"] },
+];
+
+/// One decoded frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct Record {
+    /// Frame number in the stream, from 0 (dropped frames counted).
+    pub frame: u64,
+    /// Byte offset of the frame's first byte.
+    pub offset: u64,
+    /// The timestamp as the firmware's format prints it.
+    pub timestamp: Option<String>,
+    /// The timestamp in seconds, when it is a number.
+    pub timestamp_s: Option<f64>,
+    pub level: Option<&'static str>,
+    pub kind: String,
+    pub message: String,
+    /// The parameters, named, in the order of the message.
+    #[serde(serialize_with = "ordered_map")]
+    pub fields: Vec<(String, Value)>,
+}
+
+impl Record {
+    /// The field `name`, if the record has it.
+    pub fn field(&self, name: &str) -> Option<&Value> {
+        self.fields.iter().find(|(k, _)| k == name).map(|(_, v)| v)
+    }
+}
+
+fn ordered_map<S: serde::Serializer>(fields: &[(String, Value)], s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_map(fields.iter().map(|(k, v)| (k, v)))
+}
+
+/// `name key={..} key={..} ...`: the record layout of firmware/src/records.rs. Returns the
+/// name and the keys, or `None` if the format does not follow it.
+fn key_value_layout(fragments: &[Fragment<'_>]) -> Option<(String, Vec<String>)> {
+    let word = |w: &str| !w.is_empty() && w.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_');
+    let mut name: Option<String> = None;
+    let mut keys = Vec::new();
+    let mut lit = String::new();
+    for f in fragments {
+        match f {
+            Fragment::Literal(l) => lit.push_str(l),
+            Fragment::Parameter(_) => {
+                let text = std::mem::take(&mut lit);
+                let key_part = match &name {
+                    None => {
+                        let (n, rest) = text.split_once(' ')?;
+                        if !word(n) {
+                            return None;
+                        }
+                        name = Some(n.to_string());
+                        rest.to_string()
+                    }
+                    Some(_) => text.strip_prefix(' ')?.to_string(),
+                };
+                let key = key_part.strip_suffix('=')?;
+                if !word(key) {
+                    return None;
+                }
+                keys.push(key.to_string());
+            }
+        }
+    }
+    match name {
+        Some(n) if lit.is_empty() => Some((n, keys)),
+        None if word(&lit) => Some((lit, keys)),
+        _ => None,
+    }
+}
+
+/// What the stream held.
+#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+pub struct StreamStats {
+    pub encoding: &'static str,
+    pub bytes: u64,
+    pub frames_decoded: u64,
+    pub frames_dropped: u64,
+    pub bytes_skipped: u64,
+    /// Bytes after the last frame separator (an incomplete frame).
+    pub incomplete_bytes: u64,
+}
+
+impl StreamStats {
+    /// One line for stderr.
+    pub fn summary(&self) -> String {
+        format!(
+            "decoded {} frame{} from {} bytes; dropped {} frame{} ({} bytes skipped); {} bytes of an incomplete frame at the end",
+            self.frames_decoded,
+            if self.frames_decoded == 1 { "" } else { "s" },
+            self.bytes,
+            self.frames_dropped,
+            if self.frames_dropped == 1 { "" } else { "s" },
+            self.bytes_skipped,
+            self.incomplete_bytes
+        )
+    }
+}
+
+fn level_name(l: defmt_parser::Level) -> &'static str {
+    use defmt_parser::Level::*;
+    match l {
+        Trace => "trace",
+        Debug => "debug",
+        Info => "info",
+        Warn => "warn",
+        Error => "error",
+    }
+}
+
+fn is_number_type(t: &Type) -> bool {
+    matches!(
+        t,
+        Type::I8
+            | Type::I16
+            | Type::I32
+            | Type::I64
+            | Type::I128
+            | Type::Isize
+            | Type::U8
+            | Type::U16
+            | Type::U32
+            | Type::U64
+            | Type::U128
+            | Type::Usize
+            | Type::F32
+            | Type::F64
+    )
+}
+
+/// A parameter's displayed value as JSON: numbers as numbers, booleans as booleans, the rest
+/// as strings.
+fn field_value(ty: &Type, shown: &str) -> Value {
+    if is_number_type(ty) || matches!(ty, Type::Bool) {
+        if let Ok(v) = serde_json::from_str::<Value>(shown) {
+            if v.is_number() || v.is_boolean() {
+                return v;
+            }
+        }
+        if let Ok(x) = shown.parse::<f64>() {
+            if let Some(n) = serde_json::Number::from_f64(x) {
+                return Value::Number(n);
+            }
+        }
+    }
+    if matches!(ty, Type::Format) && shown.starts_with('[') {
+        // a defmt array of numbers, `[a, b, c, d]`
+        if let Ok(v @ Value::Array(_)) = serde_json::from_str::<Value>(shown) {
+            return v;
+        }
+    }
+    Value::String(shown.to_string())
+}
+
+/// The record of a decoded frame.
+fn record(frame: &defmt_decoder::Frame<'_>, number: u64, offset: u64) -> Record {
+    let fragments = frame.fragments();
+    let text: String = fragments
+        .iter()
+        .map(|f| match f {
+            Fragment::Literal(l) => l.to_string(),
+            Fragment::Parameter(p) => format!("{{={}}}", type_name(&p.ty)),
+        })
+        .collect();
+    let (kind, names): (String, Vec<String>) = match KINDS.iter().find(|k| k.format == text) {
+        Some(kd) => (kd.kind.to_string(), kd.fields.iter().map(|f| f.to_string()).collect()),
+        None => key_value_layout(&fragments).unwrap_or_else(|| ("log".to_string(), Vec::new())),
+    };
+    let mut fields = Vec::new();
+    let mut k = 0;
+    for (frag, shown) in fragments.iter().zip(frame.display_fragments()) {
+        if let Fragment::Parameter(p) = frag {
+            let name = names.get(k).cloned().unwrap_or_else(|| format!("arg{k}"));
+            fields.push((name, field_value(&p.ty, &shown.to_string())));
+            k += 1;
+        }
+    }
+    let timestamp = frame.display_timestamp().map(|t| t.to_string());
+    let timestamp_s = timestamp.as_deref().and_then(|t| t.trim().parse::<f64>().ok());
+    Record {
+        frame: number,
+        offset,
+        timestamp,
+        timestamp_s,
+        level: frame.level().map(level_name),
+        kind,
+        message: frame.display_message().to_string(),
+        fields,
+    }
+}
+
+/// The `{=TYPE}` spelling of the types the firmware logs (others never match a kind).
+fn type_name(t: &Type) -> &'static str {
+    match t {
+        Type::Str => "str",
+        Type::IStr => "istr",
+        Type::U8 => "u8",
+        Type::U16 => "u16",
+        Type::U32 => "u32",
+        Type::U64 => "u64",
+        Type::I8 => "i8",
+        Type::I16 => "i16",
+        Type::I32 => "i32",
+        Type::I64 => "i64",
+        Type::F32 => "f32",
+        Type::F64 => "f64",
+        Type::Bool => "bool",
+        _ => "?",
+    }
+}
+
+/// Parses the defmt table of an ELF; the error is one line naming the file.
+pub fn load_table(label: &str, elf: &[u8]) -> Result<Table> {
+    match Table::parse(elf) {
+        Ok(Some(t)) => Ok(t),
+        Ok(None) => Err(HostError::Input(format!("{label}: no defmt data in this ELF (no .defmt section)"))),
+        Err(e) => Err(HostError::Input(format!("{label}: not a usable firmware ELF: {e:#}"))),
+    }
+}
+
+/// Decodes a whole stream; each record goes to `sink` as it is decoded. Memory: one frame.
+pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(Record)) -> std::io::Result<StreamStats> {
+    let mut st = StreamStats::default();
+    let mut buf = vec![0u8; 1 << 16];
+    let mut number = 0u64;
+    match table.encoding() {
+        Encoding::Rzcobs => {
+            st.encoding = "rzcobs";
+            let mut dec = table.new_stream_decoder();
+            let mut pending: Vec<u8> = Vec::new();
+            let mut pending_offset = 0u64;
+            let mut overlong = false;
+            loop {
+                let n = match input.read(&mut buf) {
+                    Ok(0) => break,
+                    Ok(n) => n,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                    Err(e) => return Err(e),
+                };
+                for &b in &buf[..n] {
+                    let at = st.bytes;
+                    st.bytes += 1;
+                    if b != 0 {
+                        if pending.is_empty() && !overlong {
+                            pending_offset = at;
+                        }
+                        if overlong {
+                            st.bytes_skipped += 1;
+                        } else if pending.len() >= MAX_FRAME_BYTES {
+                            st.bytes_skipped += pending.len() as u64 + 1;
+                            pending.clear();
+                            overlong = true;
+                        } else {
+                            pending.push(b);
+                        }
+                        continue;
+                    }
+                    if overlong {
+                        overlong = false;
+                        st.frames_dropped += 1;
+                        number += 1;
+                        continue;
+                    }
+                    if pending.is_empty() {
+                        continue; // a separator
+                    }
+                    pending.push(0);
+                    dec.received(&pending);
+                    match dec.decode() {
+                        Ok(frame) => {
+                            sink(record(&frame, number, pending_offset));
+                            st.frames_decoded += 1;
+                        }
+                        Err(_) => {
+                            st.frames_dropped += 1;
+                            st.bytes_skipped += pending.len() as u64 - 1;
+                        }
+                    }
+                    number += 1;
+                    pending.clear();
+                }
+            }
+            st.incomplete_bytes = pending.len() as u64;
+        }
+        _ => {
+            st.encoding = "raw";
+            let mut data = Vec::new();
+            input.read_to_end(&mut data)?;
+            st.bytes = data.len() as u64;
+            let mut at = 0usize;
+            while at < data.len() {
+                match table.decode(&data[at..]) {
+                    Ok((frame, used)) => {
+                        sink(record(&frame, number, at as u64));
+                        st.frames_decoded += 1;
+                        number += 1;
+                        at += used.max(1);
+                    }
+                    Err(DecodeError::UnexpectedEof) => {
+                        st.incomplete_bytes = (data.len() - at) as u64;
+                        break;
+                    }
+                    Err(DecodeError::Malformed) => {
+                        // the raw encoding cannot resynchronise
+                        st.frames_dropped += 1;
+                        st.bytes_skipped = (data.len() - at) as u64;
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    Ok(st)
+}
+
+fn csv_line(cells: &[String]) -> String {
+    let mut w = csv::WriterBuilder::new().terminator(csv::Terminator::Any(b'\n')).from_writer(Vec::new());
+    let _ = w.write_record(cells);
+    String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
+fn cell(v: &Value) -> String {
+    match v {
+        Value::String(s) => s.clone(),
+        Value::Null => String::new(),
+        v => v.to_string(),
+    }
+}
+
+#[derive(Serialize)]
+struct DecodeJson<'a> {
+    records: &'a [Record],
+    stream: &'a StreamStats,
+}
+
+/// `stickslip decode`.
+pub fn run(a: &DecodeArgs) -> Result<String> {
+    let elf_label = a.elf.display().to_string();
+    let elf = std::fs::read(&a.elf).map_err(|e| HostError::Input(format!("{elf_label}: cannot read the ELF: {e}")))?;
+    let table = load_table(&elf_label, &elf)?;
+    let mut records = Vec::new();
+    let (label, stats) = if a.input == "-" {
+        ("<stdin>".to_string(), decode_stream(&table, std::io::stdin().lock(), |r| records.push(r)))
+    } else {
+        let f = std::fs::File::open(&a.input)
+            .map_err(|e| HostError::Input(format!("{}: cannot open the stream: {e}", a.input)))?;
+        (a.input.clone(), decode_stream(&table, std::io::BufReader::new(f), |r| records.push(r)))
+    };
+    let stats = stats.map_err(|e| HostError::Input(format!("{label}: cannot read the stream: {e}")))?;
+    let out = render(a, &label, &records, &stats)?;
+    // after the output is known to be good: an error stays one line
+    eprintln!("stickslip: {label}: {}", stats.summary());
+    Ok(out)
+}
+
+fn render(a: &DecodeArgs, label: &str, records: &[Record], stats: &StreamStats) -> Result<String> {
+    if a.json {
+        let mut s = serde_json::to_string_pretty(&DecodeJson { records, stream: stats })
+            .map_err(|e| HostError::Output(format!("cannot write JSON: {e}")))?;
+        s.push('\n');
+        return Ok(s);
+    }
+    let mut out = String::new();
+    match &a.kind {
+        None => {
+            out.push_str("frame,offset,timestamp_s,level,kind,message\n");
+            for r in records {
+                out.push_str(&csv_line(&[
+                    r.frame.to_string(),
+                    r.offset.to_string(),
+                    r.timestamp_s.map_or(String::new(), |t| t.to_string()),
+                    r.level.unwrap_or("").to_string(),
+                    r.kind.to_string(),
+                    r.message.clone(),
+                ]));
+            }
+        }
+        Some(kind) => {
+            let chosen: Vec<&Record> = records.iter().filter(|r| &r.kind == kind).collect();
+            if chosen.is_empty() {
+                let mut found: Vec<&str> = records.iter().map(|r| r.kind.as_str()).collect();
+                found.sort_unstable();
+                found.dedup();
+                return Err(HostError::Input(format!(
+                    "--kind {kind}: no record of this kind in {label} (kinds found: {})",
+                    if found.is_empty() { "none".to_string() } else { found.join(", ") }
+                )));
+            }
+            // the union of the fields in order of appearance (halt lines share a kind with
+            // different fields); an array field expands to key_0, key_1, ...
+            let mut cols: Vec<(String, Option<usize>)> = Vec::new();
+            for r in &chosen {
+                for (k, v) in &r.fields {
+                    let parts: Vec<Option<usize>> = match v {
+                        Value::Array(a) => (0..a.len()).map(Some).collect(),
+                        _ => vec![None],
+                    };
+                    for p in parts {
+                        if !cols.iter().any(|(c, q)| c == k && *q == p) {
+                            cols.push((k.clone(), p));
+                        }
+                    }
+                }
+            }
+            let mut head = vec!["frame".to_string(), "timestamp_s".to_string()];
+            head.extend(cols.iter().map(|(c, p)| p.map_or(c.clone(), |i| format!("{c}_{i}"))));
+            out.push_str(&csv_line(&head));
+            for r in chosen {
+                let mut row = vec![r.frame.to_string(), r.timestamp_s.map_or(String::new(), |t| t.to_string())];
+                row.extend(cols.iter().map(|(c, p)| match (r.field(c), p) {
+                    (Some(Value::Array(a)), Some(i)) => a.get(*i).map_or(String::new(), cell),
+                    (Some(v), None) => cell(v),
+                    _ => String::new(),
+                }));
+                out.push_str(&csv_line(&row));
+            }
+        }
+    }
+    Ok(out)
+}

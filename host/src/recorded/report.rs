@@ -1,0 +1,452 @@
+//! Markdown and JSON of `analyze`, `sil` and `compare`. JSON keys are SI values in the units
+//! the help texts state (m/s^2, Hz, s); a value that does not exist is null.
+
+use serde::Serialize;
+use stickslip_model::rig::ACCEL_NAMES;
+
+use super::analysis::{Analysis, ChannelStats};
+use super::sil::SilReport;
+
+/// Six significant digits, plain notation between 1e-3 and 1e6.
+pub fn num(v: f64) -> String {
+    if !v.is_finite() {
+        return "n/a".into();
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if (1e-3..1e6).contains(&a) {
+        let d = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
+        format!("{v:.d$}")
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or("none".into(), num)
+}
+
+#[derive(Serialize, Clone, Copy)]
+pub struct ChannelJson {
+    pub pp: f64,
+    pub rms: f64,
+    pub peak_hz: Option<f64>,
+    pub groan_rms: f64,
+    pub mean: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl From<&ChannelStats> for ChannelJson {
+    fn from(c: &ChannelStats) -> Self {
+        ChannelJson { pp: c.pp, rms: c.rms, peak_hz: c.peak_hz, groan_rms: c.groan_rms, mean: c.mean, min: c.min, max: c.max }
+    }
+}
+
+/// The four channels under their names.
+#[derive(Serialize)]
+pub struct Channels<T> {
+    pub disc_x: T,
+    pub pad_x: T,
+    pub pad_trail: T,
+    pub pad_lead: T,
+}
+
+impl<T> Channels<T> {
+    pub fn from_fn(mut f: impl FnMut(usize) -> T) -> Self {
+        Channels { disc_x: f(0), pad_x: f(1), pad_trail: f(2), pad_lead: f(3) }
+    }
+}
+
+#[derive(Serialize)]
+pub struct SpectrumJson {
+    pub method: &'static str,
+    pub window: &'static str,
+    pub overlap: f64,
+    pub segment_samples: usize,
+    pub segments: u64,
+    pub resolution_hz: f64,
+}
+
+#[derive(Serialize)]
+pub struct EstimatorJson {
+    pub breakaway_jump_m_s2: f64,
+    pub slip_onset_m_s2: f64,
+    pub stick_max_m_s2: f64,
+    pub setup_rate_hz: f64,
+}
+
+#[derive(Serialize)]
+pub struct AnalysisJson {
+    pub file: String,
+    pub channels: Channels<ChannelJson>,
+    pub stick_fraction: f64,
+    pub stick_slip_hz: Option<f64>,
+    pub slip_onsets: u64,
+    pub sample_rate_hz: f64,
+    pub samples: u64,
+    pub rows: u64,
+    pub duration_s: f64,
+    pub from_s: Option<f64>,
+    pub t_first_s: f64,
+    pub t_last_s: f64,
+    pub time_resolution_s: f64,
+    pub samples_at_range: u64,
+    pub spectrum: Option<SpectrumJson>,
+    pub estimator: EstimatorJson,
+}
+
+fn spectrum_json(a: &Analysis) -> Option<SpectrumJson> {
+    a.spectrum.as_ref().map(|s| SpectrumJson {
+        method: "welch",
+        window: "hann",
+        overlap: 0.5,
+        segment_samples: s.segment,
+        segments: s.segments,
+        resolution_hz: s.resolution_hz,
+    })
+}
+
+impl AnalysisJson {
+    pub fn new(file: &str, a: &Analysis) -> Self {
+        AnalysisJson {
+            file: file.to_string(),
+            channels: Channels::from_fn(|c| (&a.channels[c]).into()),
+            stick_fraction: a.stick_fraction,
+            stick_slip_hz: a.stick_slip_hz,
+            slip_onsets: a.slip_onsets,
+            sample_rate_hz: a.sample_rate_hz,
+            samples: a.samples,
+            rows: a.rows,
+            duration_s: a.duration_s(),
+            from_s: a.from_s.is_finite().then_some(a.from_s),
+            t_first_s: a.t_first,
+            t_last_s: a.t_last,
+            time_resolution_s: a.time_resolution_s,
+            samples_at_range: a.samples_at_range,
+            spectrum: spectrum_json(a),
+            estimator: EstimatorJson {
+                breakaway_jump_m_s2: a.breakaway_jump_m_s2,
+                slip_onset_m_s2: a.thresholds.slip_onset_m_s2 as f64,
+                stick_max_m_s2: a.thresholds.stick_max_m_s2 as f64,
+                setup_rate_hz: a.setup_rate_hz,
+            },
+        }
+    }
+}
+
+fn spectrum_line(a: &Analysis) -> String {
+    match &a.spectrum {
+        Some(s) => format!(
+            "Spectra: Welch, periodic Hann window, {} -sample segments with 50 % overlap, {} segment{} averaged, resolution {} Hz (a spectral peak is good to one bin).\n",
+            s.segment,
+            s.segments,
+            if s.segments == 1 { "" } else { "s" },
+            num(s.resolution_hz)
+        )
+        .replace(" -sample", "-sample"),
+        None => "Spectra: none (fewer than 4 samples).\n".into(),
+    }
+}
+
+fn estimator_lines(a: &Analysis) -> String {
+    let hz = match a.stick_slip_hz {
+        Some(f) => format!("{} Hz ({} slip onsets)", num(f), a.slip_onsets),
+        None => format!("none ({} slip onset{}: two are needed)", a.slip_onsets, if a.slip_onsets == 1 { "" } else { "s" }),
+    };
+    format!(
+        "Stick fraction: {} and stick-slip frequency: {hz}, from the rig's estimator (breakaway jump {} m/s^2: slip onset above {} m/s^2, stick at most {} m/s^2 of pad_x - disc_x).\n",
+        num(a.stick_fraction),
+        num(a.breakaway_jump_m_s2),
+        num(a.thresholds.slip_onset_m_s2 as f64),
+        num(a.thresholds.stick_max_m_s2 as f64),
+    )
+}
+
+/// The Markdown summary of `analyze`.
+pub fn analysis_markdown(file: &str, a: &Analysis) -> String {
+    let mut s = format!("# {file}\n\n");
+    s.push_str(&format!(
+        "{} samples analysed, t = {} to {} s ({} s) at {} Hz (from the time column, {} rows).\n\n",
+        a.samples,
+        num(a.t_first),
+        num(a.t_last),
+        num(a.duration_s()),
+        num(a.sample_rate_hz),
+        a.rows
+    ));
+    s.push_str("| channel | peak-to-peak [m/s^2] | RMS [m/s^2] | spectral peak [Hz] | groan-band RMS [m/s^2] |\n");
+    s.push_str("|---|---:|---:|---:|---:|\n");
+    for (c, ch) in a.channels.iter().enumerate() {
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {} |\n",
+            ACCEL_NAMES[c],
+            num(ch.pp),
+            num(ch.rms),
+            opt(ch.peak_hz),
+            num(ch.groan_rms)
+        ));
+    }
+    s.push('\n');
+    s.push_str(&estimator_lines(a));
+    s.push_str(&spectrum_line(a));
+    s.push_str("RMS about zero; groan-band RMS through the rig's 100 to 500 Hz band-pass (4th-order Butterworth).\n");
+    if a.samples_at_range > 0 {
+        s.push_str(&format!(
+            "Warning: {} samples at or beyond the accelerometers' range (700 m/s^2): clipped?\n",
+            a.samples_at_range
+        ));
+    }
+    s
+}
+
+/// Estimated against true, and the relative error (estimated - true) / true.
+#[derive(Serialize, Clone, Copy)]
+pub struct VsTruth {
+    pub estimated: Option<f64>,
+    #[serde(rename = "true")]
+    pub truth: Option<f64>,
+    pub error: Option<f64>,
+}
+
+impl VsTruth {
+    pub fn new(estimated: Option<f64>, truth: Option<f64>) -> Self {
+        let error = match (estimated, truth) {
+            (Some(e), Some(t)) if t != 0.0 => Some((e - t) / t),
+            _ => None,
+        };
+        VsTruth { estimated, truth, error }
+    }
+}
+
+#[derive(Serialize)]
+pub struct SilChannelJson {
+    pub pp: VsTruth,
+    pub rms: Option<f64>,
+    pub peak_hz: Option<f64>,
+    pub groan_rms: Option<f64>,
+}
+
+#[derive(Serialize)]
+pub struct SilJson {
+    pub scene: String,
+    pub caliper: &'static str,
+    pub beta: f64,
+    pub sample_rate_hz: f64,
+    pub stats_from: f64,
+    pub samples: u64,
+    pub steps: u64,
+    pub outcome: &'static str,
+    pub halt_t_s: Option<f64>,
+    pub noise_m_s2: f64,
+    pub seed: u32,
+    pub saturated_frames: u64,
+    pub stick_fraction: VsTruth,
+    pub stick_slip_hz: VsTruth,
+    pub slip_onsets: VsTruth,
+    pub channels: Channels<SilChannelJson>,
+}
+
+fn sil_parts(r: &SilReport) -> (VsTruth, VsTruth, VsTruth, [VsTruth; 4]) {
+    let m = r.measured.as_ref();
+    let have = r.truth.samples > 0;
+    let sf = VsTruth::new(m.map(|a| a.stick_fraction), have.then_some(r.truth.stick_fraction));
+    let hz = VsTruth::new(m.and_then(|a| a.stick_slip_hz), r.truth.stick_slip_hz);
+    let on = VsTruth::new(m.map(|a| a.slip_onsets as f64), have.then_some(r.truth.slip_onsets as f64));
+    let pp = std::array::from_fn(|c| VsTruth::new(m.map(|a| a.channels[c].pp), have.then_some(r.truth.pp[c])));
+    (sf, hz, on, pp)
+}
+
+impl SilJson {
+    pub fn new(r: &SilReport) -> Self {
+        let (sf, hz, on, pp) = sil_parts(r);
+        let m = r.measured.as_ref();
+        SilJson {
+            scene: r.name.clone(),
+            caliper: r.caliper,
+            beta: r.beta,
+            sample_rate_hz: r.sample_rate_hz,
+            stats_from: r.stats_from,
+            samples: r.truth.samples,
+            steps: r.steps_done,
+            outcome: r.outcome,
+            halt_t_s: r.halt_t_s,
+            noise_m_s2: r.noise_m_s2,
+            seed: r.seed,
+            saturated_frames: r.saturated_frames,
+            stick_fraction: sf,
+            stick_slip_hz: hz,
+            slip_onsets: on,
+            channels: Channels::from_fn(|c| SilChannelJson {
+                pp: pp[c],
+                rms: m.map(|a| a.channels[c].rms),
+                peak_hz: m.and_then(|a| a.channels[c].peak_hz),
+                groan_rms: m.map(|a| a.channels[c].groan_rms),
+            }),
+        }
+    }
+}
+
+fn pct(e: Option<f64>) -> String {
+    e.map_or("n/a".into(), |e| format!("{:+.3} %", 100.0 * e))
+}
+
+/// The Markdown summary of `sil`.
+pub fn sil_markdown(r: &SilReport) -> String {
+    let (sf, hz, on, pp) = sil_parts(r);
+    let mut s = format!(
+        "# Virtual rig: {} ({} caliper, beta = {} m)\n\n",
+        r.name, r.caliper, r.beta
+    );
+    s.push_str(&format!(
+        "Model (exact stepper) -> rig sensor model (100 mV/g, front-end gain 0.2, noise {} m/s^2 rms seed {}, \
+         700 m/s^2 clipping, 12-bit ADC) -> calibration -> the rig's estimator, at {} Hz; statistics over t >= {} s \
+         ({} samples). Outcome: {}{}.\n\n",
+        num(r.noise_m_s2),
+        r.seed,
+        num(r.sample_rate_hz),
+        num(r.stats_from),
+        r.truth.samples,
+        r.outcome,
+        r.halt_t_s.map_or(String::new(), |t| format!(" at t = {} s", num(t)))
+    ));
+    s.push_str("| quantity | estimated (virtual rig) | true (model) | error |\n|---|---:|---:|---:|\n");
+    let row = |name: &str, v: &VsTruth| format!("| {name} | {} | {} | {} |\n", opt(v.estimated), opt(v.truth), pct(v.error));
+    s.push_str(&row("stick fraction [-]", &sf));
+    s.push_str(&row("stick-slip frequency [Hz]", &hz));
+    let count = |v: Option<f64>| v.map_or("none".to_string(), |n| format!("{n:.0}"));
+    s.push_str(&format!("| slip onsets | {} | {} | {} |\n", count(on.estimated), count(on.truth), pct(on.error)));
+    for c in 0..4 {
+        s.push_str(&row(&format!("{} peak-to-peak [m/s^2]", ACCEL_NAMES[c]), &pp[c]));
+    }
+    s.push_str(
+        "\nTrue: the model's own regime at each sample, the exact times of its stick-to-slip transitions, and \
+         the noise-free accelerations before clipping and the ADC. Error = (estimated - true) / true.\n",
+    );
+    if r.saturated_frames > 0 {
+        s.push_str(&format!("{} frames had an accelerometer at its range or an ADC rail.\n", r.saturated_frames));
+    }
+    s
+}
+
+/// Measured against model, and measured / model.
+#[derive(Serialize, Clone, Copy)]
+pub struct Pair {
+    pub measured: Option<f64>,
+    pub model: Option<f64>,
+    pub ratio: Option<f64>,
+}
+
+impl Pair {
+    pub fn new(measured: Option<f64>, model: Option<f64>) -> Self {
+        let ratio = match (measured, model) {
+            (Some(a), Some(b)) if b != 0.0 => Some(a / b),
+            _ => None,
+        };
+        Pair { measured, model, ratio }
+    }
+}
+
+#[derive(Serialize)]
+pub struct CompareChannelJson {
+    pub pp: Pair,
+    pub peak_hz: Pair,
+    pub rms: Pair,
+    pub groan_rms: Pair,
+}
+
+#[derive(Serialize)]
+pub struct CompareSide {
+    pub sample_rate_hz: Option<f64>,
+    pub samples: Option<u64>,
+    pub duration_s: Option<f64>,
+    pub from_s: Option<f64>,
+    pub resolution_hz: Option<f64>,
+}
+
+impl CompareSide {
+    fn of(a: Option<&Analysis>) -> Self {
+        CompareSide {
+            sample_rate_hz: a.map(|a| a.sample_rate_hz),
+            samples: a.map(|a| a.samples),
+            duration_s: a.map(|a| a.duration_s()),
+            from_s: a.and_then(|a| a.from_s.is_finite().then_some(a.from_s)),
+            resolution_hz: a.and_then(|a| a.spectrum.as_ref().map(|s| s.resolution_hz)),
+        }
+    }
+}
+
+#[derive(Serialize)]
+pub struct CompareJson {
+    pub scene: String,
+    pub file: String,
+    pub channels: Channels<CompareChannelJson>,
+    pub stick_fraction: Pair,
+    pub stick_slip_hz: Pair,
+    pub measured: CompareSide,
+    pub model: CompareSide,
+    pub model_outcome: &'static str,
+    pub model_noise_m_s2: f64,
+}
+
+impl CompareJson {
+    pub fn new(file: &str, measured: &Analysis, model: &SilReport) -> Self {
+        let m = model.measured.as_ref();
+        let ch = |c: usize, f: fn(&ChannelStats) -> Option<f64>| {
+            Pair::new(f(&measured.channels[c]), m.and_then(|a| f(&a.channels[c])))
+        };
+        CompareJson {
+            scene: model.name.clone(),
+            file: file.to_string(),
+            channels: Channels::from_fn(|c| CompareChannelJson {
+                pp: ch(c, |s| Some(s.pp)),
+                peak_hz: ch(c, |s| s.peak_hz),
+                rms: ch(c, |s| Some(s.rms)),
+                groan_rms: ch(c, |s| Some(s.groan_rms)),
+            }),
+            stick_fraction: Pair::new(Some(measured.stick_fraction), m.map(|a| a.stick_fraction)),
+            stick_slip_hz: Pair::new(measured.stick_slip_hz, m.and_then(|a| a.stick_slip_hz)),
+            measured: CompareSide::of(Some(measured)),
+            model: CompareSide::of(m),
+            model_outcome: model.outcome,
+            model_noise_m_s2: model.noise_m_s2,
+        }
+    }
+}
+
+/// The Markdown table of `compare`.
+pub fn compare_markdown(file: &str, measured: &Analysis, model: &SilReport) -> String {
+    let j = CompareJson::new(file, measured, model);
+    let mut s = format!("# {file} (measured) against {} (model, virtual rig)\n\n", model.name);
+    s.push_str("| channel | quantity | measured | model | measured / model |\n|---|---|---:|---:|---:|\n");
+    let row = |ch: &str, q: &str, p: &Pair| {
+        format!("| {ch} | {q} | {} | {} | {} |\n", opt(p.measured), opt(p.model), p.ratio.map_or("n/a".into(), |r| format!("{r:.3}")))
+    };
+    let chans = [&j.channels.disc_x, &j.channels.pad_x, &j.channels.pad_trail, &j.channels.pad_lead];
+    for (c, cj) in chans.iter().enumerate() {
+        s.push_str(&row(ACCEL_NAMES[c], "peak-to-peak [m/s^2]", &cj.pp));
+        s.push_str(&row(ACCEL_NAMES[c], "spectral peak [Hz]", &cj.peak_hz));
+        s.push_str(&row(ACCEL_NAMES[c], "RMS [m/s^2]", &cj.rms));
+    }
+    s.push_str(&row("pad", "stick fraction [-]", &j.stick_fraction));
+    s.push_str(&row("pad", "stick-slip frequency [Hz]", &j.stick_slip_hz));
+    s.push('\n');
+    s.push_str(&format!(
+        "Measured: {} samples at {} Hz{}; model: `{}` through the virtual rig (noise {} m/s^2 rms), {} samples from t = {} s, outcome {}.\n",
+        measured.samples,
+        num(measured.sample_rate_hz),
+        if measured.from_s.is_finite() { format!(" from t = {} s", num(measured.from_s)) } else { String::new() },
+        model.name,
+        num(model.noise_m_s2),
+        model.truth.samples,
+        num(model.stats_from),
+        model.outcome
+    ));
+    s.push_str(
+        "Both sides go through the same analysis: peak-to-peak and RMS of the samples, the Welch spectral peak, \
+         the rig's estimator for the stick fraction and stick-slip frequency, with the scene's breakaway jump.\n",
+    );
+    s
+}

@@ -1,0 +1,254 @@
+//! The virtual rig ("software in the loop"): a scene's motion, through the rig's sensor model,
+//! into the same analysis as a recording, against the truth of the model run itself.
+//!
+//! Per sample i (t = (i + 1) dt, one exact step of the scene per sample, so the virtual rig
+//! samples at 1 / dt: 25.6 kHz for the default dt):
+//! 1. `shared::rig::sensor_model::SensorModel` steps the model and makes the rig's ADC frame:
+//!    `disc_x` the band's acceleration (0: the model's band runs at constant V), `pad_x` = x'',
+//!    `pad_trail` and `pad_lead` = r phi'' at the sensors' lever arms about the pivot (5 mm in
+//!    from each edge of the pad), plus seeded white noise, clipped at the sensors' +-700 m/s^2,
+//!    through the front end (100 mV/g, gain 0.2) into the 12-bit ADC;
+//! 2. `shared::rig::calibration::Calibrator` turns the counts back into m/s^2 (0.395 m/s^2 per
+//!    count), as the firmware does;
+//! 3. the calibrated channels go into [`super::analysis::Analyzer`], whose estimator is the
+//!    firmware's (`shared::rig::estimator`), with the scene's breakaway jump.
+//!
+//! The truth, over the same samples (t >= stats_from): stick fraction = samples at which the
+//! model is in stick / samples; stick-slip frequency = (n - 1) / (t_n - t_1) over the exact
+//! times of the model's n stick-to-slip transitions; peak-to-peak of the noise-free,
+//! unclipped, unquantised accelerations the sensor model computed.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
+use stickslip_model::rig::contact::ContactThresholds;
+use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig, SensorModelError};
+use stickslip_model::{Coefficients, Real, Regime};
+
+use super::analysis::{Analysis, AnalysisConfig, Analyzer};
+use super::spectrum::CH;
+use crate::error::{HostError, Result};
+use crate::run::{self, Outcome, Precision};
+use crate::scene_source::NamedScene;
+
+/// Default noise on each accelerometer [m/s^2 rms] (1.3 ADC counts).
+pub const DEFAULT_NOISE_M_S2: f64 = 0.5;
+/// Default seed of the noise generator.
+pub const DEFAULT_SEED: u32 = 1;
+
+/// How to run the virtual rig.
+#[derive(Clone, Debug)]
+pub struct SilOptions {
+    pub noise_m_s2: f64,
+    pub seed: u32,
+    pub segment: Option<usize>,
+    pub figures: bool,
+    /// The estimator's breakaway jump [m/s^2]; default the scene's.
+    pub breakaway_jump_m_s2: Option<f64>,
+}
+
+/// The breakaway jump the estimator uses for `ns`: `given`, else the scene's
+/// (mu_s - mu_k) N0 / m; an error if that is not positive (mu_s = mu_k) and none was given.
+pub fn breakaway_jump(ns: &NamedScene, given: Option<f64>) -> Result<f64> {
+    if let Some(j) = given {
+        return Ok(j);
+    }
+    let j = ContactThresholds::breakaway_jump(&ns.scene);
+    if j.is_finite() && j > 0.0 {
+        Ok(j)
+    } else {
+        Err(HostError::Input(format!(
+            "{}: the breakaway jump (mu_s - mu_k) N0 / m = {j} m/s^2 is not positive (mu_s = {}, mu_k = {}): \
+             the estimator's thresholds need one: give --breakaway-jump M_S2",
+            ns.origin_label(),
+            ns.scene.mu_s,
+            ns.scene.mu_k
+        )))
+    }
+}
+
+/// The model's own statistics over the analysed samples.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Truth {
+    pub samples: u64,
+    pub stick_fraction: f64,
+    /// `None` with fewer than two onsets.
+    pub stick_slip_hz: Option<f64>,
+    pub slip_onsets: u64,
+    /// Noise-free peak-to-peak of disc_x, pad_x, pad_trail, pad_lead [m/s^2].
+    pub pp: [f64; CH],
+}
+
+/// One virtual-rig run.
+#[derive(Clone, Debug)]
+pub struct SilReport {
+    pub name: String,
+    pub caliper: &'static str,
+    pub beta: f64,
+    /// Sampling rate 1 / dt [Hz].
+    pub sample_rate_hz: f64,
+    pub steps_planned: u64,
+    pub steps_done: u64,
+    pub stats_from: f64,
+    pub outcome: &'static str,
+    pub halt_t_s: Option<f64>,
+    pub noise_m_s2: f64,
+    pub seed: u32,
+    /// Frames with an accelerometer at its range or at an ADC rail.
+    pub saturated_frames: u64,
+    pub truth: Truth,
+    /// The analysis of the virtual rig's channels; `None` if the run halted before
+    /// `stats_from`.
+    pub measured: Option<Analysis>,
+}
+
+/// Runs `ns` through the virtual rig; writes every frame's calibrated channels to `csv` if
+/// given (header `t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2`; values printed
+/// so that they read back to the same f64).
+pub fn run(ns: &NamedScene, precision: Precision, opts: &SilOptions, csv: Option<&Path>) -> Result<SilReport> {
+    match precision {
+        Precision::F32 => run_in::<f32>(ns, opts, csv),
+        Precision::F64 => run_in::<f64>(ns, opts, csv),
+    }
+}
+
+/// The analysis configuration the virtual rig and `compare` use for `scene`: the scene's
+/// breakaway jump and band speed, statistics from `stats_from`.
+pub fn analysis_config(scene: &stickslip_model::Scene, from_s: f64, segment: Option<usize>, figures: bool) -> AnalysisConfig {
+    AnalysisConfig {
+        from_s,
+        segment,
+        breakaway_jump_m_s2: ContactThresholds::breakaway_jump(scene),
+        band_speed_m_s: scene.v,
+        figures,
+    }
+}
+
+struct CsvOut {
+    path: String,
+    w: BufWriter<File>,
+}
+
+impl CsvOut {
+    fn err(&self, e: std::io::Error) -> HostError {
+        HostError::Output(format!("{}: cannot write the CSV: {e}", self.path))
+    }
+}
+
+fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Result<SilReport> {
+    let scene = &ns.scene;
+    let bad_option = |what: &str, v: f64, rule: &str| HostError::Input(format!("{what} {v}: {rule}"));
+    if !(opts.noise_m_s2.is_finite() && opts.noise_m_s2 >= 0.0) {
+        return Err(bad_option("--noise", opts.noise_m_s2, "must be >= 0 m/s^2"));
+    }
+    let mut cfg = SensorModelConfig::RIG;
+    cfg.noise = Noise { accel_rms_m_s2: opts.noise_m_s2, pressure_rms_bar: 0.0, seed: opts.seed };
+    let mut sensor = SensorModel::<T>::new(scene, &cfg).map_err(|e| {
+        HostError::Input(match e {
+            SensorModelError::Scene(s) => format!("{}: {s}", ns.origin_label()),
+            SensorModelError::Config(c) => format!("virtual rig: {c}"),
+        })
+    })?;
+    let cal = Calibrator::new(&RIG_CALIBRATION).map_err(|e| HostError::Input(format!("virtual rig: {e}")))?;
+    let mut out = match csv {
+        Some(p) => {
+            let path = p.display().to_string();
+            let f = File::create(p).map_err(|e| HostError::Output(format!("{path}: cannot create the CSV: {e}")))?;
+            let mut o = CsvOut { path, w: BufWriter::new(f) };
+            writeln!(o.w, "t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2").map_err(|e| o.err(e))?;
+            Some(o)
+        }
+        None => None,
+    };
+    let dt = scene.dt;
+    let from_eff = scene.stats_from - 0.25 * dt;
+    let mut acfg = analysis_config(scene, scene.stats_from, opts.segment, opts.figures);
+    acfg.breakaway_jump_m_s2 = breakaway_jump(ns, opts.breakaway_jump_m_s2)?;
+    let mut analyzer = Analyzer::new(acfg);
+    let steps_planned = run::planned_steps(scene);
+    let mut truth = Truth::default();
+    let (mut tmin, mut tmax) = ([f64::INFINITY; CH], [f64::NEG_INFINITY; CH]);
+    let (mut stick, mut onset_first, mut onset_last) = (0u64, 0.0f64, 0.0f64);
+    let mut outcome = Outcome::Completed;
+    let mut steps_done = 0;
+    let mut saturated_frames = 0;
+    for i in 0..steps_planned {
+        let frame = match sensor.next_frame() {
+            Ok(f) => f,
+            Err(halt) => {
+                let co = Coefficients::of(scene);
+                let self_locked = co.effective_rotational_stiffness(scene, 1.0, scene.mu_s) <= 0.0;
+                outcome = Outcome::Halted { halt, self_locked };
+                break;
+            }
+        };
+        steps_done += 1;
+        let t = (i + 1) as f64 * dt;
+        let c = cal.calibrate(&frame);
+        if c.saturation.any_accel() {
+            saturated_frames += 1;
+        }
+        let a: [f64; CH] = c.accel_m_s2.map(|v| v as f64);
+        if let Some(o) = &mut out {
+            writeln!(o.w, "{t},{},{},{},{}", a[0], a[1], a[2], a[3]).map_err(|e| o.err(e))?;
+        }
+        analyzer
+            .push(i + 2, t, 0.0, &a)
+            .map_err(|m| HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
+        if t >= from_eff {
+            let tr = sensor.truth();
+            truth.samples += 1;
+            if tr.regime == Some(Regime::Stick) {
+                stick += 1;
+            }
+            for ch in 0..CH {
+                let v = tr.accel_m_s2[ch].to_f64();
+                tmin[ch] = tmin[ch].min(v);
+                tmax[ch] = tmax[ch].max(v);
+            }
+            for x in sensor.stepper().transitions() {
+                if x.from == Regime::Stick {
+                    if truth.slip_onsets == 0 {
+                        onset_first = x.t;
+                    }
+                    onset_last = x.t;
+                    truth.slip_onsets += 1;
+                }
+            }
+        }
+    }
+    if let Some(mut o) = out {
+        o.w.flush().map_err(|e| o.err(e))?;
+    }
+    if truth.samples > 0 {
+        truth.stick_fraction = stick as f64 / truth.samples as f64;
+        truth.pp = std::array::from_fn(|c| tmax[c] - tmin[c]);
+        truth.stick_slip_hz = (truth.slip_onsets >= 2 && onset_last > onset_first)
+            .then(|| (truth.slip_onsets - 1) as f64 / (onset_last - onset_first));
+    }
+    // a run that halts early (a finding) may leave too little to analyse: no statistics then
+    let measured = match analyzer.finish() {
+        Ok(a) if truth.samples > 0 => Some(a),
+        Ok(_) => None,
+        Err(_) if outcome != Outcome::Completed => None,
+        Err(m) => return Err(HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label()))),
+    };
+    Ok(SilReport {
+        name: ns.name.clone(),
+        caliper: scene.caliper.name(),
+        beta: scene.beta,
+        sample_rate_hz: 1.0 / dt,
+        steps_planned,
+        steps_done,
+        stats_from: scene.stats_from,
+        outcome: outcome.keyword(),
+        halt_t_s: outcome.halt_time(),
+        noise_m_s2: opts.noise_m_s2,
+        seed: opts.seed,
+        saturated_frames,
+        truth,
+        measured,
+    })
+}

@@ -1,0 +1,206 @@
+//! `stickslip analyze` on recordings generated here with known content: a sine per channel of
+//! known amplitude A and frequency f, printed to a known number of decimals. The expected
+//! values are worked out by hand, never taken from the tool:
+//!
+//! - the sines are sampled at fs = 4 k f (k integer), so samples fall on the crests, sin = +-1
+//!   exactly, and the printed extremes are +-A: peak-to-peak = 2 A to the printed precision;
+//! - the record holds whole periods of every sine, so the mean of sin^2 over the samples is
+//!   exactly 1/2: RMS = A / sqrt(2), off by at most the printing's half unit in the last place
+//!   (the RMS is a Euclidean norm / sqrt(n): a perturbation of at most q per sample moves it
+//!   by at most q);
+//! - the spectral peak lies within one bin (fs / segment) of f;
+//! - the groan-band RMS is A / sqrt(2) times the band-pass gain at f, from the closed form of
+//!   a 4th-order Butterworth band-pass through the bilinear transform:
+//!   |H|^2 = 1 / (1 + ((W^2 - W0^2) / (W B))^4), W = 2 fs tan(pi f / fs), W0^2 = W_lo W_hi,
+//!   B = W_hi - W_lo, edges 100 and 500 Hz;
+//! - all amplitudes stay below a quarter of the default breakaway jump (33.2 m/s^2 / 4): the
+//!   estimator never leaves stick, stick fraction 1, no stick-slip frequency.
+
+mod recorded_common;
+
+use std::f64::consts::PI;
+
+use recorded_common::*;
+use serde_json::Value;
+
+/// Closed-form gain of the groan band-pass at f [Hz] and rate fs [Hz].
+fn groan_gain(f: f64, fs: f64) -> f64 {
+    let w = |f: f64| 2.0 * fs * (PI * f / fs).tan();
+    let (wl, wh) = (w(100.0), w(500.0));
+    let (w0sq, b) = (wl * wh, wh - wl);
+    let x = (w(f).powi(2) - w0sq) / (w(f) * b);
+    (1.0 / (1.0 + x.powi(4))).sqrt()
+}
+
+struct Sine {
+    amp: f64,
+    hz: f64,
+}
+
+/// The samples of channel `c` at sample `i`.
+fn value(s: &Sine, i: usize, fs: f64) -> f64 {
+    s.amp * (2.0 * PI * s.hz * i as f64 / fs).sin()
+}
+
+fn check_channels(v: &Value, sines: &[Sine; 4], fs: f64, decimals: i32, segment: f64) {
+    let q = 0.5 * 10f64.powi(-decimals);
+    for (c, s) in sines.iter().enumerate() {
+        let name = CHANNELS[c];
+        let pp = num(v, &["channels", name, "pp"]);
+        assert!((pp - 2.0 * s.amp).abs() <= 1e-9, "{name}: pp {pp}, want {}", 2.0 * s.amp);
+        let rms = num(v, &["channels", name, "rms"]);
+        let want = s.amp / 2f64.sqrt();
+        assert!((rms - want).abs() <= q + 1e-12, "{name}: rms {rms}, want {want} +- {q}");
+        let peak = num(v, &["channels", name, "peak_hz"]);
+        assert!((peak - s.hz).abs() <= fs / segment * (1.0 + 1e-6), "{name}: peak {peak} Hz, want {} Hz", s.hz);
+    }
+    // the rate comes from the printed time column: within 1e-6 of fs here
+    let res = num(v, &["spectrum", "resolution_hz"]);
+    assert!((res - fs / segment).abs() <= 1e-6 * fs / segment, "resolution {res} Hz");
+    assert_eq!(num(v, &["stick_fraction"]), 1.0);
+    assert!(v["stick_slip_hz"].is_null());
+}
+
+/// A spreadsheet export: semicolons, decimal commas, quoted header with units in two styles
+/// and a unit-less name with a trailing underscore (as in the thesis's Table 3.1), CRLF line
+/// ends, a row of separators and blank lines at the end.
+fn spreadsheet(sines: &[Sine; 4], fs: f64, n: usize) -> String {
+    let mut s = String::from("\"Time [s]\";\"pad_x [m/s^2]\";\"disc_x (m/s²)\";\"pad_lead\";\"pad_trail_\"\r\n");
+    for i in 0..n {
+        let v: Vec<f64> = (0..4).map(|c| value(&sines[c], i, fs)).collect();
+        let cells = [
+            format!("{:.7}", i as f64 / fs),
+            format!("{:.4}", v[1]),
+            format!("{:.4}", v[0]),
+            format!("{:.4}", v[3]),
+            format!("{:.4}", v[2]),
+        ];
+        s.push_str(&cells.iter().map(|c| c.replace('.', ",")).collect::<Vec<_>>().join(";"));
+        s.push_str("\r\n");
+    }
+    s.push_str(";;;;\r\n\r\n\r\n");
+    s
+}
+
+#[test]
+fn spreadsheet_export_with_semicolons_and_decimal_commas() {
+    let dir = scratch("spreadsheet");
+    // fs = 5120 Hz, 1 s; fs / f = 128, 32, 16, 64: multiples of 4, whole periods
+    let fs = 5120.0;
+    let sines = [
+        Sine { amp: 0.5, hz: 40.0 },
+        Sine { amp: 2.25, hz: 160.0 },
+        Sine { amp: 1.2345, hz: 320.0 },
+        Sine { amp: 3.0, hz: 80.0 },
+    ];
+    let file = write(&dir, "export.csv", spreadsheet(&sines, fs, 5120));
+    let v = json(&["analyze", &file, "--json"]);
+    // default segment at 5120 Hz: the smallest power of two with a resolution <= 2 Hz is 4096
+    check_channels(&v, &sines, fs, 4, 4096.0);
+    assert_eq!(num(&v, &["samples"]), 5120.0);
+    assert_eq!(num(&v, &["rows"]), 5120.0);
+    // time printed to 1e-7 s: the rate from the first and last rows is within 1e-7 / 1 s
+    assert!((num(&v, &["sample_rate_hz"]) - fs).abs() / fs < 1e-6);
+    assert_eq!(num(&v, &["time_resolution_s"]), 1e-7);
+
+    // groan band: after 0.25 s (the filter's transient gone), still whole periods
+    let v = json(&["analyze", &file, "--json", "--from", "0.25"]);
+    assert_eq!(num(&v, &["samples"]), 3840.0);
+    for (c, s) in sines.iter().enumerate() {
+        let g = num(&v, &["channels", CHANNELS[c], "groan_rms"]);
+        let want = s.amp / 2f64.sqrt() * groan_gain(s.hz, fs);
+        assert!((g - want).abs() <= 0.01 * want + 1e-4, "{}: groan rms {g}, want {want}", CHANNELS[c]);
+    }
+}
+
+#[test]
+fn plain_csv_with_columns_reordered_and_other_units() {
+    let dir = scratch("plain");
+    // 25.6 kHz, 1 s; time in ms, pad_x in g, an extra column; fs / f = 64, 128, 256, 32
+    let fs = 25_600.0;
+    let sines = [
+        Sine { amp: 1.5, hz: 400.0 },
+        Sine { amp: 0.25, hz: 200.0 }, // in g: 0.25 g
+        Sine { amp: 7.125, hz: 100.0 },
+        Sine { amp: 0.875, hz: 800.0 },
+    ];
+    let mut s = String::from("pad_lead,pad_x [g],Time (ms),comment,disc_x,pad_trail [m/s^2]\n");
+    for i in 0..25_600 {
+        let v: Vec<f64> = (0..4).map(|c| value(&sines[c], i, fs)).collect();
+        s.push_str(&format!(
+            "{:.3},{:.5},{:.6},\"a, quoted note\",{:.3},{:.3}\n",
+            v[3],
+            v[1],
+            i as f64 * 1e3 / fs,
+            v[0],
+            v[2]
+        ));
+    }
+    let file = write(&dir, "plain.csv", s);
+    let v = json(&["analyze", &file, "--json"]);
+    // pad_x was written in g: expect 9.80665 times the g values
+    let g = 9.806_65;
+    let in_si = [
+        Sine { amp: 1.5, hz: 400.0 },
+        Sine { amp: 0.25 * g, hz: 200.0 },
+        Sine { amp: 7.125, hz: 100.0 },
+        Sine { amp: 0.875, hz: 800.0 },
+    ];
+    // printing: 3 decimals (m/s^2) except pad_x, 5 decimals of g; check_channels takes the
+    // coarsest, 0.5e-3, which bounds both (0.5e-5 g = 4.9e-5 m/s^2)
+    check_channels(&v, &in_si, fs, 3, 16_384.0);
+    assert!((num(&v, &["sample_rate_hz"]) - fs).abs() / fs < 1e-6);
+    assert_eq!(num(&v, &["spectrum", "segments"]), 2.0, "25600 samples hold 2 half-overlapped 16384-sample segments");
+}
+
+#[test]
+fn markdown_summary_and_figures() {
+    let dir = scratch("markdown");
+    let fs = 5120.0;
+    let sines = [
+        Sine { amp: 0.5, hz: 40.0 },
+        Sine { amp: 2.25, hz: 160.0 },
+        Sine { amp: 1.2345, hz: 320.0 },
+        Sine { amp: 3.0, hz: 80.0 },
+    ];
+    let file = write(&dir, "export.csv", spreadsheet(&sines, fs, 5120));
+    let figs = dir.join("figs");
+    let out = ok(&["analyze", &file, "--plots", figs.to_str().unwrap()]);
+    assert!(out.contains("| channel | peak-to-peak [m/s^2] | RMS [m/s^2] | spectral peak [Hz] | groan-band RMS [m/s^2] |"), "{out}");
+    assert!(out.contains("| pad_trail | 2.46900 |"), "{out}");
+    assert!(out.contains("Welch"), "{out}");
+    for name in ["disc_x", "pad_x", "pad_trail", "pad_lead", "spectra"] {
+        let svg = std::fs::read_to_string(figs.join(format!("{name}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg"), "{name}.svg");
+        assert!(svg.contains("<polyline") || svg.contains("<path"), "{name}.svg has no line");
+    }
+    let t = std::fs::read_to_string(figs.join("pad_x.svg")).unwrap();
+    assert!(t.contains("time t [s]") && t.contains("pad_x [m/s^2]"));
+}
+
+#[test]
+fn standard_input_and_a_logger_preamble() {
+    let dir = scratch("stdin");
+    let fs = 2048.0;
+    let mut s = String::from("Logger XYZ export\nsample rate;2048 Hz\n\n");
+    s.push_str("t;disc_x;pad_x;pad_trail;pad_lead\n");
+    for i in 0..2048 {
+        // a square wave on pad_x: +1 for 512 samples, -1 for 512
+        let sq = if (i / 512) % 2 == 0 { 1 } else { -1 };
+        s.push_str(&format!("{};0;{sq},000;0;0\n", format!("{:.6}", i as f64 / fs).replace('.', ",")));
+    }
+    let file = write(&dir, "preamble.csv", &s);
+    let v = json(&["analyze", &file, "--json"]);
+    assert_eq!(num(&v, &["channels", "pad_x", "pp"]), 2.0);
+    assert_eq!(num(&v, &["channels", "pad_x", "rms"]), 1.0);
+    assert_eq!(num(&v, &["channels", "disc_x", "pp"]), 0.0);
+    // the same through standard input
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(["analyze", "-", "--json"])
+        .stdin(std::fs::File::open(&file).unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let w: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(w["channels"], v["channels"]);
+}

@@ -1,0 +1,108 @@
+//! The virtual rig on the six cases: the rig's estimator, fed the sensor model's ADC frames,
+//! against the truth of the model run (its regimes, its exact transition times, its
+//! noise-free accelerations). The truth is checked in turn against `simulate`, which takes its
+//! statistics from the exact continuous motion.
+//!
+//! Bounds, by hand:
+//! - stick fraction and stick-slip frequency within 2 % of the truth (issue 5's criterion);
+//! - peak-to-peak: the ADC rounds to the nearest count, one count is
+//!   LSB = 3.3 V / 4096 / (0.1 V/g x 0.2) x 9.80665 m/s^2 = 0.39504 m/s^2, so each extreme is
+//!   off by at most LSB / 2 plus the noise's hard bound 2 sqrt(3) sigma: |pp - true pp| <=
+//!   LSB + 4 sqrt(3) sigma;
+//! - without noise, that is LSB: within 2 % wherever the true peak-to-peak is at least
+//!   50 LSB (19.8 m/s^2); the smaller channels (pad_trail of the push cases, pad_lead of the
+//!   pull cases: the sensor near the pivot) are held to the LSB bound only.
+
+mod recorded_common;
+
+use recorded_common::*;
+use serde_json::Value;
+
+const CASES: [&str; 6] = ["push_trail", "push_center", "push_lead", "pull_trail", "pull_center", "pull_lead"];
+const LSB: f64 = 3.3 / 4096.0 / (0.1 * 0.2) * 9.806_65;
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+fn check_estimates(case: &str, v: &Value, sigma: f64) -> (f64, f64, f64) {
+    assert_eq!(v["outcome"], "completed", "{case}");
+    let sf = rel(num(v, &["stick_fraction", "estimated"]), num(v, &["stick_fraction", "true"]));
+    let hz = rel(num(v, &["stick_slip_hz", "estimated"]), num(v, &["stick_slip_hz", "true"]));
+    assert!(sf <= 0.02, "{case}: stick fraction off by {sf}");
+    assert!(hz <= 0.02, "{case}: stick-slip frequency off by {hz}");
+    assert_eq!(v["slip_onsets"]["estimated"], v["slip_onsets"]["true"], "{case}: onsets");
+    let bound = LSB * (1.0 + 1e-6) + 4.0 * 3f64.sqrt() * sigma;
+    let mut worst_pp: f64 = 0.0;
+    for ch in CHANNELS {
+        let (e, t) = (num(v, &["channels", ch, "pp", "estimated"]), num(v, &["channels", ch, "pp", "true"]));
+        assert!((e - t).abs() <= bound, "{case} {ch}: pp {e} vs true {t} (bound {bound})");
+        if sigma == 0.0 && t >= 50.0 * LSB {
+            let r = rel(e, t);
+            assert!(r <= 0.02, "{case} {ch}: pp {e} vs true {t}: {r}");
+            worst_pp = worst_pp.max(r);
+        }
+    }
+    (sf, hz, worst_pp)
+}
+
+#[test]
+fn six_cases_within_two_percent_of_the_truth() {
+    for case in CASES {
+        let v = json(&["sil", case, "--json"]);
+        assert_eq!(num(&v, &["noise_m_s2"]), 0.5, "the default noise");
+        let (sf, hz, _) = check_estimates(case, &v, 0.5);
+        let q = json(&["sil", case, "--json", "--noise", "0"]);
+        let (sf0, hz0, pp0) = check_estimates(case, &q, 0.0);
+        println!(
+            "{case:12} noise 0.5: stick fraction {:.2e}, frequency {:.2e}; noise 0: {:.2e}, {:.2e}, pp (>= 50 LSB) {:.2e}",
+            sf, hz, sf0, hz0, pp0
+        );
+        // pad_x carries the whole stick-slip signal in every case: at least 50 LSB
+        assert!(num(&q, &["channels", "pad_x", "pp", "true"]) >= 50.0 * LSB, "{case}");
+    }
+}
+
+#[test]
+fn the_truth_is_the_models_own() {
+    // simulate: statistics of the exact continuous motion over [stats_from, duration]; the
+    // virtual rig's truth counts samples, so the stick fraction differs by at most one sample
+    // per transition (2 per cycle), and the frequency comes from the same transition times
+    for case in CASES {
+        let sim = json(&["simulate", case, "--json"]);
+        let v = json(&["sil", case, "--json"]);
+        let samples = num(&v, &["samples"]);
+        let onsets = num(&v, &["slip_onsets", "true"]);
+        let sf = num(&v, &["stick_fraction", "true"]);
+        let sf_sim = num(&sim, &["stick_fraction"]);
+        assert!((sf - sf_sim).abs() <= (2.0 * onsets + 2.0) / samples, "{case}: {sf} vs simulate {sf_sim}");
+        let hz = num(&v, &["stick_slip_hz", "true"]);
+        let hz_sim = num(&sim, &["stick_slip_hz"]);
+        assert!(rel(hz, hz_sim) <= 5e-3, "{case}: {hz} Hz vs simulate {hz_sim} Hz");
+        // the band runs at constant speed: its accelerometer sees nothing but noise
+        assert_eq!(num(&v, &["channels", "disc_x", "pp", "true"]), 0.0);
+        assert!(v["channels"]["disc_x"]["pp"]["error"].is_null());
+    }
+}
+
+#[test]
+fn markdown_and_the_csv_it_writes() {
+    let dir = scratch("sil");
+    let csv = dir.join("run.csv");
+    let out = ok(&["sil", "pull_center", "--csv", csv.to_str().unwrap(), "--duration", "0.6"]);
+    assert!(out.contains("| stick fraction [-] |"), "{out}");
+    assert!(out.contains("| pad_x peak-to-peak [m/s^2] |"), "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2"));
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 15_360, "0.6 s at 25.6 kHz");
+    assert!(rows[0].starts_with("0.0000390625,"), "{}", rows[0]);
+    // every value is a whole number of ADC counts (0.395 m/s^2) from zero
+    for r in rows.iter().step_by(997) {
+        for cell in r.split(',').skip(1) {
+            let counts = cell.parse::<f64>().unwrap() / LSB;
+            assert!((counts - counts.round()).abs() < 1e-3, "{cell} is not a whole count");
+        }
+    }
+}
