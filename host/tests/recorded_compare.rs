@@ -28,8 +28,9 @@ fn the_model_against_its_own_recording_gives_ratio_one() {
     let dir = scratch("compare-self");
     let csv = dir.join("pull_center.csv");
     let csv = csv.to_str().unwrap();
-    ok(&["sil", "pull_center", "--csv", csv]);
-    let v = json(&["compare", "pull_center", csv, "--from", "0.5", "--json"]);
+    // noise above one ADC count, so that even the band channel (true 0) has a peak-to-peak
+    ok(&["sil", "pull_center", "--csv", csv, "--noise", "0.5"]);
+    let v = json(&["compare", "pull_center", csv, "--from", "0.5", "--noise", "0.5", "--json"]);
     // shape
     for key in ["scene", "file", "channels", "stick_fraction", "stick_slip_hz", "measured", "model", "model_outcome"] {
         assert!(v.get(key).is_some(), "key {key} missing: {v}");
@@ -49,7 +50,7 @@ fn the_model_against_its_own_recording_gives_ratio_one() {
     }
     assert_eq!(num(&v, &["measured", "samples"]), num(&v, &["model", "samples"]));
     // the Markdown table
-    let md = ok(&["compare", "pull_center", csv, "--from", "0.5"]);
+    let md = ok(&["compare", "pull_center", csv, "--from", "0.5", "--noise", "0.5"]);
     assert!(md.contains("| channel | quantity | measured | model | measured / model |"), "{md}");
     assert!(md.contains("| pad | stick fraction [-] |") && md.contains("| 1.000 |"), "{md}");
 }
@@ -58,7 +59,7 @@ fn the_model_against_its_own_recording_gives_ratio_one() {
 fn a_recording_twice_as_strong_gives_ratio_two() {
     let dir = scratch("compare-double");
     let csv = dir.join("run.csv");
-    ok(&["sil", "push_lead", "--csv", csv.to_str().unwrap()]);
+    ok(&["sil", "push_lead", "--csv", csv.to_str().unwrap(), "--noise", "0.5"]);
     // double every acceleration (exact in binary), keep the time column
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
@@ -78,7 +79,7 @@ fn a_recording_twice_as_strong_gives_ratio_two() {
         .as_f64()
         .unwrap();
     let j2 = format!("{}", 2.0 * jump);
-    let v = json(&["compare", "push_lead", &doubled, "--from", "0.5", "--breakaway-jump", &j2, "--json"]);
+    let v = json(&["compare", "push_lead", &doubled, "--from", "0.5", "--breakaway-jump", &j2, "--noise", "0.5", "--json"]);
     for ch in CHANNELS {
         for q in ["pp", "rms"] {
             let r = num(&v, &["channels", ch, q, "ratio"]);
