@@ -1,8 +1,23 @@
 #!/usr/bin/env bash
-# Builds the rig firmware (firmware/) for thumbv7em-none-eabihf in release and prints the
-# ELF's section sizes (arm-none-eabi-size: text/data/bss) and what they take of the
-# STM32F407VG's 1024 KB flash and 128 KB RAM. The toolchain route is scripts/cross.sh's.
-# In CI (CI=true) the build is --locked: firmware/Cargo.lock must be up to date.
+# Builds the rig firmware (firmware/) for thumbv7em-none-eabihf in release, once per feature
+# set a rig may have, and prints each ELF's section sizes (arm-none-eabi-size: text/data/bss),
+# its flash (text + data) and static RAM (data + bss, stack not included):
+#
+#   default       pressure + end-of-stroke (what `cargo run --release` flashes)
+#   no-pressure   end-of-stroke only: four accelerometers, timed clamp and drive
+#   no-eos        pressure only: records of fixed length
+#   neither       no pressure transducers, no end-of-stroke switch
+#
+# Fails if a build exceeds the issue's bounds: flash <= 64 KiB (65 536 bytes) and static RAM
+# <= 48 KiB (49 152 bytes) (stated for the default build; the others are checked against the
+# same bounds). The feature builds share one target dir (only the firmware crate is rebuilt
+# for each); the default build comes last, so that target/.../release/stickslip-firmware is
+# the default image. Each variant's ELF is also kept as
+# target/thumbv7em-none-eabihf/release/stickslip-firmware-<variant>.
+#
+# `--default-only` builds and checks the default feature set alone. The toolchain route is
+# scripts/cross.sh's. In CI (CI=true) the builds are --locked: firmware/Cargo.lock must be up to
+# date.
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -12,13 +27,47 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 locked=()
 if [ "${CI:-}" = true ]; then locked=(--locked); fi
 
-(cd "$root/firmware" && cross_cargo build --release "${locked[@]}")
+FLASH_BOUND=65536
+RAM_BOUND=49152
 
-elf="$root/firmware/target/$CROSS_TARGET/release/stickslip-firmware"
-[ -f "$elf" ] || { echo "build-firmware: no ELF at $elf" >&2; exit 1; }
-echo "firmware ELF: ${elf#"$root"/}"
-arm-none-eabi-size "$elf"
-arm-none-eabi-size "$elf" | awk 'NR == 2 {
-    printf "flash (text+data) %d of 1048576 bytes (%.1f %%); static RAM (data+bss) %d of 131072 bytes (%.1f %%), stack not included\n",
-        $1 + $2, 100 * ($1 + $2) / 1048576, $2 + $3, 100 * ($2 + $3) / 131072
-}'
+variants=(no-pressure no-eos neither default)
+if [ "${1:-}" = "--default-only" ]; then variants=(default); fi
+
+features_of() {
+    case "$1" in
+        default) echo "" ;;
+        no-pressure) echo "--no-default-features --features end-of-stroke" ;;
+        no-eos) echo "--no-default-features --features pressure" ;;
+        neither) echo "--no-default-features" ;;
+    esac
+}
+
+out_dir="$root/firmware/target/$CROSS_TARGET/release"
+elf="$out_dir/stickslip-firmware"
+for v in "${variants[@]}"; do
+    echo "== build-firmware: $v ($(features_of "$v" | sed 's/^$/default features/'))"
+    # shellcheck disable=SC2046  # the feature flags are a word list
+    (cd "$root/firmware" && cross_cargo build --release "${locked[@]}" $(features_of "$v"))
+    [ -f "$elf" ] || { echo "build-firmware: no ELF at $elf" >&2; exit 1; }
+    cp "$elf" "$out_dir/stickslip-firmware-$v"
+done
+
+echo "firmware ELF: ${elf#"$root"/} (default features)"
+status=0
+printf "size %-11s %7s %6s %6s %7s %7s\n" variant text data bss flash ram
+for v in "${variants[@]}"; do
+    read -r text data bss < <(arm-none-eabi-size "$out_dir/stickslip-firmware-$v" | awk 'NR == 2 { print $1, $2, $3 }')
+    flash=$((text + data))
+    ram=$((data + bss))
+    verdict="met"
+    if [ "$flash" -gt "$FLASH_BOUND" ] || [ "$ram" -gt "$RAM_BOUND" ]; then
+        verdict="NOT met"
+        status=1
+    fi
+    printf "size %-11s %7d %6d %6d %7d %7d  flash <= %d, static RAM <= %d: %s\n" \
+        "$v" "$text" "$data" "$bss" "$flash" "$ram" "$FLASH_BOUND" "$RAM_BOUND" "$verdict"
+done
+if [ "$status" -ne 0 ]; then
+    echo "build-firmware: a build exceeds the flash or static RAM bound" >&2
+fi
+exit "$status"

@@ -1,30 +1,49 @@
 #!/usr/bin/env bash
-# Instructions executed by one ExactStepper<f32>::step() on the Cortex-M4F, counted under QEMU.
+# Instructions executed on the Cortex-M4F, counted under QEMU, for two programs of
+# tests/on-target (run at the same time, each in its own QEMU):
 #
-# Builds tests/on-target (bin `count`) unless COUNT_ELF names an ELF, runs it on QEMU's
+#   count      one ExactStepper<f32>::step() of the default scene (release profile, as the
+#              digests); fails above 200 instructions for a step without a transition;
+#   rig_count  the rig's per-sample path (`firmware` profile: the firmware's own code
+#              generation settings, see tests/on-target/Cargo.toml): path A, calibration of the
+#              six channels + estimator + window statistics, and path B, the firmware's whole
+#              per-sample call RigCore::sample (with the lockstep model and the sequencer);
+#              fails if any sample of path A takes more than 1,500 instructions.
+#
+# Builds the two programs unless COUNT_ELF / RIG_COUNT_ELF name ELFs, runs each on QEMU's
 # netduinoplus2 with `-singlestep -d exec,nochain` (one `Trace` line per executed instruction,
 # naming its function), and counts the trace lines between the marker calls
-# stickslip_mark_begin / stickslip_mark_end of each measured window. The log goes through a
-# FIFO into awk: nothing large is written to disk (about 14 million lines, 20-30 s).
+# stickslip_mark_begin / stickslip_mark_end of each measured window. The logs go through FIFOs
+# into awk: nothing large is written to disk (14 and 20 million lines, 20-50 s each).
 #
-# Window 0 is empty; its count (the calling glue of the markers) is subtracted from the others.
-# Prints one line per window and, last:
+# Window 0 of each program is empty; its count (the calling glue of the markers) is subtracted
+# from the others. `count` prints what its windows were; `rig_count` names the class of each
+# window by calling a marker function `rig_class_<class>` right after it.
+#
+# Prints, last for each program:
 #   instructions exact_f32_step no_transition=N with_transition=M
-# where N is the larger of the stick and slip steps without a transition and M the larger of
-# the two transition steps measured (stick->slip, end of that slip). These are instruction
-# counts, not cycles (on the M4 most ALU/FPU instructions take 1 cycle, loads 2, VDIV 14).
+#   instructions rig_sample calibrate_estimator max=N ... / with_model_sequencer max=M ...
+# These are instruction counts, not cycles (on the M4 most ALU/FPU instructions take 1 cycle,
+# loads 2, VDIV/VSQRT 14).
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # shellcheck source=scripts/cross.sh
 . "$root/scripts/cross.sh"
 
-elf="${COUNT_ELF:-}"
-if [ -z "$elf" ]; then
+count_elf="${COUNT_ELF:-}"
+rig_elf="${RIG_COUNT_ELF:-}"
+if [ -z "$count_elf" ]; then
     (cd "$root/tests/on-target" && cross_cargo build --release --bin count)
-    elf="$root/tests/on-target/target/$CROSS_TARGET/release/count"
+    count_elf="$root/tests/on-target/target/$CROSS_TARGET/release/count"
 fi
-[ -f "$elf" ] || { echo "count-instructions: no ELF at $elf" >&2; exit 1; }
+if [ -z "$rig_elf" ]; then
+    (cd "$root/tests/on-target" && cross_cargo build --profile firmware --bin rig_count)
+    rig_elf="$root/tests/on-target/target/$CROSS_TARGET/firmware/rig_count"
+fi
+for elf in "$count_elf" "$rig_elf"; do
+    [ -f "$elf" ] || { echo "count-instructions: no ELF at $elf" >&2; exit 1; }
+done
 
 # One instruction per translation block: `-singlestep` up to QEMU 8.0, then
 # `-accel tcg,one-insn-per-tb=on` (the old flag was deprecated in 8.1).
@@ -38,61 +57,85 @@ fi
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-mkfifo "$work/trace"
 
-# QEMU runs in a subshell that records its exit status and then opens and closes the FIFO once:
-# if QEMU died before opening its log, that releases awk (which would otherwise wait forever
-# for a writer). `timeout` is a hang guard (the run takes well under a minute), not a measure.
-(
-    status=0
-    timeout 600 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial null \
-        -semihosting-config enable=on,target=native \
-        "${one_insn[@]}" -d exec,nochain -D "$work/trace" \
-        -kernel "$elf" </dev/null >"$work/stdout" 2>"$work/stderr" || status=$?
-    echo "$status" >"$work/status"
-    exec 4<>"$work/trace"
-    exec 4>&-
-) &
-runner=$!
-
-# Counts the Trace lines strictly between the last line of stickslip_mark_begin and the first
-# line of stickslip_mark_end, per window, in order.
-awk '
-    /^Trace/ {
-        total++
-        sym = $NF
-        if (sym == "stickslip_mark_begin") { state = 1; next }
-        if (sym == "stickslip_mark_end") {
-            if (state == 2) { printf "%d %d\n", w, c; w++ }
-            state = 0; c = 0; next
+# trace_windows ELF DIR: runs ELF under QEMU with the instruction trace going through a FIFO
+# into awk; writes DIR/stdout, DIR/stderr, DIR/status (QEMU's exit status) and DIR/counts:
+#   W <window> <trace lines strictly between the end of stickslip_mark_begin and the start of
+#               stickslip_mark_end>
+#   C <window> <class>   (the first rig_class_<class> function entered after window <window>)
+#   total <trace lines>
+trace_windows() {
+    local elf="$1" dir="$2"
+    mkdir -p "$dir"
+    mkfifo "$dir/trace"
+    # QEMU runs in a subshell that records its exit status and then opens and closes the FIFO
+    # once: if QEMU died before opening its log, that releases awk (which would otherwise wait
+    # forever for a writer). `timeout` is a hang guard, not a measure.
+    (
+        status=0
+        timeout 900 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial null \
+            -semihosting-config enable=on,target=native \
+            "${one_insn[@]}" -d exec,nochain -D "$dir/trace" \
+            -kernel "$elf" </dev/null >"$dir/stdout" 2>"$dir/stderr" || status=$?
+        echo "$status" >"$dir/status"
+        exec 4<>"$dir/trace"
+        exec 4>&-
+    ) &
+    local runner=$!
+    awk '
+        /^Trace/ {
+            total++
+            sym = $NF
+            if (sym == "stickslip_mark_begin") { state = 1; next }
+            if (sym == "stickslip_mark_end") {
+                if (state == 2) { printf "W %d %d\n", w, c; pending = 1; w++ }
+                state = 0; c = 0; next
+            }
+            if (state == 1) { state = 2; c = 0 }
+            if (state == 2) { c++; next }
+            if (pending && substr(sym, 1, 10) == "rig_class_") {
+                printf "C %d %s\n", w - 1, substr(sym, 11)
+                pending = 0
+            }
         }
-        if (state == 1) { state = 2; c = 0 }
-        if (state == 2) c++
-    }
-    END { printf "total %d\n", total }
-' <"$work/trace" >"$work/counts"
+        END { printf "total %d\n", total }
+    ' <"$dir/trace" >"$dir/counts"
+    wait "$runner"
+}
 
-wait "$runner"
-status="$(cat "$work/status")"
-if [ "$status" -ne 0 ]; then
-    echo "count-instructions: QEMU exited with status $status" >&2
-    cat "$work/stdout" "$work/stderr" >&2
-    exit 1
-fi
+trace_windows "$count_elf" "$work/count" &
+count_job=$!
+trace_windows "$rig_elf" "$work/rig" &
+rig_job=$!
+wait "$count_job"
+wait "$rig_job"
 
+failed=0
+for d in count rig; do
+    status="$(cat "$work/$d/status")"
+    if [ "$status" -ne 0 ]; then
+        echo "count-instructions: QEMU exited with status $status ($d)" >&2
+        cat "$work/$d/stdout" "$work/$d/stderr" >&2
+        failed=1
+    fi
+done
+[ "$failed" -eq 0 ] || exit 1
+
+# ---- count: ExactStepper<f32>::step -------------------------------------------------------
 # Window descriptions printed by the binary: "window <i> <label> step=<k> <from>-><to> transitions=<n>"
-grep '^window ' "$work/stdout" >"$work/windows" || true
-n_windows=$(wc -l <"$work/windows")
-n_counts=$(grep -vc '^total' "$work/counts" || true)
+echo "== ExactStepper<f32>::step() (tests/on-target bin count, release profile)"
+grep '^window ' "$work/count/stdout" >"$work/count/windows" || true
+n_windows=$(wc -l <"$work/count/windows")
+n_counts=$(grep -c '^W ' "$work/count/counts" || true)
 if [ "$n_windows" -ne 5 ] || [ "$n_counts" -ne 5 ]; then
     echo "count-instructions: expected 5 windows, the program reported $n_windows and the trace has $n_counts" >&2
-    cat "$work/stdout" "$work/counts" >&2
+    cat "$work/count/stdout" "$work/count/counts" >&2
     exit 1
 fi
 
-awk -v elf="$elf" '
+awk -v elf="$count_elf" '
     FNR == NR {
-        if ($1 == "total") total = $2; else raw[$1] = $2
+        if ($1 == "total") total = $2; else if ($1 == "W") raw[$2] = $3
         next
     }
     {
@@ -118,4 +161,51 @@ awk -v elf="$elf" '
         printf "bound (issue): <= 200 instructions for a step without a transition: %s\n", no_tr <= 200 ? "met" : "NOT met"
         if (no_tr > 200) exit 1
     }
-' "$work/counts" "$work/windows"
+' "$work/count/counts" "$work/count/windows"
+
+# ---- rig_count: the per-sample path ---------------------------------------------------------
+echo
+echo "== the rig's per-sample path (tests/on-target bin rig_count, firmware profile)"
+if ! grep -q '^done rig_count' "$work/rig/stdout"; then
+    echo "count-instructions: rig_count did not finish" >&2
+    cat "$work/rig/stdout" >&2
+    exit 1
+fi
+awk '
+    $1 == "total" { total = $2 }
+    $1 == "W" { raw[$2] = $3; nw++ }
+    $1 == "C" { cls[$2] = $3 }
+    END {
+        if (cls[0] != "baseline") { print "count-instructions: rig_count window 0 is not the baseline" > "/dev/stderr"; exit 1 }
+        base = raw[0]
+        for (i = 1; i < nw; i++) {
+            k = cls[i]
+            if (k == "") { printf "count-instructions: rig_count window %d has no class\n", i > "/dev/stderr"; exit 1 }
+            v = raw[i] - base
+            n[k]++; sum[k] += v
+            if (!(k in mn) || v < mn[k]) mn[k] = v
+            if (!(k in mx) || v > mx[k]) mx[k] = v
+        }
+        printf "trace: %d instructions in all; %d windows; window 0 (marker glue) = %d, subtracted below\n", total, nw, base
+        printf "%-22s %6s %6s %6s %6s\n", "class", "n", "min", "mean", "max"
+        split("a_stick a_slip a_event a_window b_setup b_record_start b_stick b_slip b_event b_model_transition b_window", order, " ")
+        for (j = 1; j in order; j++) {
+            k = order[j]
+            if (n[k] > 0) printf "%-22s %6d %6d %6d %6d\n", k, n[k], mn[k], int(sum[k] / n[k] + 0.5), mx[k]
+            else printf "%-22s %6d %6s %6s %6s\n", k, 0, "-", "-", "-"
+        }
+        amax = 0
+        for (k in mx) if (substr(k, 1, 2) == "a_" && mx[k] > amax) amax = mx[k]
+        bmax_plain = 0
+        for (k in mx) if (k == "b_stick" || k == "b_slip" || k == "b_event" || k == "b_window") if (mx[k] > bmax_plain) bmax_plain = mx[k]
+        printf "instructions rig_sample calibrate_estimator stick=%d slip=%d window_close=%d max=%d\n", \
+            int(sum["a_stick"] / n["a_stick"] + 0.5), int(sum["a_slip"] / n["a_slip"] + 0.5), mx["a_window"], amax
+        printf "instructions rig_sample with_model_sequencer stick=%d slip=%d window_close=%d model_transition_max=%d record_start=%d max_without_model_transition=%d\n", \
+            int(sum["b_stick"] / n["b_stick"] + 0.5), int(sum["b_slip"] / n["b_slip"] + 0.5), mx["b_window"], mx["b_model_transition"], mx["b_record_start"], bmax_plain
+        # every class the program promises must have been seen
+        split("a_stick a_slip a_event a_window b_stick b_slip b_event b_window b_model_transition b_record_start", need, " ")
+        for (j = 1; j in need; j++) if (n[need[j]] == 0) { printf "count-instructions: rig_count saw no %s sample\n", need[j] > "/dev/stderr"; exit 1 }
+        printf "bound (issue): <= 1500 instructions for every sample of the path without the lockstep model: %s\n", amax <= 1500 ? "met" : "NOT met"
+        if (amax > 1500) exit 1
+    }
+' "$work/rig/counts"

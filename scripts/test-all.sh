@@ -5,15 +5,21 @@
 #   1. cross toolchain: the rustup target if installed, else Debian's rustc-web/cargo-web/
 #      rust-web-src + binutils-arm-none-eabi + qemu-system-arm (installed when missing,
 #      nothing else is installed)                                          scripts/cross.sh
-#   2. firmware/ for thumbv7em-none-eabihf, release                  scripts/build-firmware.sh
-#   3. tests/on-target for thumbv7em-none-eabihf, release (bins digest, count)
+#   2. firmware/ for thumbv7em-none-eabihf, release, with each feature set (default,
+#      no-pressure, no-eos, neither); fails above 64 KiB of flash or 48 KiB of static RAM
+#                                                                    scripts/build-firmware.sh
+#   3. tests/on-target for thumbv7em-none-eabihf: release (bins digest, count, rig, rig_count)
+#      and bin rig_count again with the firmware's code generation (profile `firmware`)
 #   4. host workspace: cargo test --workspace --release
-#   5. the model on the emulated Cortex-M4F against the host, bit for bit:
+#   5. the model and the rig's per-sample chain on the emulated Cortex-M4F against the host,
+#      bit for bit (bins digest and rig):
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
-#   6. instruction counts of ExactStepper<f32>::step() under QEMU   scripts/count-instructions.sh
-#      (fails above 200 instructions for a step without a transition)
+#   6. instruction counts under QEMU                                 scripts/count-instructions.sh
+#      ExactStepper<f32>::step() (fails above 200 instructions for a step without a
+#      transition) and the rig's per-sample path (fails above 1,500 instructions for a sample
+#      of calibration + estimator + window statistics)
 #   7. the short accuracy and stability reports with --check (fail on a regressed bound)
-#   8. firmware size
+#   8. firmware sizes (flash and static RAM of each feature build)
 #
 # Exits non-zero at the first failure. Prints each stage's wall time at the end.
 set -euo pipefail
@@ -68,26 +74,29 @@ section "1/8 cross toolchain (scripts/cross.sh)"
 cross_describe
 echo "host:   $(cargo --version)"
 
-section "2/8 firmware build, thumbv7em-none-eabihf release (scripts/build-firmware.sh)"
+section "2/8 firmware builds, thumbv7em-none-eabihf release, per feature set (scripts/build-firmware.sh)"
 size_log="$(mktemp)"
 bash "$root/scripts/build-firmware.sh" | tee "$size_log"
-firmware_size="$(tail -n 3 "$size_log")"
+firmware_size="$(grep -E '^(firmware ELF|size )' "$size_log")"
 rm -f "$size_log"
 
-section "3/8 on-target test programs, thumbv7em-none-eabihf release (tests/on-target)"
+section "3/8 on-target test programs, thumbv7em-none-eabihf (tests/on-target)"
 (cd "$root/tests/on-target" && cross_cargo build --release "${locked[@]}")
+# the per-sample count with the firmware's code generation settings (firmware/Cargo.toml)
+(cd "$root/tests/on-target" && cross_cargo build --profile firmware "${locked[@]}" --bin rig_count)
 on_target_dir="$root/tests/on-target/target/$CROSS_TARGET/release"
-arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count"
+rig_count_elf="$root/tests/on-target/target/$CROSS_TARGET/firmware/rig_count"
+arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count" "$on_target_dir/rig" "$rig_count_elf"
 
 section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
 
-section "5/8 model on the emulated Cortex-M4F == model on the host (QEMU netduinoplus2)"
-STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" \
+section "5/8 model and rig chain on the emulated Cortex-M4F == on the host (QEMU netduinoplus2)"
+STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" STICKSLIP_ON_TARGET_RIG_ELF="$on_target_dir/rig" \
     cargo test --release -p stickslip-crosscheck --test on_target -- --ignored --nocapture
 
 section "6/8 instruction counts under QEMU (scripts/count-instructions.sh)"
-COUNT_ELF="$on_target_dir/count" bash "$root/scripts/count-instructions.sh"
+COUNT_ELF="$on_target_dir/count" RIG_COUNT_ELF="$rig_count_elf" bash "$root/scripts/count-instructions.sh"
 
 section "7/8 short work-precision and stability reports, held to their bounds"
 # exit code 3 when a figure regresses past its bound (see `stickslip accuracy --help`)
@@ -95,7 +104,7 @@ cargo run --release -q -p stickslip -- accuracy --quick --check
 cargo run --release -q -p stickslip -- stability --quick --check > /dev/null
 echo "stability --quick --check: every run classified, exact bounded at 1e10 N/m, no NaN"
 
-section "8/8 firmware size"
+section "8/8 firmware sizes (flash = text + data, static RAM = data + bss)"
 echo "$firmware_size"
 finish_stage
 

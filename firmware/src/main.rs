@@ -1,209 +1,282 @@
-//! Rig firmware, first stage: the exact stick-slip model running in real time on the
-//! STM32F407VG, with nothing attached yet.
+//! Rig firmware for the brake-groan rig's controller (STM32F407VG).
 //!
-//! - brings the chip up at 168 MHz (PLL from the internal 16 MHz HSI, so any F407 board boots);
-//! - builds `ExactStepper<f32>` for the default scene (push caliper, load at the pad centre);
-//! - steps it once per tick of an embassy `Ticker` at the model's rate (dt = 1/25 600 s; see
-//!   [`STEP_HZ`] for the rate the 1 MHz time base actually gives);
-//! - logs each transition with defmt (at most [`TRANSITION_LOGS_PER_MODEL_SECOND`] per model
-//!   second, the others are counted) and, once per model second, a summary with the cost of a
-//!   step in core cycles (DWT cycle counter) and how late the ticks came.
+//! - TIM3 (update event on TRGO) triggers ADC1's regular sequence: the four accelerometers and,
+//!   with feature `pressure`, the two pressure transducers, at [`config::SAMPLE_RATE_HZ`] per
+//!   channel; DMA2 stream 0 copies each conversion into a circular ring
+//!   (embassy-stm32 0.6 `RingBufferedAdc`, timer-triggered, frame-aligned).
+//! - The estimator task takes the ring half by half and runs every frame through
+//!   `stickslip_rig_core::RigCore` (`rig-core/`: calibration, estimator with window statistics
+//!   and the lockstep model, valve sequencer: `stickslip_model::rig`), sets the valve outputs of
+//!   each sample, and
+//!   logs over defmt (RTT): sequencer states, button commands, contact events (rate-limited) and
+//!   one summary record per window ([`records`]). An overrun of the ring (frames overwritten
+//!   before they were read) is counted and logged; no frames at all for 50 ms is a stall: the
+//!   valves are vented and the watchdog resets the chip.
+//! - The independent watchdog is fed by the estimator task only, after each half-ring read.
+//! - E-stop, end-of-stroke (feature `end-of-stroke`) and the start/stop/reset button are EXTI
+//!   inputs ([`inputs`]); the e-stop also vents from its own task, before the sequencer's
+//!   next tick.
+//! - Valves: PD12 (actuator/clamp), PD13 (band drive), high = open; low = vented, the reset
+//!   state ([`valves`]); the panic and HardFault handlers vent first ([`panic`]).
 //!
-//! Sampling, valves and the host link come with the rig firmware proper.
+//! Nothing moves after boot until the button is pressed: the sequencer starts Idle (both valves
+//! vented) and only the button's start command begins a clamp / drive / record cycle.
 
 #![no_std]
 #![no_main]
 
+mod config;
+mod inputs;
+mod panic;
+mod records;
+mod stack;
+mod valves;
+
+use core::mem::MaybeUninit;
+
 use cortex_m::peripheral::DWT;
-use defmt::{error, info, warn};
+use defmt_rtt as _;
 use embassy_executor::Spawner;
-use embassy_stm32::Config;
-use embassy_time::{Duration, Instant, Ticker, TICK_HZ};
-use stickslip_model::{Caliper, ExactStepper, Halt, Scene};
-use {defmt_rtt as _, panic_probe as _};
+use embassy_stm32::adc::{Adc, AdcChannel, Exten, RingBufferedAdc};
+use embassy_stm32::exti::{self, ExtiInput};
+use embassy_stm32::gpio::Pull;
+use embassy_stm32::peripherals::{ADC1, IWDG, TIM3};
+use embassy_stm32::timer::low_level::{MasterMode, RoundTo, Timer as HwTimer};
+use embassy_stm32::wdg::IndependentWatchdog;
+use embassy_stm32::{bind_interrupts, dma, interrupt, pac, peripherals, triggers};
+use embassy_time::{with_timeout, Duration, Instant, Timer};
+use stickslip_model::rig::pipeline::DigitalInputs;
+use stickslip_model::rig::sequencer::Valves;
 
-/// The model's step rate [Hz] (the default scene's dt is 1/25 600 s). The embassy time base
-/// ticks at 1 MHz, so `Duration::from_hz(STEP_HZ)` is 39 ticks: the ticker runs at 25 641 Hz,
-/// 0.16 % fast in wall-clock terms (the model itself always advances by exactly dt per step).
-/// The rig firmware will pace sampling from a hardware timer, not from the executor.
-const STEP_HZ: u64 = 25_600;
-/// Core clock set by [`clock_config`] [Hz].
-const SYSCLK_HZ: u64 = 168_000_000;
-/// Transitions logged per model second; the rest are only counted.
-const TRANSITION_LOGS_PER_MODEL_SECOND: u32 = 8;
+use crate::config::{
+    ADC_CHANNELS, ADC_SAMPLE_TIME, EVENT_LOGS_PER_WINDOW, FRAMES_PER_HALF, RING_WORDS, SAMPLE_RATE_HZ,
+    STALL_TIMEOUT_MS, SYSCLK_HZ, WATCHDOG_TIMEOUT_US,
+};
+use crate::records::{ResetCause, WindowExtras};
+use crate::valves::ValveOutputs;
+use stickslip_rig_core::{button_command, CoreConfig, CoreError, RigCore};
 
-/// 168 MHz from the HSI: 16 MHz / 16 * 336 / 2; 48 MHz on PLL Q for USB later.
-/// APB1 42 MHz (its timers 84 MHz), APB2 84 MHz (its timers 168 MHz).
-fn clock_config() -> Config {
-    use embassy_stm32::rcc::{AHBPrescaler, APBPrescaler, Pll, PllMul, PllPDiv, PllPreDiv, PllQDiv, PllSource, Sysclk};
-    let mut config = Config::default();
-    config.rcc.hsi = true;
-    config.rcc.pll_src = PllSource::HSI;
-    config.rcc.pll = Some(Pll {
-        prediv: PllPreDiv::DIV16,
-        mul: PllMul::MUL336,
-        divp: Some(PllPDiv::DIV2),
-        divq: Some(PllQDiv::DIV7),
-        divr: None,
-    });
-    config.rcc.ahb_pre = AHBPrescaler::DIV1;
-    config.rcc.apb1_pre = APBPrescaler::DIV4;
-    config.rcc.apb2_pre = APBPrescaler::DIV2;
-    config.rcc.sys = Sysclk::PLL1_P;
-    config
+bind_interrupts!(struct Irqs {
+    DMA2_STREAM0 => dma::InterruptHandler<peripherals::DMA2_CH0>;
+    EXTI0 => exti::InterruptHandler<interrupt::typelevel::EXTI0>;
+    EXTI4 => exti::InterruptHandler<interrupt::typelevel::EXTI4>;
+    EXTI9_5 => exti::InterruptHandler<interrupt::typelevel::EXTI9_5>;
+});
+
+/// Words of one half of the ring: what one read returns.
+const HALF_WORDS: usize = RING_WORDS / 2;
+
+/// What the estimator task owns.
+struct Sampler {
+    adc: RingBufferedAdc<'static, ADC1>,
+    /// Kept alive (dropping it would stop its clock) and started with the sampling.
+    timer: HwTimer<'static, TIM3>,
+    watchdog: IndependentWatchdog<'static, IWDG>,
+    valves: ValveOutputs,
+    core: &'static mut RigCore,
+    half: &'static mut [u16; HALF_WORDS],
+    /// Core cycles in the time of one half-ring.
+    batch_budget: u32,
 }
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
-    let _p = embassy_stm32::init(clock_config());
-    info!("stickslip firmware {=str}: STM32F407VG at {=u64} Hz", env!("CARGO_PKG_VERSION"), SYSCLK_HZ);
+    stack::paint();
+    let reset = ResetCause::read_and_clear();
+    let p = embassy_stm32::init(config::clock_config());
+    // Valves first: both outputs low (vented) before anything else runs.
+    let valves = ValveOutputs::new(p.PD12, p.PD13);
 
-    // The DWT cycle counter measures each step's cost in core cycles.
-    match cortex_m::Peripherals::take() {
-        Some(mut core) => {
-            core.DCB.enable_trace();
-            core.DWT.enable_cycle_counter();
-        }
-        None => warn!("core peripherals already taken: step cycle counts will read 0"),
+    // The DWT cycle counter measures each batch's processing time.
+    if let Some(mut core) = cortex_m::Peripherals::take() {
+        core.DCB.enable_trace();
+        core.DWT.enable_cycle_counter();
     }
 
-    spawner.spawn(model_task().expect("model task spawned once"));
-}
+    // The trigger timer: TIM3 update event -> TRGO -> ADC1 regular sequence. Not started yet.
+    let timer = HwTimer::new(p.TIM3);
+    let f_tim = timer.get_clock_frequency().0;
+    let clocks = (f_tim + SAMPLE_RATE_HZ / 2) / SAMPLE_RATE_HZ;
+    timer.set_period_clocks(clocks as u64, RoundTo::Faster);
+    timer.set_master_mode(MasterMode::UPDATE);
+    let fs_hz = f_tim as f64 / clocks as f64;
 
-/// What happened during one model second, for the summary line.
-#[derive(Default)]
-struct Window {
-    steps: u32,
-    transitions: u32,
-    logged: u32,
-    not_logged: u32,
-    cycles_sum: u64,
-    cycles_max: u32,
-    late_max_ticks: u64,
-    /// Ticks that came a whole period or more late (the ticker then catches up in a burst).
-    overruns: u32,
-}
+    let cfg = CoreConfig::rig(fs_hz, cfg!(feature = "pressure"), cfg!(feature = "end-of-stroke"));
+    records::boot(
+        reset,
+        fs_hz as f32,
+        clocks,
+        ADC_CHANNELS as u32,
+        cfg.ticks(cfg.window_s),
+        FRAMES_PER_HALF as u32,
+        cfg.has_pressure,
+        cfg.has_end_of_stroke,
+    );
 
-#[embassy_executor::task]
-async fn model_task() {
-    let scene = Scene::case(Caliper::Push, 0.040);
+    // The slow part: the estimator, the sequencer and the armed lockstep model (f64 set-up),
+    // once, before the watchdog runs and before any sample is taken.
     let t_build = Instant::now();
-    let mut stepper = match ExactStepper::<f32>::new(&scene) {
-        Ok(s) => s,
-        Err(e) => {
-            error!("scene rejected: field {=str} = {=f64}: {=str}", e.field, e.value, e.rule);
-            return;
-        }
+    let slot = cortex_m::singleton!(: MaybeUninit<RigCore> = MaybeUninit::uninit()).expect("one rig core");
+    let core = match RigCore::init(slot, &cfg) {
+        Ok(c) => c,
+        Err(CoreError::Config(e)) => halt_config(e.field, e.rule, e.value).await,
+        Err(CoreError::Model(e)) => halt_config(e.field, e.rule, e.value).await,
     };
-    info!(
-        "ExactStepper<f32> built in {=u64} us: {=str} caliper, beta {=f64} m, {=u32} substep(s) per step",
-        t_build.elapsed().as_micros(),
-        scene.caliper.name(),
-        scene.beta,
-        stepper.propagator().n_sub
+    let model = core.model_scene();
+    records::armed(
+        t_build.elapsed().as_micros() as u32,
+        model.caliper.name(),
+        model.beta as f32,
+        model.f_n as f32,
+        model.v as f32,
+        core.model_normal_force(),
     );
 
-    let period = Duration::from_hz(STEP_HZ);
-    let period_ticks = period.as_ticks();
-    info!(
-        "stepping every {=u64} ticks of {=u64} Hz: {=u64} Hz (model dt 1/{=u64} s)",
-        period_ticks,
-        TICK_HZ,
-        TICK_HZ / period_ticks,
-        STEP_HZ
+    // ADC1: regular sequence in frame order, triggered by TIM3_TRGO, into the DMA ring.
+    let ring = cortex_m::singleton!(: [u16; RING_WORDS] = [0; RING_WORDS]).expect("one DMA ring");
+    let half = cortex_m::singleton!(: [u16; HALF_WORDS] = [0; HALF_WORDS]).expect("one read buffer");
+    let st = ADC_SAMPLE_TIME;
+    #[cfg(feature = "pressure")]
+    let sequence = [
+        (AdcChannel::<ADC1>::degrade_adc(p.PA1), st), // IN1  disc_x
+        (AdcChannel::<ADC1>::degrade_adc(p.PA2), st), // IN2  pad_x
+        (AdcChannel::<ADC1>::degrade_adc(p.PA3), st), // IN3  pad_trail
+        (AdcChannel::<ADC1>::degrade_adc(p.PB0), st), // IN8  pad_lead
+        (AdcChannel::<ADC1>::degrade_adc(p.PC1), st), // IN11 actuator line pressure
+        (AdcChannel::<ADC1>::degrade_adc(p.PC2), st), // IN12 band line pressure
+    ];
+    #[cfg(not(feature = "pressure"))]
+    let sequence = [
+        (AdcChannel::<ADC1>::degrade_adc(p.PA1), st), // IN1  disc_x
+        (AdcChannel::<ADC1>::degrade_adc(p.PA2), st), // IN2  pad_x
+        (AdcChannel::<ADC1>::degrade_adc(p.PA3), st), // IN3  pad_trail
+        (AdcChannel::<ADC1>::degrade_adc(p.PB0), st), // IN8  pad_lead
+    ];
+    let adc = Adc::new(p.ADC1).into_ring_buffered(
+        p.DMA2_CH0,
+        ring,
+        Irqs,
+        sequence.into_iter(),
+        triggers::TIM3_TRGO,
+        Exten::RISING_EDGE,
     );
-    let cycles_per_period = SYSCLK_HZ / (TICK_HZ / period_ticks);
 
-    let start = Instant::now();
-    let mut ticker = Ticker::every(period);
-    let mut tick: u64 = 0;
-    let mut window = Window::default();
-    let mut window_start = start;
+    // Digital inputs on EXTI.
+    let estop = ExtiInput::new(p.PE4, p.EXTI4, Pull::Up, Irqs);
+    spawner.spawn(inputs::estop_task(estop).expect("e-stop task spawned once"));
+    #[cfg(feature = "end-of-stroke")]
+    {
+        let eos = ExtiInput::new(p.PE5, p.EXTI5, Pull::Up, Irqs);
+        spawner.spawn(inputs::end_of_stroke_task(eos).expect("end-of-stroke task spawned once"));
+    }
+    let button = ExtiInput::new(p.PA0, p.EXTI0, Pull::Down, Irqs);
+    spawner.spawn(inputs::button_task(button).expect("button task spawned once"));
+
+    let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
+    watchdog.unleash();
+    let (stack_used, stack_size) = stack::used();
+    records::start(WATCHDOG_TIMEOUT_US, stack_used, stack_size);
+
+    let batch_budget = (SYSCLK_HZ as u64 * clocks as u64 * FRAMES_PER_HALF as u64 / f_tim as u64) as u32;
+    let sampler = Sampler { adc, timer, watchdog, valves, core, half, batch_budget };
+    spawner.spawn(estimator_task(sampler).expect("estimator task spawned once"));
+}
+
+/// A refused configuration: log it and stay idle (valves vented, no watchdog, no sampling).
+async fn halt_config(field: &'static str, rule: &'static str, value: f64) -> ! {
+    records::config_error(field, rule, value);
     loop {
-        ticker.next().await;
-        tick += 1;
-        // The ticker's k-th deadline is (at or just after) start + k periods.
-        let now = Instant::now().as_ticks();
-        let due = start.as_ticks() + tick * period_ticks;
-        let late = now.saturating_sub(due);
-        window.late_max_ticks = window.late_max_ticks.max(late);
-        if late >= period_ticks {
-            window.overruns += 1;
+        Timer::after_secs(3600).await;
+    }
+}
+
+/// Consumes every frame: the only feeder of the watchdog and the only writer of the valves
+/// (besides the vent-only paths: e-stop task, panic, faults).
+#[embassy_executor::task]
+async fn estimator_task(s: Sampler) {
+    let Sampler { mut adc, timer, mut watchdog, mut valves, core, half, batch_budget } = s;
+    let mut n: u64 = 0;
+    let mut overruns: u32 = 0;
+    let mut events_logged: u32 = 0;
+    let mut events_dropped: u32 = 0;
+    let mut batch_cycles_max: u32 = 0;
+
+    // Arm the DMA ring and the ADC (this also converts one scan at once, by software start),
+    // then start the trigger timer: from here on one scan per timer period.
+    adc.start();
+    timer.start();
+
+    loop {
+        match with_timeout(Duration::from_millis(STALL_TIMEOUT_MS), adc.read(&mut half[..])).await {
+            Ok(Ok(_)) => {}
+            Ok(Err(_overrun)) => {
+                // The ring has restarted at the newest whole frame; the lost frames are gone.
+                overruns = overruns.saturating_add(1);
+                records::overrun(n, overruns);
+                continue;
+            }
+            Err(_timeout) => {
+                // No samples: vent, say why, and let the watchdog (no longer fed) reset the chip.
+                valves.vent();
+                records::stall(n, STALL_TIMEOUT_MS as u32, pac::ADC1.sr().read().ovr());
+                loop {
+                    valves.vent();
+                    Timer::after_millis(10).await;
+                }
+            }
         }
+        watchdog.pet();
 
         let c0 = DWT::cycle_count();
-        let result = stepper.step();
-        let cycles = DWT::cycle_count().wrapping_sub(c0);
-        window.steps += 1;
-        window.cycles_sum += cycles as u64;
-        window.cycles_max = window.cycles_max.max(cycles);
-
-        match result {
-            Ok(n) => {
-                window.transitions += n as u32;
-                for tr in stepper.transitions() {
-                    if window.logged < TRANSITION_LOGS_PER_MODEL_SECOND {
-                        info!(
-                            "t={=f64} s {=str} -> {=str}: x={=f32} m x'={=f32} m/s phi={=f32} rad",
-                            tr.t,
-                            tr.from.name(),
-                            tr.to.name(),
-                            tr.state.x,
-                            tr.state.xdot,
-                            tr.state.phi
-                        );
-                        window.logged += 1;
-                    } else {
-                        window.not_logged += 1;
-                    }
+        let estop_edge = inputs::take_estop_edge();
+        let eos_edge = inputs::take_end_of_stroke_edge();
+        let mut press = inputs::take_button();
+        for words in half.chunks_exact(ADC_CHANNELS) {
+            let estop = estop_edge || inputs::estop_active();
+            let digital = DigitalInputs { estop, end_of_stroke: eos_edge || inputs::end_of_stroke_active() };
+            let state = core.state();
+            let command = if press {
+                press = false;
+                Some(button_command(state))
+            } else {
+                None
+            };
+            let out = core.sample_words(words, &digital, command);
+            // The sequencer vents on an e-stop in this very tick; the override is a second line.
+            valves.set(if estop { Valves::VENTED } else { out.sequencer.valves });
+            if let (Some(c), Some(r)) = (command, out.sequencer.command) {
+                records::command(n, state, c, r);
+            }
+            if out.sequencer.changed {
+                records::state(n, core.record(), out.before, out.sequencer.state, out.sequencer.valves);
+            }
+            if let Some(e) = out.estimate.contact.event {
+                if events_logged < EVENT_LOGS_PER_WINDOW {
+                    records::event(n, core.record(), e, out.estimate.contact.v_r_m_s, out.estimate.contact.a_rel_m_s2);
+                    events_logged += 1;
+                } else {
+                    events_dropped = events_dropped.saturating_add(1);
                 }
             }
-            Err(halt) => {
-                log_halt(&halt);
-                // The stepper refuses further steps; keep the chip alive for the probe.
-                loop {
-                    ticker.next().await;
-                }
-            }
+            n += 1;
         }
+        batch_cycles_max = batch_cycles_max.max(DWT::cycle_count().wrapping_sub(c0));
 
-        if window.steps as u64 == STEP_HZ {
-            let wall = Instant::now().as_ticks() - window_start.as_ticks();
-            let state = stepper.state();
-            info!(
-                "model t={=f64} s (wall {=u64} us): {=u32} transitions ({=u32} logged), regime {=str}, x={=f32} m, phi={=f32} rad",
-                stepper.time(),
-                wall * 1_000_000 / TICK_HZ,
-                window.transitions,
-                window.logged,
-                stepper.regime().name(),
-                state.x,
-                state.phi
-            );
-            info!(
-                "step cost: mean {=u64} max {=u32} cycles of {=u64} per tick; latest tick {=u64} ticks late, {=u32} overruns",
-                window.cycles_sum / window.steps as u64,
-                window.cycles_max,
-                cycles_per_period,
-                window.late_max_ticks,
-                window.overruns
-            );
-            window = Window::default();
-            window_start = Instant::now();
+        // Outside the per-sample loop: the window's divisions and square roots, and its record.
+        while let Some(w) = core.take_window() {
+            let extras = WindowExtras {
+                n,
+                state: core.state(),
+                overruns,
+                events_dropped,
+                windows_dropped: core.windows_dropped(),
+                batch_cycles_max,
+                batch_cycles_budget: batch_budget,
+            };
+            records::window(&w, &extras);
+            events_logged = 0;
+            events_dropped = 0;
+            batch_cycles_max = 0;
         }
-    }
-}
-
-fn log_halt(halt: &Halt) {
-    match *halt {
-        Halt::NonFinite { t } => error!("model halted at t={=f64} s: non-finite state", t),
-        Halt::Diverged { t, regime, stiffness_margin } => error!(
-            "model halted at t={=f64} s: diverged in {=str} (rotational stiffness margin {=f64} N m/rad)",
-            t,
-            regime.name(),
-            stiffness_margin
-        ),
-        Halt::ContactLoss { t, n } => error!("model halted at t={=f64} s: contact lost (N = {=f64} N)", t, n),
-        Halt::TransitionStorm { t } => error!("model halted at t={=f64} s: transition storm", t),
     }
 }

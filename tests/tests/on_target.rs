@@ -1,14 +1,21 @@
-//! The model on the Cortex-M4F, bit for bit: runs the on-target digest program
-//! (tests/on-target, bin `digest`) under QEMU's netduinoplus2 and recomputes every digest it
-//! prints on x86-64, with the same source (`tests/on-target/src/scenes.rs`, included below).
+//! The model and the rig's per-sample code on the Cortex-M4F, bit for bit: runs the on-target
+//! programs (tests/on-target) under QEMU's netduinoplus2 and recomputes every digest they print
+//! on x86-64, with the same sources (included below):
 //!
-//! Ignored by default: it needs qemu-system-arm and the cross-built ELF. `scripts/test-all.sh`
+//! - bin `digest`: the exact stepper in f32 and f64 (`tests/on-target/src/scenes.rs`);
+//! - bin `rig`: frames from the sensor model through calibration, estimator (window statistics,
+//!   lockstep model) and sequencer, as `stickslip_model::rig::replay` runs them and as the
+//!   firmware's `RigCore` does (`tests/on-target/src/rig_scenes.rs`,
+//!   `firmware/rig-core/src/rig_core.rs`).
+//!
+//! Ignored by default: they need qemu-system-arm and the cross-built ELFs. `scripts/test-all.sh`
 //! builds both and runs
 //!
 //!     STICKSLIP_ON_TARGET_ELF=tests/on-target/target/thumbv7em-none-eabihf/release/digest \
+//!     STICKSLIP_ON_TARGET_RIG_ELF=tests/on-target/target/thumbv7em-none-eabihf/release/rig \
 //!         cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
 //!
-//! Run without the variable, or with a QEMU that fails, it fails: it never passes vacuously.
+//! Run without its variable, or with a QEMU that fails, each fails: it never passes vacuously.
 
 use std::io::Read;
 use std::path::PathBuf;
@@ -19,6 +26,16 @@ use std::time::{Duration, Instant};
 #[path = "../on-target/src/scenes.rs"]
 mod scenes;
 
+#[allow(dead_code)]
+#[path = "../on-target/src/rig_scenes.rs"]
+mod rig_scenes;
+
+/// The firmware's per-sample logic, which `rig_scenes` reaches as `super::rig_core`.
+#[allow(dead_code)]
+#[path = "../../firmware/rig-core/src/rig_core.rs"]
+mod rig_core;
+
+use rig_scenes::{RigReport, RIG_CASES};
 use scenes::{Report, CASES};
 
 /// Hang guard for QEMU (the whole program takes about a second): not a timing assertion,
@@ -62,17 +79,23 @@ fn run_qemu(elf: &PathBuf) -> (std::process::ExitStatus, String, String) {
     (status, out, err)
 }
 
+/// The ELF named by the environment variable `var` (which must be set and name a file).
+fn elf_from_env(var: &str, bin: &str) -> PathBuf {
+    let elf = std::env::var_os(var).map(PathBuf::from).unwrap_or_else(|| {
+        panic!(
+            "{var} is not set: point it at the cross-built \
+             tests/on-target/target/thumbv7em-none-eabihf/release/{bin} (scripts/test-all.sh does)"
+        )
+    });
+    assert!(elf.is_file(), "{var}={} is not a file", elf.display());
+    elf
+}
+
 /// Digest lines on the target equal the same runs' digests on the host.
 #[test]
 #[ignore = "needs qemu-system-arm and STICKSLIP_ON_TARGET_ELF (scripts/test-all.sh runs it)"]
 fn on_target_digests_equal_host_digests() {
-    let elf = std::env::var_os("STICKSLIP_ON_TARGET_ELF").map(PathBuf::from).unwrap_or_else(|| {
-        panic!(
-            "STICKSLIP_ON_TARGET_ELF is not set: point it at the cross-built \
-             tests/on-target/target/thumbv7em-none-eabihf/release/digest (scripts/test-all.sh does)"
-        )
-    });
-    assert!(elf.is_file(), "STICKSLIP_ON_TARGET_ELF={} is not a file", elf.display());
+    let elf = elf_from_env("STICKSLIP_ON_TARGET_ELF", "digest");
 
     let (status, out, err) = run_qemu(&elf);
     assert!(
@@ -97,7 +120,13 @@ fn on_target_digests_equal_host_digests() {
                 _ => scenes::run::<f64>(&scene),
             }
             .unwrap_or_else(|e| panic!("scene {} rejected on the host: {e}", case.name));
-            assert_eq!(run.steps, scenes::step_count(&scene), "{} {real} stopped early on the host: {:?}", case.name, run.halt);
+            assert_eq!(
+                run.steps,
+                scenes::step_count(&scene),
+                "{} {real} stopped early on the host: {:?}",
+                case.name,
+                run.halt
+            );
             let host = Report { scene: case.name, real, run: &run }.to_string();
             let prefix = format!("digest {} {real} ", case.name);
             let target: Vec<&&str> = target_lines.iter().filter(|l| l.starts_with(&prefix)).collect();
@@ -109,4 +138,45 @@ fn on_target_digests_equal_host_digests() {
         }
     }
     assert!(mismatches.is_empty(), "host and Cortex-M4F runs differ:\n{}", mismatches.join("\n"));
+}
+
+/// The rig cases' digest lines on the target equal the same runs' digests on the host: the
+/// whole per-sample chain (calibration, estimator with its windows and the lockstep model,
+/// sequencer; the shared replay and the firmware's own `RigCore`) is bit-identical.
+#[test]
+#[ignore = "needs qemu-system-arm and STICKSLIP_ON_TARGET_RIG_ELF (scripts/test-all.sh runs it)"]
+fn on_target_rig_digests_equal_host_digests() {
+    let elf = elf_from_env("STICKSLIP_ON_TARGET_RIG_ELF", "rig");
+
+    let (status, out, err) = run_qemu(&elf);
+    assert!(
+        status.success(),
+        "the on-target rig program failed under QEMU ({status}):\n--- stdout\n{out}\n--- stderr\n{err}"
+    );
+    let done = format!("done rig_cases={}", RIG_CASES.len());
+    assert!(out.lines().any(|l| l.trim() == done), "the on-target program did not report `{done}`:\n{out}");
+    let target_lines: Vec<&str> = out.lines().map(str::trim).filter(|l| l.starts_with("rig_digest ")).collect();
+    assert_eq!(target_lines.len(), RIG_CASES.len(), "rig_digest lines from the target:\n{out}");
+
+    let mut mismatches = Vec::new();
+    for case in &RIG_CASES {
+        let run =
+            rig_scenes::run(case).unwrap_or_else(|e| panic!("rig case {} refused on the host: {}", case.name, e.0));
+        assert!(!run.sensor_halted, "rig case {}: the sensor model halted on the host", case.name);
+        assert!(run.windows >= 4, "rig case {}: only {} windows closed on the host", case.name, run.windows);
+        assert!(run.slip_onsets >= 1, "rig case {}: no slip onset found on the host", case.name);
+        let host = RigReport { case: case.name, run: &run }.to_string();
+        let prefix = format!("rig_digest {} ", case.name);
+        let target: Vec<&&str> = target_lines.iter().filter(|l| l.starts_with(&prefix)).collect();
+        assert_eq!(target.len(), 1, "expected one line starting with `{prefix}` from the target:\n{out}");
+        println!("host:   {host}\ntarget: {}", target[0]);
+        if *target[0] != host {
+            mismatches.push(format!("host   {host}\ntarget {}", target[0]));
+        }
+    }
+    // the stack the firmware's set-up takes, as measured on the target (informative)
+    for l in out.lines().filter(|l| l.starts_with("stack ")) {
+        println!("target: {l}");
+    }
+    assert!(mismatches.is_empty(), "host and Cortex-M4F rig runs differ:\n{}", mismatches.join("\n"));
 }

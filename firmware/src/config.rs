@@ -1,0 +1,81 @@
+//! Build-time settings of the rig firmware: clocks, sampling, buffers, watchdog, log limits.
+//! The pins are in `main.rs` (and in README.md's pin map).
+
+use embassy_stm32::adc::SampleTime;
+use embassy_stm32::Config;
+#[cfg(not(feature = "pressure"))]
+use stickslip_model::rig::ACCEL_CHANNELS;
+#[cfg(feature = "pressure")]
+use stickslip_model::rig::CHANNELS;
+
+/// Core clock set by [`clock_config`] [Hz].
+pub const SYSCLK_HZ: u32 = 168_000_000;
+
+/// Sampling rate per channel [Hz]: one scan of all channels per TIM3 update. TIM3 counts the
+/// 84 MHz APB1 timer clock, so the period is the nearest whole number of clocks: 25 600 Hz
+/// asks for 3 281.25 clocks and gets 3 281, i.e. 25 601.95 Hz (+76 ppm). The firmware runs the
+/// estimator and the lockstep model at the rate it really gets (logged at boot); the HSI
+/// oscillator's own tolerance (1 %) is larger than that rounding.
+pub const SAMPLE_RATE_HZ: u32 = 25_600;
+
+/// Channels in the ADC's regular sequence: the four accelerometers, then the two pressures.
+#[cfg(feature = "pressure")]
+pub const ADC_CHANNELS: usize = CHANNELS;
+/// Channels in the ADC's regular sequence: the four accelerometers (no pressure transducers).
+#[cfg(not(feature = "pressure"))]
+pub const ADC_CHANNELS: usize = ACCEL_CHANNELS;
+
+/// Sampling time of every channel: 84 ADC clocks (+ 12 for the conversion) at 21 MHz
+/// (PCLK2 84 MHz / 4) = 4.57 us per channel, 27.4 us for six, within the 39 us period.
+pub const ADC_SAMPLE_TIME: SampleTime = SampleTime::CYCLES84;
+/// ADC clocks per conversion with [`ADC_SAMPLE_TIME`], and the ADC clock [Hz].
+const ADC_CLOCKS_PER_CONVERSION: u32 = 84 + 12;
+const ADC_CLOCK_HZ: u32 = 21_000_000;
+const _: () = assert!(
+    (ADC_CHANNELS as u32) * ADC_CLOCKS_PER_CONVERSION * SAMPLE_RATE_HZ < ADC_CLOCK_HZ,
+    "the regular sequence does not fit in one sampling period: shorten ADC_SAMPLE_TIME"
+);
+
+/// Frames per half of the DMA ring: the estimator task wakes once per half (2.5 ms at
+/// 25.6 kHz) and processes this many frames; a frame is [`ADC_CHANNELS`] u16 words.
+pub const FRAMES_PER_HALF: usize = 64;
+/// Words in the DMA ring (two halves).
+pub const RING_WORDS: usize = 2 * FRAMES_PER_HALF * ADC_CHANNELS;
+
+/// Independent watchdog timeout [us] (LSI 32 kHz nominal, 17 to 47 kHz: 68 to 188 ms real).
+/// The estimator task feeds it after every half-ring of frames it received, so it runs out
+/// only when no samples arrive (or the task is stuck): then the chip resets and the valves
+/// drop to their reset (vented) state.
+pub const WATCHDOG_TIMEOUT_US: u32 = 100_000;
+/// No half-ring within this [ms] is a sampling stall: logged, valves vented, and the watchdog
+/// left to reset the chip.
+pub const STALL_TIMEOUT_MS: u64 = 50;
+
+/// Contact event records logged between two window records; the others are counted and
+/// reported in the next window record (`events_dropped`). 32 per 100 ms window: 320 per
+/// second at most.
+pub const EVENT_LOGS_PER_WINDOW: u32 = 32;
+
+/// The start/stop/reset button must stay pressed this long to count [ms].
+pub const BUTTON_DEBOUNCE_MS: u64 = 30;
+
+/// 168 MHz from the HSI: 16 MHz / 16 * 336 / 2; 48 MHz on PLL Q for USB later.
+/// APB1 42 MHz (its timers 84 MHz), APB2 84 MHz (its timers 168 MHz, the ADC 84 / 4 = 21 MHz).
+pub fn clock_config() -> Config {
+    use embassy_stm32::rcc::{AHBPrescaler, APBPrescaler, Pll, PllMul, PllPDiv, PllPreDiv, PllQDiv, PllSource, Sysclk};
+    let mut config = Config::default();
+    config.rcc.hsi = true;
+    config.rcc.pll_src = PllSource::HSI;
+    config.rcc.pll = Some(Pll {
+        prediv: PllPreDiv::DIV16,
+        mul: PllMul::MUL336,
+        divp: Some(PllPDiv::DIV2),
+        divq: Some(PllQDiv::DIV7),
+        divr: None,
+    });
+    config.rcc.ahb_pre = AHBPrescaler::DIV1;
+    config.rcc.apb1_pre = APBPrescaler::DIV4;
+    config.rcc.apb2_pre = APBPrescaler::DIV2;
+    config.rcc.sys = Sysclk::PLL1_P;
+    config
+}

@@ -1,0 +1,62 @@
+//! The two valve outputs: PD12 actuator (clamp) valve, PD13 band-drive valve.
+//!
+//! High = solenoid energised = valve open (line pressurised); low = de-energised = closed and
+//! vented: the safe state. It is also the state of a pin the firmware does not drive (after
+//! reset every pin is a floating input, and the driver's gate pull-down holds the valve off:
+//! see README.md, wiring), so a watchdog reset vents both lines. [`force_vent`] drives both
+//! pins low by a single register write, from anywhere (panic and fault handlers, the e-stop
+//! task).
+
+use embassy_stm32::gpio::{Level, Output, Speed};
+use embassy_stm32::{pac, peripherals, Peri};
+use stickslip_model::rig::sequencer::Valves as ValveStates;
+
+/// Pin numbers on port D.
+const ACTUATOR_PIN: usize = 12;
+const BAND_PIN: usize = 13;
+
+/// Drives both valve pins low (vented) with one write of GPIOD's bit set/reset register:
+/// no read-modify-write, nothing to lock, safe in any context. If GPIOD is not clocked or the
+/// pins are not yet outputs, the write changes nothing and the pins are floating inputs,
+/// which the drivers' pull-downs hold off: vented as well.
+#[inline(always)]
+pub fn force_vent() {
+    pac::GPIOD.bsrr().write(|w| {
+        w.set_br(ACTUATOR_PIN, true);
+        w.set_br(BAND_PIN, true);
+    });
+}
+
+/// The valve outputs, owned by the estimator task.
+pub struct ValveOutputs {
+    actuator: Output<'static>,
+    band: Output<'static>,
+    last: ValveStates,
+}
+
+impl ValveOutputs {
+    /// Both pins as push-pull outputs, low (vented) from the first instant.
+    pub fn new(actuator: Peri<'static, peripherals::PD12>, band: Peri<'static, peripherals::PD13>) -> Self {
+        ValveOutputs {
+            actuator: Output::new(actuator, Level::Low, Speed::Low),
+            band: Output::new(band, Level::Low, Speed::Low),
+            last: ValveStates::VENTED,
+        }
+    }
+
+    /// Sets the outputs to `v` (the sequencer's valves for this sample). Written every sample
+    /// (two register writes), so a [`force_vent`] from elsewhere can never leave the pins and
+    /// the sequencer's view apart for longer than until the next sample.
+    #[inline(always)]
+    pub fn set(&mut self, v: ValveStates) {
+        self.actuator.set_level(if v.actuator_open { Level::High } else { Level::Low });
+        self.band.set_level(if v.band_open { Level::High } else { Level::Low });
+        self.last = v;
+    }
+
+    /// Vents both (and remembers it).
+    pub fn vent(&mut self) {
+        force_vent();
+        self.last = ValveStates::VENTED;
+    }
+}
