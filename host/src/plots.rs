@@ -98,7 +98,7 @@ fn decimate(samples: &[(f64, [f64; 4])], i: usize, scale: f64) -> Vec<(f64, f64)
 }
 
 /// Decimal places for axis labels spanning `range`.
-fn decimals(range: f64) -> usize {
+pub(crate) fn decimals(range: f64) -> usize {
     if range.is_nan() || range <= 0.0 {
         return 3;
     }
@@ -106,7 +106,7 @@ fn decimals(range: f64) -> usize {
 }
 
 /// An axis label with `d` decimals, without a "-0.000".
-fn tick(v: f64, d: usize) -> String {
+pub(crate) fn tick(v: f64, d: usize) -> String {
     let s = format!("{v:.d$}");
     if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
         s[1..].to_string()

@@ -3,6 +3,7 @@
 //! bounded min/max envelope (every peak visible), and the four Welch spectra on one log axis
 //! with the groan band shaded.
 
+use crate::plots::{decimals, tick};
 use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
@@ -46,22 +47,6 @@ pub fn write_all(dir: &Path, what: &str, a: &Analysis) -> Result<Vec<PathBuf>> {
         out.push(path);
     }
     Ok(out)
-}
-
-fn decimals(range: f64) -> usize {
-    if !(range > 0.0) {
-        return 3;
-    }
-    (2.0 - range.log10().floor()).clamp(0.0, 9.0) as usize
-}
-
-fn tick(v: f64, d: usize) -> String {
-    let s = format!("{v:.d$}");
-    if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
-        s[1..].to_string()
-    } else {
-        s
-    }
 }
 
 type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
