@@ -8,12 +8,15 @@
 #   2. firmware/ for thumbv7em-none-eabihf, release, with each feature set (default,
 #      no-pressure, no-eos, neither); fails above 64 KiB of flash or 48 KiB of static RAM
 #                                                                    scripts/build-firmware.sh
-#   3. tests/on-target for thumbv7em-none-eabihf: release (bins digest, count, rig, rig_count)
-#      and bin rig_count again with the firmware's code generation (profile `firmware`)
+#   3. tests/on-target for thumbv7em-none-eabihf: release (bins digest, count, rig, rig_count,
+#      records) and bin rig_count again with the firmware's code generation (profile `firmware`)
 #   4. host workspace: cargo test --workspace --release
 #   5. the model and the rig's per-sample chain on the emulated Cortex-M4F against the host,
 #      bit for bit (bins digest and rig):
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
+#      and the firmware's log: the defmt stream of bin records, captured under QEMU, decoded
+#      record by record against the host (--test records_on_target), then by the command line
+#      (`stickslip decode`, which must report nothing lost)
 #   6. instruction counts under QEMU                                 scripts/count-instructions.sh
 #      ExactStepper<f32>::step() (fails above 200 instructions for a step without a
 #      transition) and the rig's per-sample path (fails above 1,500 instructions for a sample
@@ -86,7 +89,8 @@ section "3/8 on-target test programs, thumbv7em-none-eabihf (tests/on-target)"
 (cd "$root/tests/on-target" && cross_cargo build --profile firmware "${locked[@]}" --bin rig_count)
 on_target_dir="$root/tests/on-target/target/$CROSS_TARGET/release"
 rig_count_elf="$root/tests/on-target/target/$CROSS_TARGET/firmware/rig_count"
-arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count" "$on_target_dir/rig" "$rig_count_elf"
+arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count" "$on_target_dir/rig" "$on_target_dir/records" \
+    "$rig_count_elf"
 
 section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
@@ -94,6 +98,20 @@ cargo test --workspace --release
 section "5/8 model and rig chain on the emulated Cortex-M4F == on the host (QEMU netduinoplus2)"
 STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" STICKSLIP_ON_TARGET_RIG_ELF="$on_target_dir/rig" \
     cargo test --release -p stickslip-crosscheck --test on_target -- --ignored --nocapture
+# the firmware's log records (bin records: the firmware's RigCore, Logbook and defmt formatting)
+records_stream="$on_target_dir/records.defmt"
+rm -f "$records_stream"
+STICKSLIP_ON_TARGET_RECORDS_ELF="$on_target_dir/records" STICKSLIP_ON_TARGET_RECORDS_STREAM="$records_stream" \
+    cargo test --release -p stickslip-crosscheck --test records_on_target -- --ignored --nocapture
+decode_out="$(mktemp)"
+decode_err="$(mktemp)"
+cargo run --release -q -p stickslip -- decode --elf "$on_target_dir/records" "$records_stream" --kind window \
+    >"$decode_out" 2>"$decode_err"
+cut -c1-150 "$decode_out" | head -n 3
+cat "$decode_err"
+grep -q "dropped 0 frames (0 bytes skipped); 0 bytes of an incomplete frame" "$decode_err" \
+    || { echo "stickslip decode lost frames of the on-target stream" >&2; exit 1; }
+rm -f "$decode_out" "$decode_err"
 
 section "6/8 instruction counts under QEMU (scripts/count-instructions.sh)"
 COUNT_ELF="$on_target_dir/count" RIG_COUNT_ELF="$rig_count_elf" bash "$root/scripts/count-instructions.sh"

@@ -24,7 +24,8 @@ use embassy_stm32::pac::gpio::vals::Idr;
 use embassy_time::Timer;
 
 use crate::config::BUTTON_DEBOUNCE_MS;
-use crate::{records, valves};
+use crate::records::{log, Record};
+use crate::valves;
 
 /// E-stop rising edge seen since the estimator task last looked.
 static ESTOP_EDGE: AtomicBool = AtomicBool::new(false);
@@ -87,9 +88,9 @@ pub async fn estop_task(mut pin: ExtiInput<'static, Async>) {
         pin.wait_for_rising_edge().await;
         valves::force_vent();
         ESTOP_EDGE.store(true, Ordering::Release);
-        records::input("estop", true);
+        log(&Record::Input { name: "estop", active: true });
         pin.wait_for_low().await;
-        records::input("estop", false);
+        log(&Record::Input { name: "estop", active: false });
     }
 }
 
@@ -99,9 +100,9 @@ pub async fn end_of_stroke_task(mut pin: ExtiInput<'static, Async>) {
     loop {
         pin.wait_for_rising_edge().await;
         EOS_EDGE.store(true, Ordering::Release);
-        records::input("end_of_stroke", true);
+        log(&Record::Input { name: "end_of_stroke", active: true });
         pin.wait_for_low().await;
-        records::input("end_of_stroke", false);
+        log(&Record::Input { name: "end_of_stroke", active: false });
     }
 }
 

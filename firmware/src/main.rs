@@ -29,7 +29,6 @@ mod config;
 mod inputs;
 mod panic;
 mod records;
-mod stack;
 mod valves;
 
 use core::mem::MaybeUninit;
@@ -52,9 +51,9 @@ use crate::config::{
     ADC_CHANNELS, ADC_SAMPLE_TIME, EVENT_LOGS_PER_WINDOW, FRAMES_PER_HALF, RING_WORDS, SAMPLE_RATE_HZ,
     STALL_TIMEOUT_MS, SYSCLK_HZ, WATCHDOG_TIMEOUT_US,
 };
-use crate::records::{ResetCause, WindowExtras};
+use crate::records::{log, read_reset_cause, Boot, Defmt, Logbook, Record};
 use crate::valves::ValveOutputs;
-use stickslip_rig_core::{button_command, CoreConfig, CoreError, RigCore};
+use stickslip_rig_core::{button_command, stack, CoreConfig, CoreError, RigCore};
 
 bind_interrupts!(struct Irqs {
     DMA2_STREAM0 => dma::InterruptHandler<peripherals::DMA2_CH0>;
@@ -82,7 +81,7 @@ struct Sampler {
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     stack::paint();
-    let reset = ResetCause::read_and_clear();
+    let reset = read_reset_cause();
     let p = embassy_stm32::init(config::clock_config());
     // Valves first: both outputs low (vented) before anything else runs.
     let valves = ValveOutputs::new(p.PD12, p.PD13);
@@ -102,16 +101,18 @@ async fn main(spawner: Spawner) {
     let fs_hz = f_tim as f64 / clocks as f64;
 
     let cfg = CoreConfig::rig(fs_hz, cfg!(feature = "pressure"), cfg!(feature = "end-of-stroke"));
-    records::boot(
+    log(&Record::Boot(Boot {
+        fw: env!("CARGO_PKG_VERSION"),
         reset,
-        fs_hz as f32,
-        clocks,
-        ADC_CHANNELS as u32,
-        cfg.ticks(cfg.window_s),
-        FRAMES_PER_HALF as u32,
-        cfg.has_pressure,
-        cfg.has_end_of_stroke,
-    );
+        sysclk_hz: SYSCLK_HZ,
+        fs_hz: fs_hz as f32,
+        timer_clocks: clocks,
+        adc_channels: ADC_CHANNELS as u32,
+        window_samples: cfg.ticks(cfg.window_s),
+        batch_frames: FRAMES_PER_HALF as u32,
+        pressure: cfg.has_pressure,
+        end_of_stroke: cfg.has_end_of_stroke,
+    }));
 
     // The slow part: the estimator, the sequencer and the armed lockstep model (f64 set-up),
     // once, before the watchdog runs and before any sample is taken.
@@ -123,14 +124,14 @@ async fn main(spawner: Spawner) {
         Err(CoreError::Model(e)) => halt_config(e.field, e.rule, e.value).await,
     };
     let model = core.model_scene();
-    records::armed(
-        t_build.elapsed().as_micros() as u32,
-        model.caliper.name(),
-        model.beta as f32,
-        model.f_n as f32,
-        model.v as f32,
-        core.model_normal_force(),
-    );
+    log(&Record::Armed {
+        build_us: t_build.elapsed().as_micros() as u32,
+        caliper: model.caliper.name(),
+        beta_m: model.beta as f32,
+        f_n_n: model.f_n as f32,
+        v_m_s: model.v as f32,
+        n0_n: core.model_normal_force(),
+    });
 
     // ADC1: regular sequence in frame order, triggered by TIM3_TRGO, into the DMA ring.
     let ring = cortex_m::singleton!(: [u16; RING_WORDS] = [0; RING_WORDS]).expect("one DMA ring");
@@ -175,7 +176,7 @@ async fn main(spawner: Spawner) {
     let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
     watchdog.unleash();
     let (stack_used, stack_size) = stack::used();
-    records::start(WATCHDOG_TIMEOUT_US, stack_used, stack_size);
+    log(&Record::Start { watchdog_us: WATCHDOG_TIMEOUT_US, stack_used, stack_size });
 
     let batch_budget = (SYSCLK_HZ as u64 * clocks as u64 * FRAMES_PER_HALF as u64 / f_tim as u64) as u32;
     let sampler = Sampler { adc, timer, watchdog, valves, core, half, batch_budget };
@@ -184,7 +185,7 @@ async fn main(spawner: Spawner) {
 
 /// A refused configuration: log it and stay idle (valves vented, no watchdog, no sampling).
 async fn halt_config(field: &'static str, rule: &'static str, value: f64) -> ! {
-    records::config_error(field, rule, value);
+    log(&Record::ConfigError { field, rule, value });
     loop {
         Timer::after_secs(3600).await;
     }
@@ -195,11 +196,8 @@ async fn halt_config(field: &'static str, rule: &'static str, value: f64) -> ! {
 #[embassy_executor::task]
 async fn estimator_task(s: Sampler) {
     let Sampler { mut adc, timer, mut watchdog, mut valves, core, half, batch_budget } = s;
-    let mut n: u64 = 0;
-    let mut overruns: u32 = 0;
-    let mut events_logged: u32 = 0;
-    let mut events_dropped: u32 = 0;
-    let mut batch_cycles_max: u32 = 0;
+    // Frames since boot, overruns, the events' rate limit, the window records: the logbook.
+    let mut book = Logbook::new(batch_budget, EVENT_LOGS_PER_WINDOW);
 
     // Arm the DMA ring and the ADC (this also converts one scan at once, by software start),
     // then start the trigger timer: from here on one scan per timer period.
@@ -211,14 +209,17 @@ async fn estimator_task(s: Sampler) {
             Ok(Ok(_)) => {}
             Ok(Err(_overrun)) => {
                 // The ring has restarted at the newest whole frame; the lost frames are gone.
-                overruns = overruns.saturating_add(1);
-                records::overrun(n, overruns);
+                book.overrun(&mut Defmt);
                 continue;
             }
             Err(_timeout) => {
                 // No samples: vent, say why, and let the watchdog (no longer fed) reset the chip.
                 valves.vent();
-                records::stall(n, STALL_TIMEOUT_MS as u32, pac::ADC1.sr().read().ovr());
+                log(&Record::Stall {
+                    n: book.frames(),
+                    ms: STALL_TIMEOUT_MS as u32,
+                    adc_ovr: pac::ADC1.sr().read().ovr(),
+                });
                 loop {
                     valves.vent();
                     Timer::after_millis(10).await;
@@ -234,49 +235,19 @@ async fn estimator_task(s: Sampler) {
         for words in half.chunks_exact(ADC_CHANNELS) {
             let estop = estop_edge || inputs::estop_active();
             let digital = DigitalInputs { estop, end_of_stroke: eos_edge || inputs::end_of_stroke_active() };
-            let state = core.state();
             let command = if press {
                 press = false;
-                Some(button_command(state))
+                Some(button_command(core.state()))
             } else {
                 None
             };
             let out = core.sample_words(words, &digital, command);
             // The sequencer vents on an e-stop in this very tick; the override is a second line.
             valves.set(if estop { Valves::VENTED } else { out.sequencer.valves });
-            if let (Some(c), Some(r)) = (command, out.sequencer.command) {
-                records::command(n, state, c, r);
-            }
-            if out.sequencer.changed {
-                records::state(n, core.record(), out.before, out.sequencer.state, out.sequencer.valves);
-            }
-            if let Some(e) = out.estimate.contact.event {
-                if events_logged < EVENT_LOGS_PER_WINDOW {
-                    records::event(n, core.record(), e, out.estimate.contact.v_r_m_s, out.estimate.contact.a_rel_m_s2);
-                    events_logged += 1;
-                } else {
-                    events_dropped = events_dropped.saturating_add(1);
-                }
-            }
-            n += 1;
+            book.sample(&mut Defmt, core, command, &out);
         }
-        batch_cycles_max = batch_cycles_max.max(DWT::cycle_count().wrapping_sub(c0));
-
+        let cycles = DWT::cycle_count().wrapping_sub(c0);
         // Outside the per-sample loop: the window's divisions and square roots, and its record.
-        while let Some(w) = core.take_window() {
-            let extras = WindowExtras {
-                n,
-                state: core.state(),
-                overruns,
-                events_dropped,
-                windows_dropped: core.windows_dropped(),
-                batch_cycles_max,
-                batch_cycles_budget: batch_budget,
-            };
-            records::window(&w, &extras);
-            events_logged = 0;
-            events_dropped = 0;
-            batch_cycles_max = 0;
-        }
+        book.end_batch(&mut Defmt, core, cycles);
     }
 }

@@ -18,7 +18,8 @@ use core::sync::atomic::{AtomicBool, Ordering};
 
 use cortex_m_rt::{exception, ExceptionFrame};
 
-use crate::{records, valves};
+use crate::records::{log, Record};
+use crate::valves;
 
 /// Set by the first panic: a panic inside the handler (e.g. in the logger) skips the log.
 static PANICKED: AtomicBool = AtomicBool::new(false);
@@ -30,7 +31,7 @@ fn panic(info: &PanicInfo) -> ! {
     if !PANICKED.swap(true, Ordering::AcqRel) {
         let (file, line) = info.location().map_or(("?", 0), |l| (l.file(), l.line()));
         let msg = info.message().as_str().unwrap_or("(formatted message, not shown)");
-        records::panic(file, line, msg);
+        log(&Record::Panic { file, line, msg });
     }
     cortex_m::asm::udf()
 }

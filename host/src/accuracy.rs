@@ -147,6 +147,7 @@ fn to_f64(z: stickslip_model::State<impl Real>) -> [f64; 4] {
 }
 
 /// Runs `kind` in precision `T` with observation (untimed).
+#[allow(clippy::needless_range_loop)] // min and max of the same component
 fn observe<T: Real>(kind: MethodKind, scene: &Scene) -> Result<Observed> {
     let n = steps_of(scene);
     let window_from = (scene.stats_from / scene.dt).round() as u64;

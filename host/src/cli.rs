@@ -260,8 +260,8 @@ pub struct DecodeArgs {
     /// Print one JSON object instead of CSV
     #[arg(long)]
     pub json: bool,
-    /// CSV of one kind of record only, with its fields as columns (transition, summary,
-    /// step_cost, halt, ...: see below)
+    /// CSV of one kind of record only, with its fields as columns (window, event, state,
+    /// command, ...: see below)
     #[arg(long, value_name = "KIND", conflicts_with = "json")]
     pub kind: Option<String>,
 }

@@ -61,7 +61,9 @@ pub fn accuracy(rep: &accuracy::Report, path: &Path) -> Result<()> {
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
             .map_err(|e| out_err(path, e))?;
-        let mut lines: Vec<(String, Vec<(f64, f64)>, bool)> = Vec::new();
+        // (label, points, dashed)
+        type Line = (String, Vec<(f64, f64)>, bool);
+        let mut lines: Vec<Line> = Vec::new();
         for kind in MethodKind::ALL {
             for prec in ["f64", "f32"] {
                 let mut pts: Vec<(f64, f64)> = rows

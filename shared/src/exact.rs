@@ -389,7 +389,7 @@ impl<T: Real> ExactStepper<T> {
                 }
                 if g.fired(&z_end) {
                     let (p, zp) = self.prop.lift(regime, &z, pos, units, |c| !g.fired(c));
-                    if best.map_or(true, |b| p < b.0) {
+                    if best.is_none_or(|b| p < b.0) {
                         best = Some((p, zp, which));
                     }
                 }

@@ -61,6 +61,7 @@ fn norm1(a: &Mat) -> f64 {
 
 /// Diagonal similarity D^-1 A D with power-of-two entries that evens out row and column norms
 /// (Parlett and Reinsch). Returns the balanced matrix and D's diagonal.
+#[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
 fn balance(a: &Mat) -> (Mat, [f64; N]) {
     let mut b = *a;
     let mut d = [1.0; N];

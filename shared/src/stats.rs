@@ -78,6 +78,7 @@ impl<T: Real> StatsObserver<T> {
         self.t_from
     }
 
+    #[allow(clippy::needless_range_loop)] // min and max of the same component
     fn include(&mut self, z: &[T; 4]) {
         // the segments of a step that halts may hold a non-finite state: never let it in
         if !(z[0].is_finite() && z[1].is_finite() && z[2].is_finite() && z[3].is_finite()) {

@@ -19,7 +19,8 @@ fn the_default_scene_is_valid() {
 
 #[test]
 fn non_finite_values_are_rejected_by_name() {
-    let cases: [(&str, fn(&mut Scene, f64)); 19] = [
+    type Setter = fn(&mut Scene, f64);
+    let cases: [(&str, Setter); 19] = [
         ("m", |s, v| s.m = v),
         ("inertia", |s, v| s.inertia = v),
         ("l", |s, v| s.l = v),

@@ -22,6 +22,8 @@ fn main() {
     let memory_x = manifest.join("..").join("..").join("memory.x");
     fs::copy(&memory_x, out.join("memory.x")).unwrap_or_else(|e| panic!("cannot copy {}: {e}", memory_x.display()));
     println!("cargo:rustc-link-search={}", out.display());
+    // defmt's linker script, for the one program that logs with defmt
+    println!("cargo:rustc-link-arg-bin=records=-Tdefmt.x");
     println!("cargo:rerun-if-changed={}", memory_x.display());
     println!("cargo:rerun-if-changed=build.rs");
 

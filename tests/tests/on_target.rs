@@ -17,10 +17,11 @@
 //!
 //! Run without its variable, or with a QEMU that fails, each fails: it never passes vacuously.
 
-use std::io::Read;
-use std::path::PathBuf;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::path::Path;
+
+mod qemu;
+
+use qemu::elf_from_env;
 
 #[allow(dead_code)]
 #[path = "../on-target/src/scenes.rs"]
@@ -38,58 +39,13 @@ mod rig_core;
 use rig_scenes::{RigReport, RIG_CASES};
 use scenes::{Report, CASES};
 
-/// Hang guard for QEMU (the whole program takes about a second): not a timing assertion,
-/// a program that never exits fails instead of blocking the test run.
-const QEMU_WATCHDOG: Duration = Duration::from_secs(600);
-
-fn run_qemu(elf: &PathBuf) -> (std::process::ExitStatus, String, String) {
-    let mut child = Command::new("qemu-system-arm")
-        .args(["-M", "netduinoplus2", "-nographic", "-monitor", "none", "-serial", "null"])
-        .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
-        .arg(elf)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap_or_else(|e| panic!("cannot start qemu-system-arm: {e} (install the Debian package qemu-system-arm)"));
-    let mut stdout = child.stdout.take().expect("piped stdout");
-    let mut stderr = child.stderr.take().expect("piped stderr");
-    let out_reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        stdout.read_to_string(&mut s).map(|_| s)
-    });
-    let err_reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        stderr.read_to_string(&mut s).map(|_| s)
-    });
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("waiting for QEMU") {
-            break status;
-        }
-        if started.elapsed() > QEMU_WATCHDOG {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("QEMU did not exit within {QEMU_WATCHDOG:?}: killed");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let out = out_reader.join().expect("stdout reader").expect("QEMU stdout is UTF-8");
-    let err = err_reader.join().expect("stderr reader").unwrap_or_default();
-    (status, out, err)
+/// Runs an on-target program under QEMU: its exit status, standard output (UTF-8 text for
+/// these programs) and standard error.
+fn run_qemu(elf: &Path) -> (std::process::ExitStatus, String, String) {
+    let (status, out, err) = qemu::run(elf);
+    (status, String::from_utf8(out).expect("QEMU stdout is UTF-8"), err)
 }
 
-/// The ELF named by the environment variable `var` (which must be set and name a file).
-fn elf_from_env(var: &str, bin: &str) -> PathBuf {
-    let elf = std::env::var_os(var).map(PathBuf::from).unwrap_or_else(|| {
-        panic!(
-            "{var} is not set: point it at the cross-built \
-             tests/on-target/target/thumbv7em-none-eabihf/release/{bin} (scripts/test-all.sh does)"
-        )
-    });
-    assert!(elf.is_file(), "{var}={} is not a file", elf.display());
-    elf
-}
 
 /// Digest lines on the target equal the same runs' digests on the host.
 #[test]

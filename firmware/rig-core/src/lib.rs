@@ -1,14 +1,20 @@
-//! The rig firmware's per-sample logic, without the HAL (see [`rig_core`]; everything is
-//! re-exported here).
+//! The rig firmware's logic without the HAL: the per-sample path ([`rig_core`], everything
+//! re-exported here), the log's records and the estimator task's log bookkeeping
+//! ([`logbook`]). The records' defmt text is the crate `stickslip-records` (../records).
 //!
 //! Its own crate for the code generation: the firmware's release profile builds this crate at
 //! opt-level 3 (its per-sample path, and the `#[inline]` functions of `stickslip_model` it
 //! calls, are compiled here) and everything else, the f64 set-up included, for size. The code
-//! itself lives in `src/rig_core.rs`, which the host-side test `tests/tests/on_target.rs`
-//! also compiles as a module (through `#[path]`): keep it free of crate-level attributes and
-//! `crate::` paths.
+//! of `src/rig_core.rs` and `src/logbook.rs` is also compiled by the host-side tests in
+//! `tests/tests/` as modules (through `#[path]`): keep those two free of crate-level
+//! attributes and `crate::` paths (`logbook` reaches `rig_core` as `super::rig_core`).
 #![no_std]
 
+pub mod logbook;
 pub mod rig_core;
+/// The Cortex-M stack's high-water mark (painted stack), for the firmware and the on-target
+/// programs.
+#[cfg(target_os = "none")]
+pub mod stack;
 
 pub use rig_core::*;

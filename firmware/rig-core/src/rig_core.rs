@@ -210,6 +210,7 @@ impl PressureSums {
     };
 
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // sum, min and max of the same channel
     fn add(&mut self, p: &[f32; PRESSURE_CHANNELS]) {
         self.n += 1;
         for j in 0..PRESSURE_CHANNELS {

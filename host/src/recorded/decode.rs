@@ -18,11 +18,10 @@
 //!
 //! **Records.** Each frame gives: its number in the stream (from 0, dropped frames included),
 //! the byte offset of its first byte, the timestamp (the firmware's `{=u64:us}` uptime,
-//! printed in seconds), the level, the message, and its parameters as fields. The log lines
-//! of firmware/src/main.rs are recognised by their format string and get a `kind` and named
-//! fields in SI units ([`KINDS`]); a line laid out as `name key={..} key={..}` (the record
-//! contract of firmware/src/records.rs) is kind `name` with its keys as fields; any other line
-//! is kind `log` with fields `arg0`, `arg1`...
+//! printed in seconds), the level, the message, and its parameters as fields. A line laid out
+//! as `name key={..} key={..} ...` (every record of the firmware's log: firmware/records, listed
+//! in firmware/README.md, "Log records") is kind `name` with its keys as fields; any other
+//! line (embassy-stm32's own defmt lines, say) is kind `log` with fields `arg0`, `arg1`...
 
 use std::io::Read;
 
@@ -34,7 +33,7 @@ use serde_json::Value;
 use crate::cli::DecodeArgs;
 use crate::error::{HostError, Result};
 
-/// Longest frame accepted [bytes] (the firmware's longest is under 100).
+/// Longest frame accepted [bytes] (the firmware's longest, a `window` record, is about 140).
 pub const MAX_FRAME_BYTES: usize = 1 << 16;
 
 pub const DECODE_AFTER: &str = "\
@@ -46,16 +45,11 @@ dropped and its bytes skipped, bytes after the last frame separator are an incom
 stderr gets one line with the counts (frames decoded and dropped, bytes skipped, incomplete
 bytes). defmt has no checksum: a corrupted frame that still decodes gives a wrong record.
 
-Kinds (the log lines of firmware/src/main.rs, recognised by their format string) and fields:
-startup (version, sysclk_hz); stepper_built (build_us, caliper, beta_m, substeps); stepping
-(period_ticks, tick_hz, step_hz, dt_denominator); transition (t_s, from, to, x_m, xdot_m_s,
-phi_rad); summary (t_s, wall_us, transitions, logged, regime, x_m, phi_rad); step_cost
-(mean_cycles, max_cycles, cycles_per_tick, late_ticks, overruns); halt (t_s, and n_N, regime,
-stiffness_margin_nm_per_rad as the halt has them); scene_rejected (field, value, rule);
-no_core_peripherals. A line laid out as `name key={..} key={..} ...` (the record layout of
-firmware/src/records.rs: boot, state, event, window, ...) is kind `name` with its keys as
-fields (an array `[a, b, c, d]` as a JSON array, in CSV as key_0 ... key_3); any other line:
-log (arg0, arg1, ...).
+Kinds: the records of the firmware's log (see firmware/README.md, Log records): boot, armed,
+config_error, start, state, command, event, window, overrun, stall, input, panic. Each is laid
+out as `name key={..} key={..} ...` and decodes to kind `name` with its keys as fields (an
+array `[a, b, c, d]` as a JSON array, in CSV as key_0 ... key_3); any other line: kind log
+(fields arg0, arg1, ...).
 
 CSV (default): frame,offset,timestamp_s,level,kind,message, one row per decoded frame.
 --kind KIND: only that kind, columns frame,timestamp_s and its fields (exit 2 if the stream
@@ -66,69 +60,6 @@ has none).
 
 Exit codes: 0 (also when frames were lost: the counts say so), 2 an unreadable or defmt-less
 ELF, a --kind with no record, an unreadable stream.";
-
-/// A firmware log line: its format string, kind and field names.
-pub struct Kind {
-    pub format: &'static str,
-    pub kind: &'static str,
-    pub fields: &'static [&'static str],
-}
-
-/// The log lines of firmware/src/main.rs.
-pub const KINDS: &[Kind] = &[
-    Kind {
-        format: "stickslip firmware {=str}: STM32F407VG at {=u64} Hz",
-        kind: "startup",
-        fields: &["version", "sysclk_hz"],
-    },
-    Kind {
-        format: "ExactStepper<f32> built in {=u64} us: {=str} caliper, beta {=f64} m, {=u32} substep(s) per step",
-        kind: "stepper_built",
-        fields: &["build_us", "caliper", "beta_m", "substeps"],
-    },
-    Kind {
-        format: "stepping every {=u64} ticks of {=u64} Hz: {=u64} Hz (model dt 1/{=u64} s)",
-        kind: "stepping",
-        fields: &["period_ticks", "tick_hz", "step_hz", "dt_denominator"],
-    },
-    Kind {
-        format: "t={=f64} s {=str} -> {=str}: x={=f32} m x'={=f32} m/s phi={=f32} rad",
-        kind: "transition",
-        fields: &["t_s", "from", "to", "x_m", "xdot_m_s", "phi_rad"],
-    },
-    Kind {
-        format: "model t={=f64} s (wall {=u64} us): {=u32} transitions ({=u32} logged), regime {=str}, x={=f32} m, phi={=f32} rad",
-        kind: "summary",
-        fields: &["t_s", "wall_us", "transitions", "logged", "regime", "x_m", "phi_rad"],
-    },
-    Kind {
-        format: "step cost: mean {=u64} max {=u32} cycles of {=u64} per tick; latest tick {=u64} ticks late, {=u32} overruns",
-        kind: "step_cost",
-        fields: &["mean_cycles", "max_cycles", "cycles_per_tick", "late_ticks", "overruns"],
-    },
-    Kind {
-        format: "core peripherals already taken: step cycle counts will read 0",
-        kind: "no_core_peripherals",
-        fields: &[],
-    },
-    Kind {
-        format: "scene rejected: field {=str} = {=f64}: {=str}",
-        kind: "scene_rejected",
-        fields: &["field", "value", "rule"],
-    },
-    Kind { format: "model halted at t={=f64} s: non-finite state", kind: "halt", fields: &["t_s"] },
-    Kind {
-        format: "model halted at t={=f64} s: diverged in {=str} (rotational stiffness margin {=f64} N m/rad)",
-        kind: "halt",
-        fields: &["t_s", "regime", "stiffness_margin_nm_per_rad"],
-    },
-    Kind {
-        format: "model halted at t={=f64} s: contact lost (N = {=f64} N)",
-        kind: "halt",
-        fields: &["t_s", "n_N"],
-    },
-    Kind { format: "model halted at t={=f64} s: transition storm", kind: "halt", fields: &["t_s"] },
-];
 
 /// One decoded frame.
 #[derive(Clone, Debug, Serialize)]
@@ -160,7 +91,7 @@ fn ordered_map<S: serde::Serializer>(fields: &[(String, Value)], s: S) -> std::r
     s.collect_map(fields.iter().map(|(k, v)| (k, v)))
 }
 
-/// `name key={..} key={..} ...`: the record layout of firmware/src/records.rs. Returns the
+/// `name key={..} key={..} ...`: the record layout of firmware/records/src/lib.rs. Returns the
 /// name and the keys, or `None` if the format does not follow it.
 fn key_value_layout(fragments: &[Fragment<'_>]) -> Option<(String, Vec<String>)> {
     let word = |w: &str| !w.is_empty() && w.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_');
@@ -284,17 +215,7 @@ fn field_value(ty: &Type, shown: &str) -> Value {
 /// The record of a decoded frame.
 fn record(frame: &defmt_decoder::Frame<'_>, number: u64, offset: u64) -> Record {
     let fragments = frame.fragments();
-    let text: String = fragments
-        .iter()
-        .map(|f| match f {
-            Fragment::Literal(l) => l.to_string(),
-            Fragment::Parameter(p) => format!("{{={}}}", type_name(&p.ty)),
-        })
-        .collect();
-    let (kind, names): (String, Vec<String>) = match KINDS.iter().find(|k| k.format == text) {
-        Some(kd) => (kd.kind.to_string(), kd.fields.iter().map(|f| f.to_string()).collect()),
-        None => key_value_layout(&fragments).unwrap_or_else(|| ("log".to_string(), Vec::new())),
-    };
+    let (kind, names) = key_value_layout(&fragments).unwrap_or_else(|| ("log".to_string(), Vec::new()));
     let mut fields = Vec::new();
     let mut k = 0;
     for (frag, shown) in fragments.iter().zip(frame.display_fragments()) {
@@ -315,26 +236,6 @@ fn record(frame: &defmt_decoder::Frame<'_>, number: u64, offset: u64) -> Record 
         kind,
         message: frame.display_message().to_string(),
         fields,
-    }
-}
-
-/// The `{=TYPE}` spelling of the types the firmware logs (others never match a kind).
-fn type_name(t: &Type) -> &'static str {
-    match t {
-        Type::Str => "str",
-        Type::IStr => "istr",
-        Type::U8 => "u8",
-        Type::U16 => "u16",
-        Type::U32 => "u32",
-        Type::U64 => "u64",
-        Type::I8 => "i8",
-        Type::I16 => "i16",
-        Type::I32 => "i32",
-        Type::I64 => "i64",
-        Type::F32 => "f32",
-        Type::F64 => "f64",
-        Type::Bool => "bool",
-        _ => "?",
     }
 }
 
@@ -515,7 +416,7 @@ fn render(a: &DecodeArgs, label: &str, records: &[Record], stats: &StreamStats) 
                     if found.is_empty() { "none".to_string() } else { found.join(", ") }
                 )));
             }
-            // the union of the fields in order of appearance (halt lines share a kind with
+            // the union of the fields in order of appearance (the lines of kind `log` have
             // different fields); an array field expands to key_0, key_1, ...
             let mut cols: Vec<(String, Option<usize>)> = Vec::new();
             for r in &chosen {

@@ -16,47 +16,10 @@ use core::ptr::addr_of_mut;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
+use stickslip_on_target::stack;
 
 use stickslip_on_target::rig_core::{CoreConfig, RigCore};
 use stickslip_on_target::rig_scenes::{self, RigReport, RIG_CASES};
-
-/// Stack paint for the high-water mark.
-const PAINT: u32 = 0xdead_beef;
-
-extern "C" {
-    /// End of .bss/.uninit: the lowest address the stack may grow to (cortex-m-rt).
-    static mut __sheap: u32;
-    /// Initial stack pointer, the top of RAM (cortex-m-rt).
-    static _stack_start: u32;
-}
-
-/// Fills the free stack below the current stack pointer (less a margin) with [`PAINT`].
-fn paint_stack() {
-    let bottom = core::ptr::addr_of_mut!(__sheap);
-    let sp = cortex_m::register::msp::read() as usize - 256;
-    let mut p = bottom;
-    while (p as usize) < sp {
-        // SAFETY: [__sheap, sp - 256) is RAM that nothing uses yet.
-        unsafe {
-            p.write_volatile(PAINT);
-            p = p.add(1);
-        }
-    }
-}
-
-/// Bytes of stack used so far: from the top of RAM to the lowest overwritten paint word.
-fn stack_used() -> (usize, usize) {
-    let bottom = core::ptr::addr_of_mut!(__sheap);
-    let top = core::ptr::addr_of!(_stack_start) as usize;
-    let mut p = bottom;
-    // SAFETY: reads of RAM words between the end of .bss and the top of the stack.
-    unsafe {
-        while (p as usize) < top && p.read_volatile() == PAINT {
-            p = p.add(1);
-        }
-    }
-    (top - p as usize, top - bottom as usize)
-}
 
 /// The static home of the firmware's per-sample state, as in the firmware.
 static mut SLOT: MaybeUninit<RigCore> = MaybeUninit::uninit();
@@ -65,7 +28,7 @@ static mut SLOT: MaybeUninit<RigCore> = MaybeUninit::uninit();
 fn main() -> ! {
     let mut ok = true;
     for case in &RIG_CASES {
-        paint_stack();
+        stack::paint();
         match rig_scenes::run(case) {
             Ok(run) => hprintln!("{}", RigReport { case: case.name, run: &run }),
             Err(e) => {
@@ -73,15 +36,15 @@ fn main() -> ! {
                 ok = false;
             }
         }
-        let (used, size) = stack_used();
+        let (used, size) = stack::used();
         hprintln!("stack {} used={} of {}", case.name, used, size);
     }
     // The firmware's set-up: RigCore::init into a static slot, as the firmware does.
-    paint_stack();
+    stack::paint();
     // SAFETY: the only reference ever made to SLOT; single-threaded program.
     let slot = unsafe { &mut *addr_of_mut!(SLOT) };
     let built = RigCore::init(slot, &CoreConfig::rig(25_600.0, true, true)).is_ok();
-    let (used, size) = stack_used();
+    let (used, size) = stack::used();
     hprintln!(
         "stack rig_core_init used={} of {} (RigCore {} bytes, built={})",
         used,

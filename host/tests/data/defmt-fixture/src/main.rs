@@ -1,7 +1,10 @@
-//! A defmt stream with known content for the host's `decode` tests: the log lines of the rig
-//! firmware (firmware/src/main.rs, format strings copied verbatim) with fixed values, over
-//! defmt-semihosting, under a timestamp that counts 1000 us per frame. The host test
-//! (host/tests/recorded_decode.rs) checks the decoded records against the values below.
+//! A defmt stream with known content for the host's `decode` tests: one record of every kind of
+//! the rig firmware's log (`stickslip_rig_core::logbook::Record`), written by the firmware's
+//! own formatting (`stickslip_records::log`, firmware/records) with fixed values, then one line
+//! that is no record, over defmt-semihosting, under a timestamp that counts 1000 us per frame.
+//! The host test (host/tests/recorded_decode.rs) checks the decoded records against the values
+//! below, which it writes out on its own: change both together. Floating-point values are
+//! exactly representable (binary fractions) so that the test compares them exactly.
 #![no_std]
 #![no_main]
 
@@ -9,8 +12,14 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug;
-use defmt::{error, info, warn};
 use defmt_semihosting as _;
+use stickslip_model::rig::contact::{ContactEvent, ContactEventKind};
+use stickslip_model::rig::sequencer::{Command, CommandResult, FaultCause, SeqState, Valves};
+use stickslip_model::rig::window::{ModelWindow, WindowReport};
+use stickslip_model::Halt;
+use stickslip_records::log;
+use stickslip_rig_core::logbook::{Boot, Record, ResetCause, WindowExtras};
+use stickslip_rig_core::rig_core::{ClosedWindow, PressureWindow};
 
 static FRAMES: AtomicU32 = AtomicU32::new(0);
 
@@ -25,104 +34,108 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 
 #[entry]
 fn main() -> ! {
-    info!("stickslip firmware {=str}: STM32F407VG at {=u64} Hz", "0.1.0", 168_000_000u64);
-    info!(
-        "ExactStepper<f32> built in {=u64} us: {=str} caliper, beta {=f64} m, {=u32} substep(s) per step",
-        1234u64,
-        "push",
-        0.04f64,
-        1u32
-    );
-    info!(
-        "stepping every {=u64} ticks of {=u64} Hz: {=u64} Hz (model dt 1/{=u64} s)",
-        39u64,
-        1_000_000u64,
-        25_641u64,
-        25_600u64
-    );
-    for k in 0..3u32 {
-        let t = 0.125 * (k + 1) as f64;
-        let (from, to) = if k % 2 == 0 { ("stick", "slip_slower") } else { ("slip_slower", "stick") };
-        info!(
-            "t={=f64} s {=str} -> {=str}: x={=f32} m x'={=f32} m/s phi={=f32} rad",
-            t,
-            from,
-            to,
-            0.000_25 * (k + 1) as f32,
-            -0.5 * k as f32,
-            0.002_75f32
-        );
-    }
-    info!(
-        "model t={=f64} s (wall {=u64} us): {=u32} transitions ({=u32} logged), regime {=str}, x={=f32} m, phi={=f32} rad",
-        1.0f64,
-        1_000_123u64,
-        48u32,
-        8u32,
-        "stick",
-        0.000_5f32,
-        0.002_75f32
-    );
-    info!(
-        "step cost: mean {=u64} max {=u32} cycles of {=u64} per tick; latest tick {=u64} ticks late, {=u32} overruns",
-        812u64,
-        2301u32,
-        6552u64,
-        3u64,
-        0u32
-    );
-    warn!("core peripherals already taken: step cycle counts will read 0");
-    // records in the layout of firmware/src/records.rs (format strings copied verbatim)
-    info!(
-        "event n={=u64} rec={=u32} sample={=u64} kind={=str} v_r={=f32} a_rel={=f32}",
-        51_200u64,
-        1u32,
-        25_600u64,
-        "stick_to_slip",
-        -0.001_5f32,
-        -24.5f32
-    );
-    let pp: [f32; 4] = [3.25, 80.5, 12.0, 150.75];
-    let rms: [f32; 4] = [0.5, 10.25, 2.5, 30.0];
-    let groan: [f32; 4] = [0.125, 8.5, 2.0, 25.5];
-    let p_mean: [f32; 2] = [5.0, 0.65];
-    let p_min: [f32; 2] = [4.875, 0.625];
-    let p_max: [f32; 2] = [5.125, 0.6875];
-    info!(
-        "window n={=u64} rec={=u32} idx={=u32} first={=u64} samples={=u32} valid={=u32} pp={} rms={} groan_rms={} stick={=f32} ss_hz={=f32} onsets={=u32} saturated={=u32} faulted={=u32} nonfinite={=bool} model={=bool} model_samples={=u32} model_stick={=f32} model_ss_hz={=f32} model_onsets={=u32} residual_rms={=f32} model_halt={=str} p_mean={} p_min={} p_max={} state={=str} overruns={=u32} events_dropped={=u32} windows_dropped={=u32} batch_cyc_max={=u32} batch_cyc_budget={=u32}",
-        53_760u64,
-        1u32,
-        20u32,
-        51_200u64,
-        2560u32,
-        2560u32,
-        pp,
-        rms,
-        groan,
-        0.8125f32,
-        48.5f32,
-        5u32,
-        0u32,
-        0u32,
-        false,
-        true,
-        2560u32,
-        0.8046875f32,
-        48.75f32,
-        5u32,
-        1.5f32,
-        "none",
-        p_mean,
-        p_min,
-        p_max,
-        "record",
-        0u32,
-        0u32,
-        0u32,
-        41_000u32,
-        65_625u32
-    );
-    error!("model halted at t={=f64} s: contact lost (N = {=f64} N)", 0.75f64, -1.25f64);
+    // frame 0
+    log(&Record::Boot(Boot {
+        fw: "0.1.0-fixture",
+        reset: ResetCause::PowerOn,
+        sysclk_hz: 168_000_000,
+        fs_hz: 25_599.5,
+        timer_clocks: 3281,
+        adc_channels: 8,
+        window_samples: 2560,
+        batch_frames: 128,
+        pressure: true,
+        end_of_stroke: false,
+    }));
+    // frame 1
+    log(&Record::ConfigError { field: "beta_m", rule: "inside the pad", value: -0.015625 });
+    // frame 2
+    log(&Record::Armed {
+        build_us: 1234,
+        caliper: "push",
+        beta_m: 0.03125,
+        f_n_n: 1500.5,
+        v_m_s: 0.375,
+        n0_n: 1498.25,
+    });
+    // frame 3
+    log(&Record::Start { watchdog_us: 250_000, stack_used: 3412, stack_size: 16_384 });
+    // frame 4: a fault, with the band valve still open
+    log(&Record::State {
+        n: 51_199,
+        record: 1,
+        from: SeqState::Record,
+        to: SeqState::Fault(FaultCause::AccelSaturation),
+        valves: Valves { actuator_open: false, band_open: true },
+    });
+    // frames 5 and 6: a command accepted, one refused
+    log(&Record::Command {
+        n: 12_800,
+        state: SeqState::Idle,
+        command: Command::Start,
+        result: CommandResult::Accepted,
+    });
+    log(&Record::Command {
+        n: 51_300,
+        state: SeqState::Fault(FaultCause::EStop),
+        command: Command::Reset,
+        result: CommandResult::Refused(FaultCause::EStop),
+    });
+    // frame 7
+    log(&Record::Event {
+        n: 51_200,
+        record: 1,
+        event: ContactEvent { kind: ContactEventKind::StickToSlip, sample: 25_600 },
+        v_r_m_s: -0.0078125,
+        a_rel_m_s2: -24.5,
+    });
+    // frame 8
+    let window = ClosedWindow {
+        record: 1,
+        report: WindowReport {
+            index: 20,
+            first_sample: 51_200,
+            samples: 2560,
+            valid_samples: 2558,
+            pp_m_s2: [3.25, 80.5, 12.0, 150.75],
+            rms_m_s2: [0.5, 10.25, 2.5, 30.0],
+            groan_rms_m_s2: [0.125, 8.5, 2.0, 25.5],
+            stick_fraction: 0.8125,
+            stick_slip_hz: 48.5,
+            slip_onsets: 5,
+            saturated_samples: 3,
+            faulted_samples: 2,
+            model: Some(ModelWindow {
+                samples: 2304,
+                stick_fraction: 0.8046875,
+                stick_slip_hz: 48.75,
+                slip_onsets: 4,
+                residual_rms_m_s2: 1.5,
+                halt: Some(Halt::ContactLoss { t: 0.75, n: -1.25 }),
+            }),
+            non_finite: false,
+        },
+        pressure: PressureWindow { mean_bar: [5.0, 0.625], min_bar: [4.875, 0.5625], max_bar: [5.125, 0.6875] },
+    };
+    log(&Record::Window {
+        window: &window,
+        extras: WindowExtras {
+            n: 53_760,
+            state: SeqState::Record,
+            overruns: 1,
+            events_dropped: 7,
+            windows_dropped: 2,
+            batch_cycles_max: 41_000,
+            batch_cycles_budget: 65_625,
+        },
+    });
+    // frames 9 to 12
+    log(&Record::Overrun { n: 60_000, count: 2 });
+    log(&Record::Stall { n: 60_128, ms: 12, adc_ovr: true });
+    log(&Record::Input { name: "estop", active: true });
+    log(&Record::Panic { file: "src/main.rs", line: 42, msg: "explicit panic" });
+    // frame 13: a line that is no record (like embassy-stm32's own defmt lines): kind `log`
+    defmt::warn!("DMA: error on channel {=u8} (flags {=u32:#x})", 3, 0x28);
     debug::exit(debug::EXIT_SUCCESS);
     loop {}
 }

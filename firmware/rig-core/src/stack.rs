@@ -1,5 +1,5 @@
-//! The stack's high-water mark: painted at boot, measured after the set-up (logged in the
-//! `start` record). cortex-m-rt puts the stack at the top of RAM, growing down toward the end
+//! The stack's high-water mark: painted at boot, measured after the set-up (the firmware logs
+//! it in the `start` record; the on-target programs print it after each case). cortex-m-rt puts the stack at the top of RAM, growing down toward the end
 //! of the statics (`__sheap`); nothing guards that end, so the figure is worth watching.
 
 /// Stack paint.
