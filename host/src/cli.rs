@@ -130,13 +130,15 @@ of a 1 s run). A scene with mu_s = mu_k has no breakaway jump: give --breakaway-
 Truth from the model run itself: its regime at each sample (stick fraction), the exact times
 of its stick-to-slip transitions ((n - 1) / (t_n - t_1)), the noise-free accelerations before
 clipping and the ADC (peak-to-peak). Error = (estimated - true) / true; null where the truth is
-0 (disc_x).
+0 (disc_x). Each peak-to-peak comes with its hard error bound [m/s^2]: one ADC count (each
+extreme rounded by at most half a count) plus 2 x 3.46 sigma of noise; a channel spanning few
+counts cannot be estimated closer than that (pad_trail of push_trail: 15 counts, bound 7 %).
 
 --json prints {\"scene\", \"caliper\", \"beta\" [m], \"sample_rate_hz\", \"stats_from\" [s],
 \"samples\", \"steps\", \"outcome\", \"halt_t_s\", \"noise_m_s2\", \"seed\", \"saturated_frames\",
 \"stick_fraction\", \"stick_slip_hz\", \"slip_onsets\": {\"estimated\", \"true\", \"error\"},
-\"channels\": {\"disc_x\": {\"pp\": {\"estimated\", \"true\", \"error\"}, \"rms\", \"peak_hz\",
-\"groan_rms\"}, ...}}.
+\"channels\": {\"disc_x\": {\"pp\": {\"estimated\", \"true\", \"error\"}, \"pp_bound\" [m/s^2], \"rms\",
+\"peak_hz\", \"groan_rms\"}, ...}}.
 
 --csv FILE writes every sample's calibrated channels: t_s,disc_x_m_s2,pad_x_m_s2,
 pad_trail_m_s2,pad_lead_m_s2 (values that read back to the same numbers), which `analyze` and

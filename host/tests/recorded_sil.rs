@@ -35,6 +35,9 @@ fn check_estimates(case: &str, v: &Value, sigma: f64) -> (f64, f64, f64) {
     let bound = LSB * (1.0 + 1e-6) + 4.0 * 3f64.sqrt() * sigma;
     let mut worst_pp: f64 = 0.0;
     for ch in CHANNELS {
+        // the error bound the tool reports is this one
+        let reported = num(v, &["channels", ch, "pp_bound"]);
+        assert!(rel(reported, LSB + 4.0 * 3f64.sqrt() * sigma) <= 1e-12, "{case} {ch}: pp_bound {reported}");
         let (e, t) = (num(v, &["channels", ch, "pp", "estimated"]), num(v, &["channels", ch, "pp", "true"]));
         assert!((e - t).abs() <= bound, "{case} {ch}: pp {e} vs true {t} (bound {bound})");
         if sigma == 0.0 && t >= 50.0 * LSB {

@@ -224,6 +224,8 @@ impl VsTruth {
 #[derive(Serialize)]
 pub struct SilChannelJson {
     pub pp: VsTruth,
+    /// Hard bound of |pp estimated - pp true| [m/s^2]: one ADC count plus the noise's bound.
+    pub pp_bound: f64,
     pub rms: Option<f64>,
     pub peak_hz: Option<f64>,
     pub groan_rms: Option<f64>,
@@ -281,6 +283,7 @@ impl SilJson {
             slip_onsets: on,
             channels: Channels::from_fn(|c| SilChannelJson {
                 pp: pp[c],
+                pp_bound: r.pp_bound_m_s2[c],
                 rms: m.map(|a| a.channels[c].rms),
                 peak_hz: m.and_then(|a| a.channels[c].peak_hz),
                 groan_rms: m.map(|a| a.channels[c].groan_rms),
@@ -312,18 +315,34 @@ pub fn sil_markdown(r: &SilReport) -> String {
         r.outcome,
         r.halt_t_s.map_or(String::new(), |t| format!(" at t = {} s", num(t)))
     ));
-    s.push_str("| quantity | estimated (virtual rig) | true (model) | error |\n|---|---:|---:|---:|\n");
-    let row = |name: &str, v: &VsTruth| format!("| {name} | {} | {} | {} |\n", opt(v.estimated), opt(v.truth), pct(v.error));
+    s.push_str("| quantity | estimated (virtual rig) | true (model) | error | error bound |\n|---|---:|---:|---:|---:|\n");
+    let row = |name: &str, v: &VsTruth| {
+        format!("| {name} | {} | {} | {} | |\n", opt(v.estimated), opt(v.truth), pct(v.error))
+    };
     s.push_str(&row("stick fraction [-]", &sf));
     s.push_str(&row("stick-slip frequency [Hz]", &hz));
     let count = |v: Option<f64>| v.map_or("none".to_string(), |n| format!("{n:.0}"));
-    s.push_str(&format!("| slip onsets | {} | {} | {} |\n", count(on.estimated), count(on.truth), pct(on.error)));
+    s.push_str(&format!("| slip onsets | {} | {} | {} | |\n", count(on.estimated), count(on.truth), pct(on.error)));
     for c in 0..4 {
-        s.push_str(&row(&format!("{} peak-to-peak [m/s^2]", ACCEL_NAMES[c]), &pp[c]));
+        let v = &pp[c];
+        let b = r.pp_bound_m_s2[c];
+        let bound = match v.truth {
+            Some(t) if t > 0.0 => format!("+-{} ({})", num(b), pct(Some(b / t)).replace('+', "+-")),
+            _ => format!("+-{}", num(b)),
+        };
+        s.push_str(&format!(
+            "| {} peak-to-peak [m/s^2] | {} | {} | {} | {bound} |\n",
+            ACCEL_NAMES[c],
+            opt(v.estimated),
+            opt(v.truth),
+            pct(v.error)
+        ));
     }
     s.push_str(
         "\nTrue: the model's own regime at each sample, the exact times of its stick-to-slip transitions, and \
-         the noise-free accelerations before clipping and the ADC. Error = (estimated - true) / true.\n",
+         the noise-free accelerations before clipping and the ADC. Error = (estimated - true) / true. Error \
+         bound of a peak-to-peak: one ADC count (each extreme rounded by at most half a count) plus twice the \
+         noise's hard bound; a channel whose peak-to-peak spans few counts cannot be estimated closer.\n",
     );
     if r.saturated_frames > 0 {
         s.push_str(&format!("{} frames had an accelerometer at its range or an ADC rail.\n", r.saturated_frames));

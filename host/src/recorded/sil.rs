@@ -101,6 +101,11 @@ pub struct SilReport {
     pub seed: u32,
     /// Frames with an accelerometer at its range or at an ADC rail.
     pub saturated_frames: u64,
+    /// The hard bound of |estimated - true| peak-to-peak per channel [m/s^2]: each extreme is
+    /// off by at most half an ADC count (rounding) plus the noise's bound
+    /// (`prng::UNIT_NOISE_BOUND` sigma), so the peak-to-peak by one count plus twice that
+    /// (without clipping: see `saturated_frames`). See [`pp_error_bound`].
+    pub pp_bound_m_s2: [f64; CH],
     pub truth: Truth,
     /// The analysis of the virtual rig's channels; `None` if the run halted before
     /// `stats_from`.
@@ -251,7 +256,19 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
         noise_m_s2: opts.noise_m_s2,
         seed: opts.seed,
         saturated_frames,
+        pp_bound_m_s2: pp_error_bound(&RIG_CALIBRATION, opts.noise_m_s2),
         truth,
         measured,
+    })
+}
+
+/// The hard error bound of a peak-to-peak through the virtual rig, per accelerometer [m/s^2]:
+/// one ADC count (`1 / counts_per_m_s2`: the two extremes each rounded by at most half a
+/// count) plus `2 UNIT_NOISE_BOUND sigma` (the two extremes each moved by at most the
+/// noise's bound). Valid while no sample clips.
+pub fn pp_error_bound(cal: &stickslip_model::rig::calibration::Calibration, noise_m_s2: f64) -> [f64; CH] {
+    std::array::from_fn(|c| {
+        1.0 / cal.accel[c].counts_per_m_s2(&cal.adc)
+            + 2.0 * stickslip_model::rig::prng::UNIT_NOISE_BOUND * noise_m_s2
     })
 }
