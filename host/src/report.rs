@@ -274,18 +274,12 @@ impl CaseJson {
     }
 }
 
-/// `simulate --json`.
+/// `simulate --json`: the keys of [`CaseJson`] (its `outcome` left out: this one always has
+/// it, below), then the run's.
 #[derive(Serialize)]
 pub struct SimulateJson {
-    pub name: String,
-    pub caliper: &'static str,
-    pub beta: f64,
-    pub x_pp: Option<f64>,
-    pub xdot_pp: Option<f64>,
-    pub phi_pp: Option<f64>,
-    pub phidot_pp: Option<f64>,
-    pub stick_fraction: Option<f64>,
-    pub stick_slip_hz: Option<f64>,
+    #[serde(flatten)]
+    pub case: CaseJson,
     pub precision: &'static str,
     pub dt: f64,
     pub duration: f64,
@@ -305,17 +299,9 @@ pub struct SimulateJson {
 
 impl SimulateJson {
     pub fn new(ns: &NamedScene, r: &RunReport) -> Self {
-        let c = CaseJson::new(ns, r);
+        let case = CaseJson { outcome: None, ..CaseJson::new(ns, r) };
         SimulateJson {
-            name: c.name,
-            caliper: c.caliper,
-            beta: c.beta,
-            x_pp: c.x_pp,
-            xdot_pp: c.xdot_pp,
-            phi_pp: c.phi_pp,
-            phidot_pp: c.phidot_pp,
-            stick_fraction: c.stick_fraction,
-            stick_slip_hz: c.stick_slip_hz,
+            case,
             precision: r.precision.name(),
             dt: ns.scene.dt,
             duration: ns.scene.duration,

@@ -51,6 +51,19 @@ pub fn write_all(dir: &Path, what: &str, a: &Analysis) -> Result<Vec<PathBuf>> {
 
 type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
 
+/// The series labels, upper right, as every figure here has them.
+fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> std::result::Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        .draw()
+}
+
 fn channel(path: &Path, what: &str, a: &Analysis, c: usize) -> DrawResult {
     let env = &a.envelope;
     let st = &a.channels[c];
@@ -100,13 +113,7 @@ fn channel(path: &Path, what: &str, a: &Analysis, c: usize) -> DrawResult {
         .draw_series(LineSeries::new(pts, ShapeStyle::from(&COLORS[1]).stroke_width(1)))?
         .label(format!("peak-to-peak {:.4} m/s^2", st.pp))
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 30, y)], ShapeStyle::from(&COLORS[1]).stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()?;
+    legend(&mut chart)?;
     root.present()?;
     Ok(())
 }
@@ -169,13 +176,7 @@ fn spectra(path: &Path, what: &str, a: &Analysis) -> DrawResult {
             .label(format!("{} (peak {peak})", ACCEL_NAMES[c]))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 30, y)], ShapeStyle::from(&color).stroke_width(2)));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()?;
+    legend(&mut chart)?;
     root.present()?;
     Ok(())
 }
