@@ -4,7 +4,7 @@
 //! comment giving its unit and meaning, in a form `parse` reads back to the same scene.
 
 use serde::Deserialize;
-use stickslip_model::{Caliper, Coefficients, Scene, DEFAULT_SCENE};
+use stickslip_model::{Caliper, Coefficients, FrictionLaw, Scene, DEFAULT_SCENE};
 
 /// `caliper = "push" | "pull"`.
 #[derive(Clone, Copy, Debug, Deserialize)]
@@ -12,6 +12,14 @@ use stickslip_model::{Caliper, Coefficients, Scene, DEFAULT_SCENE};
 enum CaliperKey {
     Push,
     Pull,
+}
+
+/// `friction = "coulomb" | "stribeck"`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum FrictionKey {
+    Coulomb,
+    Stribeck,
 }
 
 /// The file as written: every key optional.
@@ -38,6 +46,16 @@ struct SceneToml {
     c_x: Option<f64>,
     c_phi: Option<f64>,
     rotation: Option<bool>,
+    friction: Option<FrictionKey>,
+    v_s: Option<f64>,
+    stribeck_exponent: Option<f64>,
+    band: Option<bool>,
+    m_b: Option<f64>,
+    k_b: Option<f64>,
+    c_b: Option<f64>,
+    zeta_x: Option<f64>,
+    zeta_phi: Option<f64>,
+    zeta_b: Option<f64>,
     dt: Option<f64>,
     duration: Option<f64>,
     stats_from: Option<f64>,
@@ -52,7 +70,7 @@ pub struct ParsedScene {
 }
 
 /// Unit and meaning of each key, in file order (also used for `--help`).
-pub const KEYS: [(&str, &str); 23] = [
+pub const KEYS: [(&str, &str); 33] = [
     ("name", "scene name (reported in every output)"),
     ("description", "one line for `stickslip scenes` (optional)"),
     (
@@ -96,6 +114,35 @@ pub const KEYS: [(&str, &str); 23] = [
     (
         "rotation",
         "true: 2-DOF pad; false: phi held at F_N a_N / K (1-DOF mass on a belt, N constant)",
+    ),
+    (
+        "friction",
+        "\"coulomb\" (the thesis: mu_s in stick, mu_k in slip) or \"stribeck\": \
+         mu(v) = mu_k + (mu_s - mu_k) exp(-(|v| / v_s)^delta) in slip",
+    ),
+    ("v_s", "Stribeck velocity v_s [m/s], > 0 (friction = \"stribeck\")"),
+    (
+        "stribeck_exponent",
+        "Stribeck exponent delta [-], 0 < delta <= 8 (friction = \"stribeck\")",
+    ),
+    (
+        "band",
+        "true: the band is a mass m_b driven at V through k_b, c_b; false: it moves at exactly V",
+    ),
+    ("m_b", "band mass m_b [kg] (band = true)"),
+    ("k_b", "band drive (cylinder) stiffness k_b [N/m] (band = true)"),
+    ("c_b", "band drive damping c_b [N s/m] (band = true)"),
+    (
+        "zeta_x",
+        "instead of c_x: damping ratio of the x mode in slip, c_x = 2 zeta_x sqrt(k_g m) [-]",
+    ),
+    (
+        "zeta_phi",
+        "instead of c_phi: damping ratio of the rotation, c_phi = 2 zeta_phi sqrt(K I) [-]",
+    ),
+    (
+        "zeta_b",
+        "instead of c_b: damping ratio of the band drive, c_b = 2 zeta_b sqrt(k_b m_b) [-]",
     ),
     ("dt", "fixed time step [s]"),
     ("duration", "run length [s]"),
@@ -146,8 +193,39 @@ pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
     }
     take!(
         m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi,
-        rotation, dt, duration, stats_from
+        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, dt, duration, stats_from
     );
+    if let Some(f) = t.friction {
+        s.friction = match f {
+            FrictionKey::Coulomb => FrictionLaw::Coulomb,
+            FrictionKey::Stribeck => FrictionLaw::Stribeck,
+        };
+    }
+    // Damping ratios: converted to the viscous coefficient with the scene's own stiffness and
+    // inertia, after every other key is applied. A ratio and its coefficient together are
+    // ambiguous.
+    let co = Coefficients::of(&s);
+    let ratios = [
+        ("zeta_x", "c_x", t.zeta_x, t.c_x.is_some(), s.k_g * s.m),
+        ("zeta_phi", "c_phi", t.zeta_phi, t.c_phi.is_some(), co.k_rot * s.inertia),
+        ("zeta_b", "c_b", t.zeta_b, t.c_b.is_some(), s.k_b * s.m_b),
+    ];
+    for (key, coef, zeta, coef_given, km) in ratios {
+        let Some(zeta) = zeta else { continue };
+        let err = |message: String| ParseError { line_col: key_line(text, key).map(|l| (l, 1)), message };
+        if coef_given {
+            return Err(err(format!("`{key}` and `{coef}` both set: give the damping one way")));
+        }
+        if !(zeta.is_finite() && zeta >= 0.0) {
+            return Err(err(format!("`{key}` = {zeta}: a damping ratio must be a finite number >= 0")));
+        }
+        let c = 2.0 * zeta * km.max(0.0).sqrt();
+        match coef {
+            "c_x" => s.c_x = c,
+            "c_phi" => s.c_phi = c,
+            _ => s.c_b = c,
+        }
+    }
     Ok(ParsedScene {
         name: t.name,
         description: t.description,
@@ -200,7 +278,7 @@ fn toml_string(s: &str) -> String {
 /// The value of each key of `s`, as TOML, in [`KEYS`] order (name and description excluded).
 fn values(s: &Scene) -> Vec<(&'static str, String)> {
     let f = toml_float;
-    vec![
+    let mut v = vec![
         ("caliper", toml_string(s.caliper.name())),
         ("m", f(s.m)),
         ("inertia", f(s.inertia)),
@@ -219,10 +297,25 @@ fn values(s: &Scene) -> Vec<(&'static str, String)> {
         ("c_x", f(s.c_x)),
         ("c_phi", f(s.c_phi)),
         ("rotation", s.rotation.to_string()),
+    ];
+    // model-2 options: written only when on (a scene carries only what it uses)
+    if s.friction == FrictionLaw::Stribeck {
+        v.push(("friction", toml_string(s.friction.name())));
+        v.push(("v_s", f(s.v_s)));
+        v.push(("stribeck_exponent", f(s.stribeck_exponent)));
+    }
+    if s.band {
+        v.push(("band", "true".to_string()));
+        v.push(("m_b", f(s.m_b)));
+        v.push(("k_b", f(s.k_b)));
+        v.push(("c_b", f(s.c_b)));
+    }
+    v.extend([
         ("dt", f(s.dt)),
         ("duration", f(s.duration)),
         ("stats_from", f(s.stats_from)),
-    ]
+    ]);
+    v
 }
 
 /// The scene as a complete, commented scene file.

@@ -35,5 +35,5 @@ pub mod stickslip;
 pub use coefficients::Coefficients;
 pub use exact::{ExactStepper, Halt, Observer, Segment, State, Transition};
 pub use real::Real;
-pub use scene::{Caliper, Scene, SceneError, DEFAULT_SCENE};
+pub use scene::{Caliper, FrictionLaw, Scene, SceneError, DEFAULT_SCENE};
 pub use stickslip::Regime;

@@ -22,6 +22,25 @@ impl Caliper {
     }
 }
 
+/// The friction law in slip (docs/model.md, "Model 2", option 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrictionLaw {
+    /// The thesis's law: mu_s holds in stick, mu_k in slip.
+    Coulomb,
+    /// Falling friction: mu(v) = mu_k + (mu_s - mu_k) exp(-(|v| / v_s)^delta), continuous at
+    /// breakaway (mu(0+) = mu_s).
+    Stribeck,
+}
+
+impl FrictionLaw {
+    pub const fn name(self) -> &'static str {
+        match self {
+            FrictionLaw::Coulomb => "coulomb",
+            FrictionLaw::Stribeck => "stribeck",
+        }
+    }
+}
+
 /// One scene: the pad, the contact, the load, the band and the run settings.
 ///
 /// Symbols follow docs/model.md. Pad length is `2 l`, thickness `2 w`.
@@ -63,6 +82,21 @@ pub struct Scene {
     /// `false` holds phi at its static value F_N a_N / K (the 1-DOF mass on a moving belt,
     /// N constant): the rotation is left out of the step entirely.
     pub rotation: bool,
+    /// Friction law in slip ([`FrictionLaw::Coulomb`]: the thesis model).
+    pub friction: FrictionLaw,
+    /// Stribeck velocity v_s [m/s], > 0 (read only with [`FrictionLaw::Stribeck`]).
+    pub v_s: f64,
+    /// Stribeck exponent delta [-], > 0 (read only with [`FrictionLaw::Stribeck`]).
+    pub stribeck_exponent: f64,
+    /// `true`: the band is a mass m_b driven at V through the cylinder's k_b, c_b
+    /// (docs/model.md, "Model 2", option 3); `false`: the band moves at exactly V.
+    pub band: bool,
+    /// Band mass m_b [kg] (read only with `band`).
+    pub m_b: f64,
+    /// Band drive stiffness k_b [N/m] (read only with `band`).
+    pub k_b: f64,
+    /// Band drive damping c_b [N s/m] (read only with `band`).
+    pub c_b: f64,
     /// Fixed step dt [s].
     pub dt: f64,
     /// Run length [s].
@@ -91,6 +125,13 @@ pub const DEFAULT_SCENE: Scene = Scene {
     c_x: 0.0,
     c_phi: 0.0,
     rotation: true,
+    friction: FrictionLaw::Coulomb,
+    v_s: 0.005,
+    stribeck_exponent: 1.0,
+    band: false,
+    m_b: 2.0,
+    k_b: 1e6,
+    c_b: 0.0,
     dt: 1.0 / 25600.0,
     duration: 1.0,
     stats_from: 0.5,
@@ -128,6 +169,13 @@ fn check(ok: bool, field: &'static str, rule: &'static str, value: f64) -> Resul
 }
 
 impl Scene {
+    /// Whether the scene uses any option of model 2 that the thesis stepper
+    /// ([`crate::ExactStepper`]) does not carry: Stribeck friction or the band degree of
+    /// freedom. Damping is part of both steppers' exact flows.
+    pub const fn uses_model2(&self) -> bool {
+        matches!(self.friction, FrictionLaw::Stribeck) || self.band
+    }
+
     /// One of the six cases: the default pad with the given caliper and load position.
     pub const fn case(caliper: Caliper, beta: f64) -> Scene {
         let mut s = DEFAULT_SCENE;
@@ -161,7 +209,7 @@ impl Scene {
     /// Checks every field; the first violation is returned. A scene that passes can be
     /// stepped without panics (all derived quantities are finite and non-degenerate).
     pub fn validate(&self) -> Result<(), SceneError> {
-        let finite: [(&'static str, f64); 19] = [
+        let finite: [(&'static str, f64); 24] = [
             ("m", self.m),
             ("inertia", self.inertia),
             ("l", self.l),
@@ -178,6 +226,11 @@ impl Scene {
             ("mu_k", self.mu_k),
             ("c_x", self.c_x),
             ("c_phi", self.c_phi),
+            ("v_s", self.v_s),
+            ("stribeck_exponent", self.stribeck_exponent),
+            ("m_b", self.m_b),
+            ("k_b", self.k_b),
+            ("c_b", self.c_b),
             ("dt", self.dt),
             ("duration", self.duration),
             ("stats_from", self.stats_from),
@@ -210,6 +263,20 @@ impl Scene {
         check(self.mu_k <= self.mu_s, "mu_k", "kinetic friction must not exceed static: mu_k <= mu_s", self.mu_k)?;
         check(self.c_x >= 0.0, "c_x", "damping must be >= 0 N s/m", self.c_x)?;
         check(self.c_phi >= 0.0, "c_phi", "damping must be >= 0 N m s/rad", self.c_phi)?;
+        if self.friction == FrictionLaw::Stribeck {
+            check(self.v_s > 0.0, "v_s", "Stribeck velocity must be > 0 m/s", self.v_s)?;
+            check(
+                self.stribeck_exponent > 0.0 && self.stribeck_exponent <= 8.0,
+                "stribeck_exponent",
+                "Stribeck exponent must satisfy 0 < delta <= 8",
+                self.stribeck_exponent,
+            )?;
+        }
+        if self.band {
+            check(self.m_b > 0.0, "m_b", "band mass must be > 0 kg", self.m_b)?;
+            check(self.k_b > 0.0, "k_b", "band drive stiffness must be > 0 N/m", self.k_b)?;
+            check(self.c_b >= 0.0, "c_b", "band drive damping must be >= 0 N s/m", self.c_b)?;
+        }
         check(self.dt > 0.0, "dt", "time step must be > 0 s", self.dt)?;
         check(self.duration > 0.0, "duration", "run length must be > 0 s", self.duration)?;
         check(self.dt <= self.duration, "dt", "time step must not exceed the run length", self.dt)?;
