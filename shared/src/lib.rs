@@ -25,6 +25,7 @@ pub mod friction;
 pub mod halt;
 pub mod linalg;
 pub mod methods;
+pub mod model2;
 pub mod propagator;
 pub mod real;
 pub mod rig;

@@ -8,8 +8,12 @@
 
 pub const N: usize = 5;
 pub type Mat = [[f64; N]; N];
+/// An n x n matrix (model 2's augmented systems are 7 x 7, their phi-function blocks 10 x 10).
+pub type MatN<const M: usize> = [[f64; M]; M];
 
-pub const IDENTITY: Mat = {
+pub const IDENTITY: Mat = identity::<N>();
+
+pub const fn identity<const N: usize>() -> MatN<N> {
     let mut m = [[0.0; N]; N];
     let mut i = 0;
     while i < N {
@@ -17,9 +21,9 @@ pub const IDENTITY: Mat = {
         i += 1;
     }
     m
-};
+}
 
-pub fn mul(a: &Mat, b: &Mat) -> Mat {
+pub fn mul<const N: usize>(a: &MatN<N>, b: &MatN<N>) -> MatN<N> {
     let mut c = [[0.0; N]; N];
     for i in 0..N {
         for k in 0..N {
@@ -35,7 +39,7 @@ pub fn mul(a: &Mat, b: &Mat) -> Mat {
     c
 }
 
-pub fn scale(a: &Mat, s: f64) -> Mat {
+pub fn scale<const N: usize>(a: &MatN<N>, s: f64) -> MatN<N> {
     let mut c = *a;
     for row in c.iter_mut() {
         for v in row.iter_mut() {
@@ -45,7 +49,7 @@ pub fn scale(a: &Mat, s: f64) -> Mat {
     c
 }
 
-fn norm1(a: &Mat) -> f64 {
+fn norm1<const N: usize>(a: &MatN<N>) -> f64 {
     let mut best = 0.0;
     for j in 0..N {
         let mut s = 0.0;
@@ -62,7 +66,7 @@ fn norm1(a: &Mat) -> f64 {
 /// Diagonal similarity D^-1 A D with power-of-two entries that evens out row and column norms
 /// (Parlett and Reinsch). Returns the balanced matrix and D's diagonal.
 #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
-fn balance(a: &Mat) -> (Mat, [f64; N]) {
+fn balance<const N: usize>(a: &MatN<N>) -> (MatN<N>, [f64; N]) {
     let mut b = *a;
     let mut d = [1.0; N];
     for _ in 0..64 {
@@ -112,7 +116,7 @@ fn balance(a: &Mat) -> (Mat, [f64; N]) {
 /// precision even when the flow is close to the identity (a short step). Balancing by powers
 /// of two (exact), scaling so the 1-norm is <= 1/2, a degree-18 Taylor polynomial of
 /// (expm(B) - I) = B (I + B/2 (I + B/3 (...))), then squaring in the form E <- 2 E + E E.
-pub fn expm_minus_identity(a: &Mat) -> Mat {
+pub fn expm_minus_identity<const N: usize>(a: &MatN<N>) -> MatN<N> {
     let (b, d) = balance(a);
     let nrm = norm1(&b);
     let mut squarings = 0u32;
@@ -122,7 +126,7 @@ pub fn expm_minus_identity(a: &Mat) -> Mat {
         squarings += 1;
     }
     let bs = scale(&b, s);
-    let mut p = IDENTITY;
+    let mut p = identity::<N>();
     for k in (2..=18).rev() {
         p = scale(&mul(&bs, &p), 1.0 / k as f64);
         for (i, row) in p.iter_mut().enumerate() {
@@ -148,7 +152,7 @@ pub fn expm_minus_identity(a: &Mat) -> Mat {
 }
 
 /// expm(A).
-pub fn expm(a: &Mat) -> Mat {
+pub fn expm<const N: usize>(a: &MatN<N>) -> MatN<N> {
     let mut e = expm_minus_identity(a);
     for (i, row) in e.iter_mut().enumerate() {
         row[i] += 1.0;

@@ -45,6 +45,10 @@ pub trait Real:
     fn abs(self) -> Self;
     fn is_finite(self) -> bool;
     fn sqrt(self) -> Self;
+    /// e^self (libm: the same software routine on the host and the Cortex-M4F).
+    fn exp(self) -> Self;
+    /// self^e for self > 0 (libm).
+    fn powf(self, e: Self) -> Self;
     fn max(self, other: Self) -> Self {
         if other > self {
             other
@@ -62,7 +66,7 @@ pub trait Real:
 }
 
 macro_rules! impl_real {
-    ($t:ty, $levels:expr, $name:expr, $sqrt:path) => {
+    ($t:ty, $levels:expr, $name:expr, $sqrt:path, $exp:path, $pow:path) => {
         impl Real for $t {
             const DYADIC_LEVELS: usize = $levels;
             const NAME: &'static str = $name;
@@ -106,9 +110,17 @@ macro_rules! impl_real {
             fn sqrt(self) -> Self {
                 $sqrt(self)
             }
+            #[inline(always)]
+            fn exp(self) -> Self {
+                $exp(self)
+            }
+            #[inline(always)]
+            fn powf(self, e: Self) -> Self {
+                $pow(self, e)
+            }
         }
     };
 }
 
-impl_real!(f32, 24, "f32", libm::sqrtf);
-impl_real!(f64, 53, "f64", libm::sqrt);
+impl_real!(f32, 24, "f32", libm::sqrtf, libm::expf, libm::powf);
+impl_real!(f64, 53, "f64", libm::sqrt, libm::exp, libm::pow);

@@ -1,0 +1,18 @@
+//! Model 2, part 1 (docs/model.md, "Model 2"): Stribeck friction, the band as a degree of
+//! freedom, damping on every degree of freedom, on top of the thesis model.
+//!
+//! - [`system`]: the equations as matrices and rows (state x, x', phi, phi', u, u').
+//! - [`stepper`]: the fixed-step stepper (exact flows for the linear regimes, ETDRK4 for
+//!   Stribeck slip, in-step transitions and crests).
+//! - [`stats`]: window statistics of a model-2 run (extremes inside segments by cubic Hermite
+//!   interpolation of the state and its derivative).
+//!
+//! The stick-slip state machine is the thesis's ([`crate::stickslip::Regime`] and its
+//! transition table, with the sliding velocity and the required force of model 2).
+pub mod stats;
+pub mod stepper;
+pub mod system;
+
+pub use stats::{Stats2, Stats2Observer};
+pub use stepper::{Model2Stepper, Observer2, Segment2, Transition2};
+pub use system::{System, NA, NS};

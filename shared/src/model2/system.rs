@@ -1,0 +1,231 @@
+//! The equations of model 2, part 1, as matrices (docs/model.md, "Model 2, part 1").
+//!
+//! State z = [x, x', phi, phi', u, u'] with u = x_b - V t (the band's offset from its drive
+//! point), augmented with a constant 1 (index [`ONE`]). Every regime's Coulomb part is linear,
+//! z' = A z; Stribeck friction adds a scalar forcing along one fixed direction,
+//!
+//! ```text
+//! z' = A_sigma z + b q(z),   q(z) = sigma (mu(|v|) - mu_k) N(z)
+//! ```
+//!
+//! where b = [0, 1/m, 0, s w / I, 0, -1/m_b] is where a unit friction force on the pad acts
+//! (the pad's x, its moment arm s w, and the band's reaction) and A_sigma carries the kinetic
+//! part sigma mu_k N. The sliding velocity v, the normal force N and the stick's required force
+//! F_req are linear rows of z. Rows of a degree of freedom the scene leaves out are zero, and
+//! its coordinates keep their initial values for good.
+
+use crate::coefficients::Coefficients;
+use crate::linalg::MatN;
+use crate::scene::{FrictionLaw, Scene};
+use crate::stickslip::Regime;
+
+/// State size: x, x', phi, phi', u, u'.
+pub const NS: usize = 6;
+/// Augmented size (the constant 1 last).
+pub const NA: usize = 7;
+/// Index of the constant 1 in the augmented state.
+pub const ONE: usize = 6;
+/// An augmented matrix of model 2 (f64, set-up only).
+pub type Mat7 = MatN<NA>;
+
+/// The regimes' matrices and rows, in f64.
+#[derive(Clone, Copy, Debug)]
+pub struct System {
+    /// A of stick, slip slower, slip faster (slip: the kinetic part sigma mu_k N).
+    pub a: [Mat7; 3],
+    /// Direction of a unit friction force on the pad, per unit of force [1/kg, 1/(kg m)].
+    pub b: [f64; NA],
+    /// Sliding velocity v = x' - V - u' [m/s] (face term: part 2).
+    pub r_v: [f64; NA],
+    /// Normal force N [N]: c_N phi, or N_0 without rotation.
+    pub r_n: [f64; NA],
+    /// Required friction force in stick F_req [N].
+    pub r_freq: [f64; NA],
+    pub stribeck: bool,
+    pub band: bool,
+    pub rotation: bool,
+    /// mu_s - mu_k.
+    pub d_mu: f64,
+    pub mu_s: f64,
+    pub mu_k: f64,
+    pub v_s: f64,
+    pub delta: f64,
+    pub v: f64,
+    pub m: f64,
+    pub m_b: f64,
+}
+
+impl System {
+    pub fn of(scene: &Scene, co: &Coefficients) -> System {
+        let band = scene.band;
+        let rot = scene.rotation;
+        let (m, i) = (scene.m, scene.inertia);
+        let s_w = co.s * scene.w;
+        let mut r_n = [0.0; NA];
+        if rot {
+            r_n[2] = co.c_n;
+        } else {
+            r_n[ONE] = co.n0;
+        }
+        let mut r_v = [0.0; NA];
+        r_v[1] = 1.0;
+        r_v[ONE] = -scene.v;
+        if band {
+            r_v[5] = -1.0;
+        }
+        // the pad's and the band's restoring rows (no friction)
+        let mut pad_x = [0.0; NA]; // m x'' without friction
+        pad_x[0] = -scene.k_g;
+        pad_x[1] = -scene.c_x;
+        let mut band_u = [0.0; NA]; // m_b u'' without friction
+        if band {
+            band_u[4] = -scene.k_b;
+            band_u[5] = -scene.c_b;
+        }
+        let mut rot_row = [0.0; NA]; // I phi'' without friction
+        if rot {
+            rot_row[2] = -co.k_rot;
+            rot_row[3] = -scene.c_phi;
+            rot_row[ONE] = scene.f_n * co.a_n;
+        }
+        // stick: F_req and the common acceleration
+        let mut r_freq = [0.0; NA];
+        let mut stick_acc = [0.0; NA]; // x'' (= u'' with the band)
+        if band {
+            let mt = m + scene.m_b;
+            for c in 0..NA {
+                stick_acc[c] = (pad_x[c] + band_u[c]) / mt;
+                r_freq[c] = m * stick_acc[c] - pad_x[c];
+            }
+        } else {
+            // x' = V, x'' = 0: F_req = k_g x + c_x V
+            r_freq[0] = scene.k_g;
+            r_freq[ONE] = scene.c_x * scene.v;
+        }
+        let mut a = [[[0.0; NA]; NA]; 3];
+        for regime in Regime::ALL {
+            let ar = &mut a[regime.index()];
+            ar[0][1] = 1.0;
+            if rot {
+                ar[2][3] = 1.0;
+            }
+            if band {
+                ar[4][5] = 1.0;
+            }
+            match regime {
+                Regime::Stick => {
+                    if band {
+                        ar[1] = stick_acc;
+                        ar[5] = stick_acc;
+                    }
+                    if rot {
+                        for c in 0..NA {
+                            ar[3][c] = (rot_row[c] + s_w * r_freq[c]) / i;
+                        }
+                    }
+                }
+                Regime::SlipSlower | Regime::SlipFaster => {
+                    let f = regime.friction_sign() * scene.mu_k; // F_f = f N
+                    for c in 0..NA {
+                        let ff = f * r_n[c];
+                        ar[1][c] = (pad_x[c] + ff) / m;
+                        if rot {
+                            ar[3][c] = (rot_row[c] + s_w * ff) / i;
+                        }
+                        if band {
+                            ar[5][c] = (band_u[c] - ff) / scene.m_b;
+                        }
+                    }
+                }
+            }
+        }
+        let mut b = [0.0; NA];
+        b[1] = 1.0 / m;
+        if rot {
+            b[3] = s_w / i;
+        }
+        if band {
+            b[5] = -1.0 / scene.m_b;
+        }
+        System {
+            a,
+            b,
+            r_v,
+            r_n,
+            r_freq,
+            stribeck: scene.friction == FrictionLaw::Stribeck,
+            band,
+            rotation: rot,
+            d_mu: scene.mu_s - scene.mu_k,
+            mu_s: scene.mu_s,
+            mu_k: scene.mu_k,
+            v_s: scene.v_s,
+            delta: scene.stribeck_exponent,
+            v: scene.v,
+            m,
+            m_b: scene.m_b,
+        }
+    }
+
+    /// Largest |eigenvalue| of the regimes' linear parts [1/s] (from the 2 x 2 blocks of each
+    /// degree of freedom and of the stuck pad-band pair; an upper estimate, not a bound).
+    pub fn linear_rate(&self, scene: &Scene, co: &Coefficients) -> f64 {
+        fn quad_max_root(a: f64, b: f64, c: f64) -> f64 {
+            let disc = b * b - 4.0 * a * c;
+            if disc < 0.0 {
+                libm::sqrt(libm::fabs(c / a))
+            } else {
+                let r = libm::sqrt(disc);
+                libm::fabs((-b - r) / (2.0 * a)).max(libm::fabs((-b + r) / (2.0 * a)))
+            }
+        }
+        let mut rate = quad_max_root(scene.m, scene.c_x, scene.k_g);
+        if self.rotation {
+            for sigma in [1.0, -1.0, 0.0] {
+                for mu in [scene.mu_s, scene.mu_k] {
+                    let k = co.k_rot - co.s * scene.w * sigma * mu * co.c_n;
+                    rate = rate.max(quad_max_root(scene.inertia, scene.c_phi, k));
+                }
+            }
+        }
+        if self.band {
+            rate = rate.max(quad_max_root(scene.m_b, scene.c_b, scene.k_b));
+            rate = rate.max(quad_max_root(scene.m + scene.m_b, scene.c_x + scene.c_b, scene.k_g + scene.k_b));
+            // the pad-band pair in slip: relative mode through the friction's mu_k coupling
+            // is bounded by the sum of the two rates
+            rate = rate.max(
+                quad_max_root(scene.m, scene.c_x, scene.k_g) + quad_max_root(scene.m_b, scene.c_b, scene.k_b),
+            );
+        }
+        rate
+    }
+
+    /// The falling friction's rate at sliding speed |v| [1/s]: |dq/dv| times the inverse mass
+    /// of the sliding velocity (1/m + 1/m_b), with N at `n` [N]. Zero for Coulomb friction.
+    pub fn stribeck_rate(&self, v_abs: f64, n: f64) -> f64 {
+        if !self.stribeck {
+            return 0.0;
+        }
+        let y = v_abs / self.v_s;
+        // d/dv [d_mu exp(-y^delta)] = -d_mu delta y^(delta-1) exp(-y^delta) / v_s
+        let slope = if y > 0.0 {
+            self.d_mu * self.delta * libm::pow(y, self.delta - 1.0) * libm::exp(-libm::pow(y, self.delta)) / self.v_s
+        } else if self.delta >= 1.0 {
+            if self.delta == 1.0 {
+                self.d_mu / self.v_s
+            } else {
+                0.0
+            }
+        } else {
+            f64::INFINITY
+        };
+        let inv_mass = 1.0 / self.m + if self.band { 1.0 / self.m_b } else { 0.0 };
+        slope * libm::fabs(n) * inv_mass
+    }
+}
+
+/// Dot product of a row with an augmented state (z, 1).
+#[inline(always)]
+pub fn row_dot<T: crate::Real>(r: &[T; NA], z: &[T; NS]) -> T {
+    r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4] * z[4] + r[5] * z[5] + r[6]
+}
