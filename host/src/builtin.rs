@@ -3,7 +3,7 @@
 //! (`oracle_1dof`). All of them start from the default pad of the model crate.
 
 use stickslip_model::scene::CASE_BETAS;
-use stickslip_model::{Caliper, Scene, DEFAULT_SCENE};
+use stickslip_model::{Caliper, Coefficients, FrictionLaw, Scene, DEFAULT_SCENE};
 
 /// A built-in scene.
 #[derive(Clone, Debug)]
@@ -46,6 +46,50 @@ pub fn cases() -> Vec<Builtin> {
     out
 }
 
+/// Model 2's rig set: the default pad with falling (Stribeck) friction, the band as a mass on
+/// its drive, and a few percent of damping on every degree of freedom (docs/model.md,
+/// "The rig set"). Every model-2 value is a guess until it is fitted to the rig's Table 3.1.
+pub fn rig_scene(caliper: Caliper, beta: f64) -> Scene {
+    let mut s = Scene::case(caliper, beta);
+    s.friction = FrictionLaw::Stribeck;
+    s.v_s = RIG_V_S;
+    s.stribeck_exponent = 1.0;
+    s.band = true;
+    s.m_b = RIG_M_B;
+    s.k_b = RIG_K_B;
+    s.c_b = 2.0 * RIG_ZETA_B * (s.k_b * s.m_b).sqrt();
+    s.c_x = 2.0 * RIG_ZETA * (s.k_g * s.m).sqrt();
+    s.c_phi = 2.0 * RIG_ZETA * (Coefficients::of(&s).k_rot * s.inertia).sqrt();
+    s
+}
+
+/// Rig set, guessed: Stribeck velocity [m/s].
+pub const RIG_V_S: f64 = 0.002;
+/// Rig set, guessed: band and carriage mass [kg].
+pub const RIG_M_B: f64 = 2.0;
+/// Rig set, guessed: band drive (cylinder and linkage) stiffness [N/m].
+pub const RIG_K_B: f64 = 1e6;
+/// Rig set, guessed: damping ratio of the band drive [-].
+pub const RIG_ZETA_B: f64 = 0.05;
+/// Rig set, guessed: damping ratio of the pad's x and rotation [-].
+pub const RIG_ZETA: f64 = 0.02;
+
+/// The rig set: the six cases with model 2 on, named `rig_push_trail` ... `rig_pull_lead`.
+pub fn rig_cases() -> Vec<Builtin> {
+    cases()
+        .into_iter()
+        .map(|b| Builtin {
+            name: format!("rig_{}", b.name),
+            description: format!(
+                "{}; model 2: Stribeck friction, band as a mass, {} % damping (guessed values)",
+                b.description,
+                RIG_ZETA * 100.0
+            ),
+            scene: rig_scene(b.scene.caliper, b.scene.beta),
+        })
+        .collect()
+}
+
 /// push_center with the thesis's friction law mu_k = mu_s (Eq. 2.10).
 fn thesis_mu() -> Builtin {
     let mut scene = DEFAULT_SCENE;
@@ -74,11 +118,29 @@ fn oracle_1dof() -> Builtin {
     }
 }
 
-/// Every built-in scene, cases first.
+/// The 1-DOF Stribeck oracle: oracle_1dof with falling friction (v_s = 0.01 m/s, delta = 1) and
+/// the damping c_x that puts the linear stability limit of steady sliding at V_cr = 0.03 m/s
+/// (docs/model.md); the band runs at V = 0.05 m/s, above it.
+fn oracle_stribeck() -> Builtin {
+    let mut scene = Scene::oracle_1dof();
+    scene.friction = FrictionLaw::Stribeck;
+    scene.v_s = 0.01;
+    scene.c_x = ORACLE_N0 * (scene.mu_s - scene.mu_k) / scene.v_s * (-0.03f64 / scene.v_s).exp();
+    Builtin {
+        name: "oracle_stribeck".into(),
+        description: "oracle_1dof with Stribeck friction (v_s = 0.01 m/s) and c_x for V_cr = 0.03 m/s"
+            .into(),
+        scene,
+    }
+}
+
+/// Every built-in scene: the thesis set (cases first), then the model-2 scenes.
 pub fn all() -> Vec<Builtin> {
     let mut v = cases();
     v.push(thesis_mu());
     v.push(oracle_1dof());
+    v.push(oracle_stribeck());
+    v.extend(rig_cases());
     v
 }
 

@@ -403,6 +403,10 @@ pub struct SimulateArgs {
 
 #[derive(Debug, Args)]
 pub struct CasesArgs {
+    /// Which six cases: `thesis` (the thesis model, no damping) or `rig` (model 2: Stribeck
+    /// friction, the band as a mass, a few percent damping; guessed values)
+    #[arg(long, value_enum, default_value = "thesis")]
+    pub set: CaseSet,
     /// Print {"cases": [...]} as JSON instead of the Markdown table
     #[arg(long)]
     pub json: bool,
@@ -417,6 +421,13 @@ pub struct CasesArgs {
     pub plot_to: Option<f64>,
     #[command(flatten)]
     pub run: RunOptions,
+}
+
+/// The six-case sets of `cases --set`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CaseSet {
+    Thesis,
+    Rig,
 }
 
 #[derive(Debug, Args)]

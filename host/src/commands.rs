@@ -74,7 +74,11 @@ fn plot_window(a: &CasesArgs, ns: &NamedScene) -> Result<(f64, f64)> {
 
 pub fn cases(a: &CasesArgs) -> Result<String> {
     let ov = overrides(&a.run);
-    let scenes = builtin::cases()
+    let set = match a.set {
+        crate::cli::CaseSet::Thesis => builtin::cases(),
+        crate::cli::CaseSet::Rig => builtin::rig_cases(),
+    };
+    let scenes = set
         .into_iter()
         .map(|b| scene_source::prepare(NamedScene::from_builtin(b), &ov))
         .collect::<Result<Vec<_>>>()?;

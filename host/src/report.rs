@@ -111,6 +111,33 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
             format!("off: phi held at {:.6e} rad, N = {:.6} N", co.phi0, co.n0),
         );
     }
+    if s.friction == stickslip_model::FrictionLaw::Stribeck {
+        line(
+            "friction",
+            format!(
+                "Stribeck: mu(v) = {} + {} exp(-(|v| / {} m/s)^{})",
+                s.mu_k,
+                s.mu_s - s.mu_k,
+                s.v_s,
+                s.stribeck_exponent
+            ),
+        );
+    }
+    if s.band {
+        line(
+            "band",
+            format!(
+                "a mass m_b = {} kg driven at V through k_b = {} N/m, c_b = {} N s/m",
+                s.m_b, s.k_b, s.c_b
+            ),
+        );
+    }
+    if s.c_x != 0.0 || s.c_phi != 0.0 {
+        line(
+            "damping",
+            format!("c_x = {} N s/m, c_phi = {} N m s/rad", s.c_x, s.c_phi),
+        );
+    }
     line("precision", r.precision.name().into());
     let rate = 1.0 / s.dt;
     line(
@@ -158,6 +185,16 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
         match r.pp(i) {
             Some(v) => line(k, format!("{} {unit}", sci(Some(v), 5))),
             None => line(k, "n/a (the run halted before the window)".into()),
+        }
+    }
+    if let (Some(m2), true) = (&r.model2, r.has_window()) {
+        line("pad x'' pp", format!("{} m/s^2 (the rig's pad_x)", sci(Some(m2.pad_acc_pp), 5)));
+        if s.band {
+            line("band x_b' pp", format!("{} m/s", sci(Some(m2.band_v_pp), 5)));
+            line(
+                "band x_b'' pp",
+                format!("{} m/s^2 (the rig's disc_x)", sci(Some(m2.band_acc_pp), 5)),
+            );
         }
     }
     let c = &r.cycles;
@@ -382,6 +419,27 @@ pub fn cases_table(runs: &[(NamedScene, RunReport)]) -> String {
         ));
         if r.outcome != Outcome::Completed {
             notes.push(format!("- {}: {}", ns.name, outcome_line(&r.outcome)));
+        }
+    }
+    if runs.iter().any(|(_, r)| r.model2.is_some()) {
+        out.push_str(
+            "\nModel 2 accelerations (peak-to-peak over the window, at every substep end and transition):\n\n\
+             | case | friction | band | pad x'' pp [m/s^2] | band x_b' pp [m/s] | band x_b'' pp [m/s^2] |\n\
+             |---|---|---|---:|---:|---:|\n",
+        );
+        for (ns, r) in runs {
+            let Some(m2) = &r.model2 else { continue };
+            let ok = r.has_window();
+            let v = |x: f64| if ok { sci(Some(x), 4) } else { "n/a".into() };
+            out.push_str(&format!(
+                "| {} | {} | {} | {} | {} | {} |\n",
+                ns.name,
+                ns.scene.friction.name(),
+                if ns.scene.band { "mass" } else { "constant V" },
+                v(m2.pad_acc_pp),
+                v(m2.band_v_pp),
+                v(m2.band_acc_pp)
+            ));
         }
     }
     out.push_str(

@@ -3,8 +3,9 @@
 
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{RunStats, StatsObserver};
+use stickslip_model::model2::{Model2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 use stickslip_model::{
-    Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, Transition,
+    Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
 };
 
 use crate::cycles::{CycleObserver, CycleStats};
@@ -87,6 +88,20 @@ pub struct RunReport {
     pub first_slip: Option<f64>,
     /// Transitions in the whole run.
     pub transitions: u64,
+    /// Model 2's extra window statistics (a scene with Stribeck friction or the band).
+    pub model2: Option<Model2Extra>,
+}
+
+/// Peak-to-peak values only model 2 has, over the statistics window (SI units). Accelerations
+/// are taken at every segment end (each substep end and each transition instant).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Model2Extra {
+    /// Pad acceleration x'' [m/s^2] (the rig's pad_x).
+    pub pad_acc_pp: f64,
+    /// Band velocity x_b' [m/s] (V without the band).
+    pub band_v_pp: f64,
+    /// Band acceleration x_b'' [m/s^2] (the rig's disc_x; 0 without the band).
+    pub band_acc_pp: f64,
 }
 
 impl RunReport {
@@ -138,11 +153,109 @@ impl<T: Real> Observer<T> for RunObserver<T> {
 }
 
 /// Runs a validated scene for round(duration / dt) steps, handing each completed step to `sink`.
+/// A scene with a model-2 option (Stribeck friction, the band) runs on the model-2 stepper;
+/// every other scene on the thesis stepper.
 pub fn run(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> Result<RunReport> {
-    match precision {
-        Precision::F32 => run_in::<f32>(scene, precision, sink),
-        Precision::F64 => run_in::<f64>(scene, precision, sink),
+    match (precision, scene.uses_model2()) {
+        (Precision::F32, false) => run_in::<f32>(scene, precision, sink),
+        (Precision::F64, false) => run_in::<f64>(scene, precision, sink),
+        (Precision::F32, true) => run_model2_in::<f32>(scene, precision, sink),
+        (Precision::F64, true) => run_model2_in::<f64>(scene, precision, sink),
     }
+}
+
+/// The model-2 run's observers: window statistics, cycle spread, transition log.
+struct Run2Observer {
+    stats: Stats2Observer,
+    cycles: CycleObserver,
+    log: EventLog,
+}
+
+impl<T: Real> Observer2<T> for Run2Observer {
+    fn segment(&mut self, seg: &Segment2<T>) {
+        let finite = seg.z0.iter().chain(seg.z1.iter()).all(|v| v.is_finite());
+        if finite {
+            <Stats2Observer as Observer2<T>>::segment(&mut self.stats, seg);
+        }
+    }
+
+    fn transition(&mut self, tr: &Transition2<T>) {
+        <Stats2Observer as Observer2<T>>::transition(&mut self.stats, tr);
+        let pad = Transition {
+            t: tr.t,
+            from: tr.from,
+            to: tr.to,
+            state: State::from_array([tr.z[0], tr.z[1], tr.z[2], tr.z[3]]),
+        };
+        Observer::<T>::transition(&mut self.cycles, &pad);
+        self.log.transitions += 1;
+        if tr.from == Regime::Stick && self.log.first_slip.is_none() {
+            self.log.first_slip = Some(tr.t);
+        }
+    }
+}
+
+fn run_model2_in<T: Real>(
+    scene: &Scene,
+    precision: Precision,
+    sink: &mut dyn Sink,
+) -> Result<RunReport> {
+    let mut stepper =
+        Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+    // the window starts at the step boundary nearest stats_from, as in the thesis stepper
+    let window_start = (scene.stats_from / scene.dt).round() * scene.dt;
+    let mut obs = Run2Observer {
+        stats: Stats2Observer::new(window_start, scene.v),
+        cycles: CycleObserver::new(window_start),
+        log: EventLog::default(),
+    };
+    let steps_planned = planned_steps(scene);
+    let mut outcome = Outcome::Completed;
+    let mut steps_done = 0;
+    for _ in 0..steps_planned {
+        if let Err(halt) = stepper.step_observed(&mut obs) {
+            let co = Coefficients::of(scene);
+            let self_locked = co.effective_rotational_stiffness(scene, 1.0, scene.mu_s) <= 0.0;
+            outcome = Outcome::Halted { halt, self_locked };
+            break;
+        }
+        steps_done += 1;
+        let z = stepper.state();
+        let regime = stepper.regime();
+        sink.sample(&Sample {
+            t: stepper.time(),
+            z: [z[0].to_f64(), z[1].to_f64(), z[2].to_f64(), z[3].to_f64()],
+            n: stepper.normal_force(&z).to_f64(),
+            f_f: stepper.friction_force(regime, &z).to_f64(),
+            regime,
+        })?;
+    }
+    let s2 = obs.stats.finish();
+    let stats = RunStats {
+        min: [s2.min[0], s2.min[1], s2.min[2], s2.min[3]],
+        max: [s2.max[0], s2.max[1], s2.max[2], s2.max[3]],
+        stick_fraction: s2.stick_fraction,
+        stick_slip_hz: s2.stick_slip_hz,
+        slip_onsets: s2.slip_onsets,
+        transitions: s2.transitions,
+        window_s: s2.window_s,
+    };
+    Ok(RunReport {
+        precision,
+        steps_planned,
+        steps_done,
+        window_start,
+        stats,
+        cycles: obs.cycles.finish(),
+        outcome,
+        first_slip: obs.log.first_slip,
+        transitions: obs.log.transitions,
+        model2: Some(Model2Extra {
+            pad_acc_pp: s2.pp(5),
+            band_v_pp: s2.pp(4),
+            band_acc_pp: s2.pp(6),
+        }),
+    })
 }
 
 /// round(duration / dt), at least one.
@@ -195,5 +308,6 @@ fn run_in<T: Real>(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> 
         outcome,
         first_slip: obs.log.first_slip,
         transitions: obs.log.transitions,
+        model2: None,
     })
 }

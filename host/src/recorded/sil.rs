@@ -151,6 +151,17 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     if !(opts.noise_m_s2.is_finite() && opts.noise_m_s2 >= 0.0) {
         return Err(bad_option("--noise", opts.noise_m_s2, "must be >= 0 m/s^2"));
     }
+    if scene.uses_model2() {
+        // The sensor model runs the thesis stepper; running it on a model-2 scene would quietly
+        // drop the scene's Stribeck friction or band. Refuse, and say what does run it.
+        return Err(HostError::Input(format!(
+            "{}: the virtual rig (sil, compare) does not carry model 2 yet (friction = \"{}\", band = {}): \
+             run the scene with `stickslip simulate`, which reports pad x'' and the band's x_b'' (the rig's disc_x)",
+            ns.origin_label(),
+            scene.friction.name(),
+            scene.band
+        )));
+    }
     let mut cfg = SensorModelConfig::RIG;
     cfg.noise = Noise { accel_rms_m_s2: opts.noise_m_s2, pressure_rms_bar: 0.0, seed: opts.seed };
     let mut sensor = SensorModel::<T>::new(scene, &cfg).map_err(|e| {
