@@ -120,15 +120,16 @@ fn oracle_1dof() -> Builtin {
 
 /// The 1-DOF Stribeck oracle: oracle_1dof with falling friction (v_s = 0.01 m/s, delta = 1) and
 /// the damping c_x that puts the linear stability limit of steady sliding at V_cr = 0.03 m/s
-/// (docs/model.md); the band runs at V = 0.05 m/s, above it.
+/// (docs/model.md); the band runs at V = 0.02 m/s, below it: sustained stick-slip.
 fn oracle_stribeck() -> Builtin {
     let mut scene = Scene::oracle_1dof();
     scene.friction = FrictionLaw::Stribeck;
     scene.v_s = 0.01;
     scene.c_x = ORACLE_N0 * (scene.mu_s - scene.mu_k) / scene.v_s * (-0.03f64 / scene.v_s).exp();
+    scene.v = 0.02;
     Builtin {
         name: "oracle_stribeck".into(),
-        description: "oracle_1dof with Stribeck friction (v_s = 0.01 m/s) and c_x for V_cr = 0.03 m/s"
+        description: "oracle_1dof with Stribeck friction (v_s = 0.01 m/s), c_x for V_cr = 0.03 m/s, V = 0.02 m/s"
             .into(),
         scene,
     }

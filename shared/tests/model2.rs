@@ -2,7 +2,7 @@
 //! (v_s -> 0 is Coulomb, k_b -> infinity is the constant-speed band), and the linear
 //! stability of steady sliding against the closed form of docs/model.md.
 
-use stickslip_model::model2::{Model2Stepper, Stats2, Stats2Observer, Observer2, Segment2, Transition2};
+use stickslip_model::model2::{Model2Stepper, Stats2, Stats2Observer};
 use stickslip_model::stats::StatsObserver;
 use stickslip_model::{Caliper, ExactStepper, FrictionLaw, Real, Regime, Scene};
 
@@ -142,4 +142,32 @@ fn steady_sliding_grows_below_v_cr_and_decays_above() {
         assert_eq!(measured > 0.0, grows, "V = {factor} V_cr: rate {measured}");
         assert!((measured - predicted).abs() <= 0.02 * predicted.abs(), "V = {factor} V_cr: {measured} vs {predicted}");
     }
+}
+
+/// The Stribeck oracle with sustained stick-slip (V = 0.02 m/s < V_cr = 0.03 m/s), 8 s, the
+/// statistics over [1.3, 8] s (four cycles).
+fn stribeck_cycle() -> Scene {
+    let mut s = stribeck_oracle(0.02);
+    s.duration = 8.0;
+    s.stats_from = 1.3;
+    s
+}
+
+/// ETDRK4 with exact linear flows converges: at the rig's step (1/25600 s) the period (1 /
+/// stick-slip frequency) and the amplitude (x's peak-to-peak) agree with a run at 1/4 of the
+/// step to 1e-9 in f64, and the f32 run agrees with f64 to 1e-4.
+#[test]
+fn the_stribeck_oracle_converges_in_f64_and_holds_in_f32() {
+    let mut fine = stribeck_cycle();
+    fine.dt = 1.0 / 102400.0;
+    let reference = run2::<f64>(&fine);
+    assert!(reference.slip_onsets >= 2 && reference.stick_fraction > 0.5, "{reference:?}");
+    let rig = stribeck_cycle();
+    let a = run2::<f64>(&rig);
+    let b = run2::<f32>(&rig);
+    let period = |s: &Stats2| 1.0 / s.stick_slip_hz;
+    assert!(rel(period(&a), period(&reference)) < 1e-9, "f64 period {} vs {}", period(&a), period(&reference));
+    assert!(rel(a.pp(0), reference.pp(0)) < 1e-9, "f64 amplitude {} vs {}", a.pp(0), reference.pp(0));
+    assert!(rel(period(&b), period(&reference)) < 1e-4, "f32 period {} vs {}", period(&b), period(&reference));
+    assert!(rel(b.pp(0), reference.pp(0)) < 1e-4, "f32 amplitude {} vs {}", b.pp(0), reference.pp(0));
 }

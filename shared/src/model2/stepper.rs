@@ -137,6 +137,10 @@ pub struct Model2Stepper<T: Real> {
     step: u64,
     halted: Option<Halt>,
     transitions: u64,
+    /// Stick without the band: x = anchor_x + V (t - anchor_t), recomputed after each chunk so
+    /// that a long stick in f32 does not accumulate x += V h round-off.
+    anchor_x: T,
+    anchor_t: f64,
 }
 
 impl<T: Real> Model2Stepper<T> {
@@ -246,6 +250,8 @@ impl<T: Real> Model2Stepper<T> {
             step: 0,
             halted: None,
             transitions: 0,
+            anchor_x: T::zero(),
+            anchor_t: 0.0,
         })
     }
 
@@ -286,6 +292,8 @@ impl<T: Real> Model2Stepper<T> {
             let mut z = self.z;
             self.enter_stick(&mut z);
             self.z = z;
+            self.anchor_x = z[0];
+            self.anchor_t = self.time();
         }
         self.halted = None;
     }
@@ -575,6 +583,8 @@ impl<T: Real> Model2Stepper<T> {
                 }
             }
             let Some((p, zp, which)) = best else {
+                let mut z1 = z1;
+                self.anchor_stick_x(regime, &mut z1, sub, pos + (1u64 << j));
                 self.emit(obs, regime, sub, pos, pos + (1u64 << j), z, z1);
                 pos += 1u64 << j;
                 z = z1;
@@ -583,7 +593,8 @@ impl<T: Real> Model2Stepper<T> {
             };
             let lo = self.min_level(regime);
             let at = (p + (1u64 << lo)).min(pos + (1u64 << j));
-            let ze = if at == pos + (1u64 << j) { z1 } else { self.chunk(regime, lo, &zp) };
+            let mut ze = if at == pos + (1u64 << j) { z1 } else { self.chunk(regime, lo, &zp) };
+            self.anchor_stick_x(regime, &mut ze, sub, at);
             self.emit(obs, regime, sub, pos, at, z, ze);
             let next = match regime {
                 Regime::Stick => {
@@ -598,6 +609,8 @@ impl<T: Real> Model2Stepper<T> {
             let mut zn = ze;
             if next == Regime::Stick {
                 self.enter_stick(&mut zn);
+                self.anchor_x = zn[0];
+                self.anchor_t = self.time_at(sub, at);
             }
             if next == regime {
                 touched = Some((regime, which));
@@ -620,6 +633,14 @@ impl<T: Real> Model2Stepper<T> {
         self.z = z;
         self.regime = regime;
         Ok(transitions)
+    }
+
+    /// In stick without the band, x from its anchor (see `anchor_x`).
+    #[inline(always)]
+    fn anchor_stick_x(&self, regime: Regime, z: &mut [T; NS], sub: u32, unit: u64) {
+        if regime == Regime::Stick && !self.band {
+            z[0] = self.anchor_x + self.v * T::from_f64(self.time_at(sub, unit) - self.anchor_t);
+        }
     }
 
     /// Finite, in range, in contact; the band within its range.
