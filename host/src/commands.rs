@@ -115,8 +115,49 @@ pub fn cases(a: &CasesArgs) -> Result<String> {
         };
         Ok(to_json(&j))
     } else {
-        Ok(report::cases_table(&runs))
+        let mut out = report::cases_table(&runs);
+        if a.set == crate::cli::CaseSet::Thesis {
+            out.push_str(&damping_sensitivity(&runs, a.run.precision)?);
+        }
+        Ok(out)
     }
+}
+
+/// The thesis set has no damping, and its push cases hinge on that: each case again with 1 %
+/// and 5 % of critical damping on phi (c_phi = 2 zeta sqrt(K I)), each statistic as the
+/// relative change from the undamped run.
+fn damping_sensitivity(runs: &[(NamedScene, RunReport)], precision: run::Precision) -> Result<String> {
+    let mut out = String::from(
+        "\nSensitivity to damping on phi (the thesis sets none): each case with zeta_phi = 1 % and 5 %, \
+         c_phi = 2 zeta sqrt(K I); relative change from the undamped run above.\n\n\
+         | case | zeta_phi | x pp | x' pp | phi pp | phi' pp | stick fraction | stick-slip frequency |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for (ns, r0) in runs {
+        for zeta in [0.01, 0.05] {
+            let mut s = ns.scene;
+            s.c_phi = 2.0 * zeta * (stickslip_model::Coefficients::of(&s).k_rot * s.inertia).sqrt();
+            let r = run::run(&s, precision, &mut NoSink)?;
+            let change = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                (Some(a), Some(b)) if b != 0.0 => format!("{:+.1} %", (a / b - 1.0) * 100.0),
+                _ => "n/a".into(),
+            };
+            let sf = |r: &RunReport| r.has_window().then_some(r.stats.stick_fraction);
+            let hz = |r: &RunReport| r.has_window().then_some(r.stats.stick_slip_hz);
+            out.push_str(&format!(
+                "| {} | {} % | {} | {} | {} | {} | {} | {} |\n",
+                ns.name,
+                zeta * 100.0,
+                change(r.pp(0), r0.pp(0)),
+                change(r.pp(1), r0.pp(1)),
+                change(r.pp(2), r0.pp(2)),
+                change(r.pp(3), r0.pp(3)),
+                change(sf(&r), sf(r0)),
+                change(hz(&r), hz(r0)),
+            ));
+        }
+    }
+    Ok(out)
 }
 
 fn write_figures(

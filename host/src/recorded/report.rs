@@ -304,9 +304,10 @@ pub fn sil_markdown(r: &SilReport) -> String {
         r.name, r.caliper, r.beta
     );
     s.push_str(&format!(
-        "Model (exact stepper) -> rig sensor model (100 mV/g, front-end gain 0.2, noise {} m/s^2 rms seed {}, \
+        "Model ({}) -> rig sensor model (100 mV/g, front-end gain 0.2, noise {} m/s^2 rms seed {}, \
          700 m/s^2 clipping, 12-bit ADC) -> calibration -> the rig's estimator, at {} Hz; statistics over t >= {} s \
          ({} samples). Outcome: {}{}.\n\n",
+        r.stepper,
         num(r.noise_m_s2),
         r.seed,
         num(r.sample_rate_hz),

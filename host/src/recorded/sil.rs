@@ -24,7 +24,9 @@ use std::path::Path;
 
 use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
 use stickslip_model::rig::contact::ContactThresholds;
-use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig, SensorModelError};
+use stickslip_model::rig::sensor_model::{
+    Model2Motion, Motion, Noise, SensorModel, SensorModelConfig, SensorModelError,
+};
 use stickslip_model::{Coefficients, Real, Regime};
 
 use super::analysis::{Analysis, AnalysisConfig, Analyzer};
@@ -88,6 +90,8 @@ pub struct Truth {
 #[derive(Clone, Debug)]
 pub struct SilReport {
     pub name: String,
+    /// Which stepper made the motion.
+    pub stepper: &'static str,
     pub caliper: &'static str,
     pub beta: f64,
     /// Sampling rate 1 / dt [Hz].
@@ -151,25 +155,33 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     if !(opts.noise_m_s2.is_finite() && opts.noise_m_s2 >= 0.0) {
         return Err(bad_option("--noise", opts.noise_m_s2, "must be >= 0 m/s^2"));
     }
-    if scene.uses_model2() {
-        // The sensor model runs the thesis stepper; running it on a model-2 scene would quietly
-        // drop the scene's Stribeck friction or band. Refuse, and say what does run it.
-        return Err(HostError::Input(format!(
-            "{}: the virtual rig (sil, compare) does not carry model 2 yet (friction = \"{}\", band = {}): \
-             run the scene with `stickslip simulate`, which reports pad x'' and the band's x_b'' (the rig's disc_x)",
-            ns.origin_label(),
-            scene.friction.name(),
-            scene.band
-        )));
-    }
     let mut cfg = SensorModelConfig::RIG;
     cfg.noise = Noise { accel_rms_m_s2: opts.noise_m_s2, pressure_rms_bar: 0.0, seed: opts.seed };
-    let mut sensor = SensorModel::<T>::new(scene, &cfg).map_err(|e| {
+    let to_input = |e: SensorModelError| {
         HostError::Input(match e {
             SensorModelError::Scene(s) => format!("{}: {s}", ns.origin_label()),
             SensorModelError::Config(c) => format!("virtual rig: {c}"),
         })
-    })?;
+    };
+    // a scene with Stribeck friction or the band runs model 2 (disc_x = the band's x_b'')
+    if scene.uses_model2() {
+        let motion = Model2Motion::<T>::new(scene).map_err(|e| to_input(e.into()))?;
+        let sensor = SensorModel::with_motion(motion, scene, &cfg).map_err(to_input)?;
+        sample_run(ns, opts, csv, sensor)
+    } else {
+        let sensor = SensorModel::<T>::new(scene, &cfg).map_err(to_input)?;
+        sample_run(ns, opts, csv, sensor)
+    }
+}
+
+/// The virtual rig's run: frames from the sensor model into the analysis, and the truth beside.
+fn sample_run<T: Real, M: Motion<T>>(
+    ns: &NamedScene,
+    opts: &SilOptions,
+    csv: Option<&Path>,
+    mut sensor: SensorModel<T, M>,
+) -> Result<SilReport> {
+    let scene = &ns.scene;
     let cal = Calibrator::new(&RIG_CALIBRATION).map_err(|e| HostError::Input(format!("virtual rig: {e}")))?;
     let mut out = match csv {
         Some(p) => {
@@ -227,14 +239,12 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
                 tmin[ch] = tmin[ch].min(v);
                 tmax[ch] = tmax[ch].max(v);
             }
-            for x in sensor.stepper().transitions() {
-                if x.from == Regime::Stick {
-                    if truth.slip_onsets == 0 {
-                        onset_first = x.t;
-                    }
-                    onset_last = x.t;
-                    truth.slip_onsets += 1;
+            for &t_onset in sensor.motion().slip_onsets() {
+                if truth.slip_onsets == 0 {
+                    onset_first = t_onset;
                 }
+                onset_last = t_onset;
+                truth.slip_onsets += 1;
             }
         }
     }
@@ -256,6 +266,7 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     };
     Ok(SilReport {
         name: ns.name.clone(),
+        stepper: if scene.uses_model2() { "model-2 stepper" } else { "exact stepper" },
         caliper: scene.caliper.name(),
         beta: scene.beta,
         sample_rate_hz: 1.0 / dt,

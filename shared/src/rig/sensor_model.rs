@@ -4,7 +4,8 @@
 //! Per sample, after one step of the exact stepper (so frame `i` shows the state at
 //! t = (i + 1) dt, and the transitions of that step are those the frame is the first to see):
 //!
-//! - `disc_x` = the band's acceleration along x: 0, the model's band runs at constant V.
+//! - `disc_x` = the band's acceleration along x: 0 when the band runs at constant V (the thesis
+//!   model); the band's x_b'' with model 2's band degree of freedom ([`Model2Motion`]).
 //! - `pad_x` = x'' of the pad, from [`Plant::accelerations`] in the stepper's regime (exactly
 //!   0 in stick, a jump of about -(mu_s - mu_k) N / m at breakaway).
 //! - `pad_trail`, `pad_lead` = the y accelerations of two points of the pad, from the rotation:
@@ -32,7 +33,119 @@ use crate::exact::{ExactStepper, Halt};
 use crate::methods::plant::Plant;
 use crate::real::Real;
 use crate::scene::{Caliper, Scene, SceneError};
+use crate::model2::{Model2Stepper, Observer2, Transition2};
 use crate::stickslip::Regime;
+
+/// What the sensor model samples: a stepper, and the accelerations its sensors see.
+pub trait Motion<T: Real> {
+    /// One step of the model.
+    fn advance(&mut self) -> Result<(), Halt>;
+    fn regime(&self) -> Regime;
+    /// (pad x'' [m/s^2], pad phi'' [rad/s^2], band x_b'' [m/s^2]) at the current state.
+    fn accelerations(&self) -> (T, T, T);
+    /// Times [s] of the stick-to-slip transitions of the last step.
+    fn slip_onsets(&self) -> &[f64];
+}
+
+/// The thesis model: the exact stepper, the band at constant speed (x_b'' = 0).
+#[derive(Clone, Debug)]
+pub struct ThesisMotion<T: Real> {
+    stepper: ExactStepper<T>,
+    plant: Plant<T>,
+    onsets: [f64; crate::exact::TRANSITIONS_PER_STEP],
+    n_onsets: usize,
+}
+
+impl<T: Real> ThesisMotion<T> {
+    pub fn new(scene: &Scene) -> Result<Self, SceneError> {
+        Ok(ThesisMotion {
+            stepper: ExactStepper::<T>::new(scene)?,
+            plant: Plant::new(scene, &Coefficients::of(scene)),
+            onsets: [0.0; crate::exact::TRANSITIONS_PER_STEP],
+            n_onsets: 0,
+        })
+    }
+    pub fn stepper(&self) -> &ExactStepper<T> {
+        &self.stepper
+    }
+}
+
+impl<T: Real> Motion<T> for ThesisMotion<T> {
+    #[inline]
+    fn advance(&mut self) -> Result<(), Halt> {
+        self.stepper.step()?;
+        self.n_onsets = 0;
+        for tr in self.stepper.transitions() {
+            if tr.from == Regime::Stick {
+                self.onsets[self.n_onsets] = tr.t;
+                self.n_onsets += 1;
+            }
+        }
+        Ok(())
+    }
+    fn regime(&self) -> Regime {
+        self.stepper.regime()
+    }
+    #[inline]
+    fn accelerations(&self) -> (T, T, T) {
+        let z = self.stepper.state().to_array();
+        let (xdd, phidd) = self.plant.accelerations(self.stepper.regime(), &z);
+        (xdd, phidd, T::zero())
+    }
+    fn slip_onsets(&self) -> &[f64] {
+        &self.onsets[..self.n_onsets]
+    }
+}
+
+/// Model 2 (Stribeck friction, the band): disc_x is the band's acceleration.
+#[derive(Clone, Debug)]
+pub struct Model2Motion<T: Real> {
+    stepper: Model2Stepper<T>,
+    onsets: OnsetLog,
+}
+
+/// The slip onsets of one step (at most 8 kept).
+#[derive(Clone, Copy, Debug, Default)]
+struct OnsetLog {
+    t: [f64; 8],
+    n: usize,
+}
+
+impl<T: Real> Observer2<T> for OnsetLog {
+    const DERIVATIVES: bool = false;
+    fn transition(&mut self, tr: &Transition2<T>) {
+        if tr.from == Regime::Stick && self.n < self.t.len() {
+            self.t[self.n] = tr.t;
+            self.n += 1;
+        }
+    }
+}
+
+impl<T: Real> Model2Motion<T> {
+    pub fn new(scene: &Scene) -> Result<Self, SceneError> {
+        Ok(Model2Motion { stepper: Model2Stepper::<T>::new(scene)?, onsets: OnsetLog::default() })
+    }
+    pub fn stepper(&self) -> &Model2Stepper<T> {
+        &self.stepper
+    }
+}
+
+impl<T: Real> Motion<T> for Model2Motion<T> {
+    fn advance(&mut self) -> Result<(), Halt> {
+        self.onsets.n = 0;
+        self.stepper.step_observed(&mut self.onsets).map(|_| ())
+    }
+    fn regime(&self) -> Regime {
+        self.stepper.regime()
+    }
+    fn accelerations(&self) -> (T, T, T) {
+        let d = self.stepper.derivative(self.stepper.regime(), &self.stepper.state());
+        (d[1], d[3], d[5])
+    }
+    fn slip_onsets(&self) -> &[f64] {
+        &self.onsets.t[..self.onsets.n]
+    }
+}
 
 /// Where the two y accelerometers sit on the pad, and which way they read.
 ///
@@ -179,11 +292,10 @@ struct ToCounts<T> {
     max_count: T,
 }
 
-/// Makes one frame per call from the exact stepper's motion.
+/// Makes one frame per call from a model's motion (the thesis model's exact stepper by default).
 #[derive(Clone, Debug)]
-pub struct SensorModel<T: Real> {
-    stepper: ExactStepper<T>,
-    plant: Plant<T>,
+pub struct SensorModel<T: Real, M: Motion<T> = ThesisMotion<T>> {
+    motion: M,
     arm_trail: T,
     arm_lead: T,
     pressure: [T; PRESSURE_CHANNELS],
@@ -195,8 +307,22 @@ pub struct SensorModel<T: Real> {
 }
 
 impl<T: Real> SensorModel<T> {
+    /// The thesis model's motion.
     pub fn new(scene: &Scene, cfg: &SensorModelConfig) -> Result<Self, SensorModelError> {
-        let stepper = ExactStepper::<T>::new(scene)?;
+        let motion = ThesisMotion::<T>::new(scene)?;
+        Self::with_motion(motion, scene, cfg)
+    }
+
+    /// The stepper behind the frames (its state, regime and the transitions of the last step
+    /// are the truth of the last frame).
+    pub fn stepper(&self) -> &ExactStepper<T> {
+        self.motion.stepper()
+    }
+}
+
+impl<T: Real, M: Motion<T>> SensorModel<T, M> {
+    /// Any motion; `scene` gives the geometry and the load (validated by the motion's stepper).
+    pub fn with_motion(motion: M, scene: &Scene, cfg: &SensorModelConfig) -> Result<Self, SensorModelError> {
         let cal = &cfg.calibration;
         cal.validate()?;
         let (arm_trail, arm_lead) = cfg.geometry.arms(scene)?;
@@ -238,8 +364,7 @@ impl<T: Real> SensorModel<T> {
         pressure[ACTUATOR] = t(actuator_bar_for(scene.f_n, cfg.piston_area_m2));
         pressure[BAND] = t(cfg.band_line_bar);
         Ok(SensorModel {
-            plant: Plant::new(scene, &Coefficients::of(scene)),
-            stepper,
+            motion,
             arm_trail: t(arm_trail),
             arm_lead: t(arm_lead),
             pressure,
@@ -251,10 +376,9 @@ impl<T: Real> SensorModel<T> {
         })
     }
 
-    /// The stepper behind the frames (its state, regime and the transitions of the last step
-    /// are the truth of the last frame).
-    pub fn stepper(&self) -> &ExactStepper<T> {
-        &self.stepper
+    /// The motion behind the frames.
+    pub fn motion(&self) -> &M {
+        &self.motion
     }
 
     /// The noise-free physical values of the last frame.
@@ -266,12 +390,11 @@ impl<T: Real> SensorModel<T> {
     /// such as sprag or contact loss, see [`Halt`]) yields no more frames.
     #[allow(clippy::needless_range_loop)] // parallel per-channel arrays
     pub fn next_frame(&mut self) -> Result<Frame, Halt> {
-        self.stepper.step()?;
-        let regime = self.stepper.regime();
-        let z = self.stepper.state().to_array();
-        let (xdd, phidd) = self.plant.accelerations(regime, &z);
+        self.motion.advance()?;
+        let regime = self.motion.regime();
+        let (xdd, phidd, band) = self.motion.accelerations();
         let mut accel = [T::zero(); ACCEL_CHANNELS];
-        accel[DISC_X] = T::zero();
+        accel[DISC_X] = band;
         accel[PAD_X] = xdd;
         accel[PAD_TRAIL] = self.arm_trail * phidd;
         accel[PAD_LEAD] = self.arm_lead * phidd;
