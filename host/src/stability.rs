@@ -16,6 +16,7 @@
 use serde::Serialize;
 use stickslip_model::methods::{AnyMethod, Method, MethodKind};
 use stickslip_model::propagator::fastest_rate;
+use stickslip_model::model2::Model2Stepper;
 use stickslip_model::{Coefficients, Halt, Real, Regime, Scene};
 
 use crate::builtin;
@@ -56,6 +57,24 @@ pub const SWEEPS: [Sweep; 8] = [
     Sweep { key: "dt", unit: "s", values: &[1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2], apply: |s, v| s.dt = v },
 ];
 
+fn set_damping_all(s: &mut Scene, zeta: f64) {
+    set_damping(s, zeta);
+    s.c_b = zeta * 2.0 * (s.k_b * s.m_b).sqrt();
+}
+
+/// Model 2's extremes, around the rig set's push_center (Stribeck friction, the band, 2 %
+/// damping), on the model-2 stepper (the only method that carries them).
+pub const MODEL2_SWEEPS: [Sweep; 4] = [
+    // toward Coulomb: the stiff extreme
+    Sweep { key: "v_s", unit: "m/s", values: &[1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0], apply: |s, v| s.v_s = v },
+    Sweep { key: "k_b", unit: "N/m", values: &[1e3, 1e4, 1e6, 1e8, 1e10], apply: |s, v| s.k_b = v },
+    Sweep { key: "damping_ratio_all", unit: "-", values: &[0.0, 0.01, 0.1, 0.5, 1.0], apply: set_damping_all },
+    Sweep { key: "m_b", unit: "kg", values: &[1e-3, 1e-2, 1.0, 1e2, 1e3], apply: |s, v| s.m_b = v },
+];
+
+/// The method name of the model-2 rows.
+pub const MODEL2_METHOD: &str = "model2";
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     /// Which parameter this row's sweep varies.
@@ -71,6 +90,11 @@ pub struct Row {
     pub beta: f64,
     pub f_n: f64,
     pub damping_ratio: f64,
+    /// Model-2 rows only (null elsewhere): Stribeck velocity [m/s], band stiffness [N/m], band
+    /// mass [kg].
+    pub v_s: Option<f64>,
+    pub k_b: Option<f64>,
+    pub m_b: Option<f64>,
     /// Fastest mode of the scene times dt [rad].
     pub omega_dt: f64,
     /// The method's stability limit on omega dt for an undamped oscillator; null: none.
@@ -201,6 +225,9 @@ pub fn run(opts: &Options) -> Result<Report> {
                         beta: scene.beta,
                         f_n: scene.f_n,
                         damping_ratio: zeta,
+                        v_s: None,
+                        k_b: None,
+                        m_b: None,
                         omega_dt,
                         omega_dt_limit: kind.omega_dt_limit(),
                         outcome: outcome.into(),
@@ -218,7 +245,78 @@ pub fn run(opts: &Options) -> Result<Report> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    rows.extend(model2_rows(base.duration)?);
     Ok(Report { rows, duration_s: base.duration })
+}
+
+/// Runs the model-2 stepper over a scene: its halt, if any, and whether the pad ever slipped.
+fn run_model2<T: Real>(scene: &Scene) -> Result<(Option<Halt>, bool)> {
+    let mut m = Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(format!("stability scene: {e}")))?;
+    let n = (scene.duration / scene.dt).round() as u64;
+    let mut slipped = false;
+    for _ in 0..n {
+        if let Err(h) = m.step() {
+            return Ok((Some(h), true));
+        }
+        slipped |= m.regime() != Regime::Stick;
+    }
+    Ok((None, slipped))
+}
+
+/// The model-2 sweeps: f64 is the arbiter of the model's own findings (sprag, contact loss);
+/// an f32 run that halts where f64 does not is `method_unstable`, and so is any f64 halt that
+/// is not a model finding.
+fn model2_rows(duration: f64) -> Result<Vec<Row>> {
+    let mut base = builtin::find("rig_push_center").expect("built-in").scene;
+    base.duration = duration;
+    base.stats_from = duration / 2.0;
+    let mut rows = Vec::new();
+    for sweep in &MODEL2_SWEEPS {
+        for &value in sweep.values {
+            let mut scene = base;
+            (sweep.apply)(&mut scene, value);
+            scene.validate().map_err(|e| HostError::Input(format!("sweep {} = {value}: {e}", sweep.key)))?;
+            let co = Coefficients::of(&scene);
+            let (h64, slipped64) = run_model2::<f64>(&scene)?;
+            let model = match h64 {
+                Some(Halt::Diverged { stiffness_margin, .. }) if stiffness_margin <= 0.0 => Verdict::Sprag,
+                Some(Halt::ContactLoss { .. }) => Verdict::ContactLoss,
+                Some(_) => Verdict::Other,
+                None => Verdict::Bounded,
+            };
+            let rate = Model2Stepper::<f64>::new(&scene)
+                .map(|m| m.system().linear_rate(&scene, &co))
+                .map_err(|e| HostError::Input(e.to_string()))?;
+            for precision in ["f64", "f32"] {
+                let (halt, slipped) = if precision == "f64" { (h64, slipped64) } else { run_model2::<f32>(&scene)? };
+                let (outcome, detail) = classify(halt, slipped, model);
+                rows.push(Row {
+                    sweep: sweep.key.into(),
+                    method: MODEL2_METHOD.into(),
+                    precision: precision.into(),
+                    dt: scene.dt,
+                    contact_stiffness: scene.k_l,
+                    k_g: scene.k_g,
+                    mu_s: scene.mu_s,
+                    mu_k: scene.mu_k,
+                    v: scene.v,
+                    beta: scene.beta,
+                    f_n: scene.f_n,
+                    damping_ratio: if sweep.key == "damping_ratio_all" { value } else { 0.02 },
+                    v_s: Some(scene.v_s),
+                    k_b: Some(scene.k_b),
+                    m_b: Some(scene.m_b),
+                    omega_dt: rate * scene.dt,
+                    omega_dt_limit: None,
+                    outcome: outcome.into(),
+                    t_halt: halt.map(|h| h.time()),
+                    stiffness_margin: co.sprag_margin(&scene),
+                    detail,
+                });
+            }
+        }
+    }
+    Ok(rows)
 }
 
 /// Every numeric field of every row is finite (the report's promise).
@@ -227,6 +325,9 @@ pub fn all_finite(rep: &Report) -> bool {
         [r.dt, r.contact_stiffness, r.k_g, r.mu_s, r.mu_k, r.v, r.beta, r.f_n, r.damping_ratio, r.omega_dt, r.stiffness_margin]
             .iter()
             .chain(r.t_halt.iter())
+            .chain(r.v_s.iter())
+            .chain(r.k_b.iter())
+            .chain(r.m_b.iter())
             .chain(r.omega_dt_limit.iter())
             .all(|v| v.is_finite())
     })
@@ -271,6 +372,34 @@ pub fn markdown(rep: &Report) -> String {
         }
         out.push('\n');
     }
+    out.push_str(
+        "# Model 2 sweeps around rig_push_center (Stribeck friction, the band, 2 % damping)\n\n\
+         The model-2 stepper (exact flows, ETDRK4 in Stribeck slip) is the only method that carries them; f64 \
+         decides the model's own findings, and f32 is checked against it.\n\n",
+    );
+    for sweep in &MODEL2_SWEEPS {
+        out.push_str(&format!("## {} [{}]\n\n| method | precision |", sweep.key, sweep.unit));
+        for v in sweep.values {
+            out.push_str(&format!(" {v:e} |"));
+        }
+        out.push_str("\n|---|---|");
+        for _ in sweep.values {
+            out.push_str("---|");
+        }
+        out.push('\n');
+        for precision in ["f64", "f32"] {
+            out.push_str(&format!("| {MODEL2_METHOD} | {precision} |"));
+            for v in sweep.values {
+                let r = rep
+                    .rows
+                    .iter()
+                    .find(|r| r.sweep == sweep.key && r.precision == precision && value_of(r, sweep.key) == *v);
+                out.push_str(&format!(" {} |", r.map_or("-", |r| r.outcome.as_str())));
+            }
+            out.push('\n');
+        }
+        out.push('\n');
+    }
     out
 }
 
@@ -283,7 +412,10 @@ pub fn value_of(r: &Row, key: &str) -> f64 {
         "v" => r.v,
         "beta" => r.beta,
         "f_n" => r.f_n,
-        "damping_ratio" => r.damping_ratio,
+        "damping_ratio" | "damping_ratio_all" => r.damping_ratio,
+        "v_s" => r.v_s.unwrap_or(f64::NAN),
+        "k_b" => r.k_b.unwrap_or(f64::NAN),
+        "m_b" => r.m_b.unwrap_or(f64::NAN),
         _ => r.dt,
     }
 }
