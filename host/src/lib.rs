@@ -11,6 +11,7 @@ pub mod numerics_plots;
 pub mod plots;
 pub mod recorded;
 pub mod reference;
+pub mod reference2;
 pub mod report;
 pub mod run;
 pub mod scene_file;

@@ -1,0 +1,731 @@
+//! An event-driven reference simulation of model 2, part 1 (docs/model.md, "Model 2, part 1:
+//! falling friction, a band that moves, damping"), independent of `stickslip_model`'s matrices
+//! and steppers, and of [`crate::reference`]'s code: its own right-hand side written from the
+//! equations of docs/model.md (it takes only the scene's data and computes the lever arms
+//! itself), the adaptive DOP853 integrator of the `ode_solvers` crate, and event location by
+//! bisection on re-integrated sub-intervals.
+//!
+//! The state is `z = [x, x', phi, phi', u, u']` with `u = x_b - V t` the band's offset from its
+//! drive point (`u = u' = 0` for good without the band; `phi = phi_0`, `phi' = 0` for good
+//! without rotation). The sliding velocity is `v = x' - V - u'`.
+//!
+//! Event location:
+//! - a regime's guard `g(z)` is negative while the regime holds (stick:
+//!   `|F_req| - mu_s N`; slip with the pad slower: `v`; faster: `-v`);
+//! - it is checked at every accepted DOP853 step end, and between two step ends where it is
+//!   negative at both, a crest of `g` (its rate, written analytically, turning from + to -) is
+//!   located by bisection and the guard tested there, so a graze inside a step is not missed;
+//!   the step is also capped at a fraction of the fastest time scale (as in `reference.rs`);
+//! - the first time where `g >= 0` is bisected on re-integrated sub-intervals to `t_tol`.
+//! - **Arming of slip phases.** With Stribeck friction a slip phase starts at `v = 0` with
+//!   `v' = 0` (the friction is continuous at breakaway), so its guard is 0 (or round-off above
+//!   it) at the start. A slip phase's guard is therefore *armed* only once it has been below
+//!   `-ARM * V` (`ARM = 1e-9`) at a step end; before that the phase cannot end. A slip phase
+//!   whose `|v|` never exceeds `1e-9 V` would be missed (it cannot occur with Coulomb friction,
+//!   where `v'` jumps away from 0 at breakaway).
+//!
+//! Transitions follow the table of docs/model.md. Entering stick sets `v = 0`: without the band
+//! `x' = V`; with the band both velocities to the momentum velocity
+//! `(m x' + m_b x_b') / (m + m_b)`.
+//!
+//! Slow and allocating: a yardstick for tests, not the product.
+
+use crate::reference::Tolerances;
+use ode_solvers::dop853::Dop853;
+use ode_solvers::{OutputType, System, Vector6};
+use stickslip_model::{Caliper, FrictionLaw, Scene};
+
+type Z = Vector6<f64>;
+
+/// Guards of slip phases are armed once `v` has been beyond `ARM * V` (see the module doc).
+const ARM: f64 = 1e-9;
+/// A run with more transitions than this stops with an error (a chattering contact).
+const MAX_TRANSITIONS: usize = 10_000_000;
+/// Integration is done in chunks of this many largest steps, so an early event does not pay for
+/// integrating to the end of the run.
+const CHUNK_STEPS: f64 = 400.0;
+
+/// The regime of the contact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Regime {
+    Stick,
+    /// Slip with the pad slower than the band (`v < 0`, sigma = +1).
+    Slower,
+    /// Slip with the pad faster than the band (`v > 0`, sigma = -1).
+    Faster,
+}
+
+/// Constants written out from docs/model.md (pivot at the supported edge).
+#[derive(Clone, Copy, Debug)]
+struct Phys {
+    m: f64,
+    i: f64,
+    kg: f64,
+    cx: f64,
+    cphi: f64,
+    k_rot: f64,
+    c_n: f64,
+    moment_load: f64,
+    s: f64,
+    w: f64,
+    v: f64,
+    mu_s: f64,
+    mu_k: f64,
+    rotation: bool,
+    phi0: f64,
+    stribeck: bool,
+    v_s: f64,
+    delta: f64,
+    band: bool,
+    mb: f64,
+    kb: f64,
+    cb: f64,
+}
+
+impl Phys {
+    fn of(sc: &Scene) -> Phys {
+        // lever arms: push d_L = l + l_cL, d_T = l - l_cT, a_N = beta, s = +1;
+        //             pull d_L = l - l_cL, d_T = l + l_cT, a_N = 2 l - beta, s = -1
+        let (d_l, d_t, a_n, s) = match sc.caliper {
+            Caliper::Push => (sc.l + sc.l_cl, sc.l - sc.l_ct, sc.beta, 1.0),
+            Caliper::Pull => (sc.l - sc.l_cl, sc.l + sc.l_ct, 2.0 * sc.l - sc.beta, -1.0),
+        };
+        let k_rot = sc.k_l * d_l * d_l + sc.k_t * d_t * d_t;
+        Phys {
+            m: sc.m,
+            i: sc.inertia,
+            kg: sc.k_g,
+            cx: sc.c_x,
+            cphi: sc.c_phi,
+            k_rot,
+            c_n: sc.k_l * d_l + sc.k_t * d_t,
+            moment_load: sc.f_n * a_n,
+            s,
+            w: sc.w,
+            v: sc.v,
+            mu_s: sc.mu_s,
+            mu_k: sc.mu_k,
+            rotation: sc.rotation,
+            phi0: sc.f_n * a_n / k_rot,
+            stribeck: sc.friction == FrictionLaw::Stribeck,
+            v_s: sc.v_s,
+            delta: sc.stribeck_exponent,
+            band: sc.band,
+            mb: sc.m_b,
+            kb: sc.k_b,
+            cb: sc.c_b,
+        }
+    }
+
+    fn normal(&self, z: &Z) -> f64 {
+        self.c_n * if self.rotation { z[2] } else { self.phi0 }
+    }
+
+    /// Rate of N along the motion.
+    fn normal_rate(&self, zd: &Z) -> f64 {
+        if self.rotation {
+            self.c_n * zd[2]
+        } else {
+            0.0
+        }
+    }
+
+    /// Sliding velocity v = x' - V - u'.
+    fn slip_v(&self, z: &Z) -> f64 {
+        z[1] - self.v - if self.band { z[5] } else { 0.0 }
+    }
+
+    fn mu(&self, speed: f64) -> f64 {
+        if self.stribeck {
+            self.mu_k + (self.mu_s - self.mu_k) * (-(speed / self.v_s).powf(self.delta)).exp()
+        } else {
+            self.mu_k
+        }
+    }
+
+    /// d mu / d|v|.
+    fn mu_slope(&self, speed: f64) -> f64 {
+        if !self.stribeck {
+            return 0.0;
+        }
+        let r = speed.max(f64::MIN_POSITIVE) / self.v_s;
+        -(self.mu_s - self.mu_k) * (-r.powf(self.delta)).exp() * self.delta * r.powf(self.delta - 1.0) / self.v_s
+    }
+
+    fn sigma(regime: Regime) -> f64 {
+        match regime {
+            Regime::Slower => 1.0,
+            Regime::Faster => -1.0,
+            Regime::Stick => 0.0,
+        }
+    }
+
+    /// The stick's required friction force.
+    fn f_req(&self, z: &Z) -> f64 {
+        if self.band {
+            (self.mb * (self.kg * z[0] + self.cx * z[1]) - self.m * (self.kb * z[4] + self.cb * z[5])) / (self.m + self.mb)
+        } else {
+            self.kg * z[0] + self.cx * self.v
+        }
+    }
+
+    /// Rate of F_req along the motion zd (F_req is affine in z).
+    fn f_req_rate(&self, zd: &Z) -> f64 {
+        if self.band {
+            (self.mb * (self.kg * zd[0] + self.cx * zd[1]) - self.m * (self.kb * zd[4] + self.cb * zd[5])) / (self.m + self.mb)
+        } else {
+            self.kg * zd[0]
+        }
+    }
+
+    fn friction(&self, regime: Regime, z: &Z) -> f64 {
+        match regime {
+            Regime::Stick => self.f_req(z),
+            _ => Self::sigma(regime) * self.mu(self.slip_v(z).abs()) * self.normal(z),
+        }
+    }
+
+    fn rhs(&self, regime: Regime, z: &Z) -> Z {
+        let ff = self.friction(regime, z);
+        let (xdd, udd) = match regime {
+            Regime::Stick => {
+                if self.band {
+                    let a = (-self.kg * z[0] - self.cx * z[1] - self.kb * z[4] - self.cb * z[5]) / (self.m + self.mb);
+                    (a, a)
+                } else {
+                    (0.0, 0.0)
+                }
+            }
+            _ => {
+                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
+                let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
+                (xdd, udd)
+            }
+        };
+        let (phid, phidd) = if self.rotation {
+            (z[3], (-self.k_rot * z[2] - self.cphi * z[3] + self.moment_load + self.s * self.w * ff) / self.i)
+        } else {
+            (0.0, 0.0)
+        };
+        let ud = if self.band { z[5] } else { 0.0 };
+        Z::new(z[1], xdd, phid, phidd, ud, udd)
+    }
+
+    /// The regime holds while the guard is negative.
+    fn guard(&self, regime: Regime, z: &Z) -> f64 {
+        match regime {
+            Regime::Stick => self.f_req(z).abs() - self.mu_s * self.normal(z),
+            Regime::Slower => self.slip_v(z),
+            Regime::Faster => -self.slip_v(z),
+        }
+    }
+
+    /// Rate of the guard along the motion (for crests inside a step).
+    fn guard_rate(&self, regime: Regime, z: &Z) -> f64 {
+        let zd = self.rhs(regime, z);
+        match regime {
+            Regime::Stick => self.f_req(z).signum() * self.f_req_rate(&zd) - self.mu_s * self.normal_rate(&zd),
+            _ => {
+                let vd = zd[1] - if self.band { zd[5] } else { 0.0 };
+                if regime == Regime::Slower {
+                    vd
+                } else {
+                    -vd
+                }
+            }
+        }
+    }
+
+    /// The statistics' quantities: x, x', phi, phi', band velocity x_b' = V + u', band
+    /// acceleration u''.
+    fn quantities(&self, regime: Regime, z: &Z) -> [f64; 6] {
+        let zd = self.rhs(regime, z);
+        [z[0], z[1], z[2], z[3], self.v + if self.band { z[5] } else { 0.0 }, zd[5]]
+    }
+
+    /// Rates of [`Phys::quantities`].
+    fn quantity_rates(&self, regime: Regime, z: &Z) -> [f64; 6] {
+        let zd = self.rhs(regime, z);
+        let jerk_u = if !self.band {
+            0.0
+        } else if regime == Regime::Stick {
+            (-self.kg * zd[0] - self.cx * zd[1] - self.kb * zd[4] - self.cb * zd[5]) / (self.m + self.mb)
+        } else {
+            let sg = Self::sigma(regime);
+            let speed = self.slip_v(z).abs();
+            // |v| = -sigma v in slip
+            let speed_rate = -sg * (zd[1] - zd[5]);
+            let ff_rate =
+                sg * (self.mu(speed) * self.normal_rate(&zd) + self.normal(z) * self.mu_slope(speed) * speed_rate);
+            (-self.kb * zd[4] - self.cb * zd[5] - ff_rate) / self.mb
+        };
+        [zd[0], zd[1], zd[2], zd[3], zd[5], jerk_u]
+    }
+
+    /// Sets v = 0 on entering stick.
+    fn project_stick(&self, z: &mut Z) {
+        if self.band {
+            let common = (self.m * z[1] + self.mb * (self.v + z[5])) / (self.m + self.mb);
+            z[1] = common;
+            z[5] = common - self.v;
+        } else {
+            z[1] = self.v;
+        }
+    }
+
+    /// The regime after a guard fired in `regime` at z (the table of docs/model.md).
+    fn next_regime(&self, regime: Regime, z: &Z) -> Regime {
+        let f = self.f_req(z);
+        match regime {
+            Regime::Stick => {
+                if f > 0.0 {
+                    Regime::Slower
+                } else {
+                    Regime::Faster
+                }
+            }
+            _ => {
+                if f.abs() <= self.mu_s * self.normal(z) {
+                    Regime::Stick
+                } else if f > 0.0 {
+                    Regime::Slower
+                } else {
+                    Regime::Faster
+                }
+            }
+        }
+    }
+
+    /// The fastest rate of the model [1/s]: natural frequencies, damping rates and the
+    /// Stribeck slope's negative damping.
+    fn fastest_rate(&self) -> f64 {
+        let mut r = (self.kg / self.m).sqrt().max(self.cx / self.m);
+        if self.rotation {
+            r = r.max(((self.k_rot + self.mu_s * self.w * self.c_n) / self.i).sqrt()).max(self.cphi / self.i);
+        }
+        let inv_mass = 1.0 / self.m + if self.band { 1.0 / self.mb } else { 0.0 };
+        if self.band {
+            r = r.max((self.kb / self.mb).sqrt()).max(self.cb / self.mb);
+        }
+        if self.stribeck {
+            // N |mu'| near v = 0 (capped for delta < 1, where it is unbounded); N taken as 2 N0
+            let slope = (self.mu_s - self.mu_k) * self.delta.max(1.0) / self.v_s;
+            r = r.max(2.0 * self.c_n * self.phi0 * slope * inv_mass);
+        }
+        r
+    }
+}
+
+struct Rhs {
+    p: Phys,
+    regime: Regime,
+}
+
+impl System<f64, Z> for Rhs {
+    fn system(&self, _t: f64, z: &Z, dz: &mut Z) {
+        *dz = self.p.rhs(self.regime, z);
+    }
+}
+
+/// Step-end states of one DOP853 run in `regime` from (t0, z0) to t1.
+fn integrate(p: &Phys, regime: Regime, t0: f64, z0: Z, t1: f64, h_max: f64, tol: &Tolerances) -> Result<(Vec<f64>, Vec<Z>, u64), String> {
+    if t1 <= t0 {
+        return Ok((vec![t0], vec![z0], 0));
+    }
+    let mut solver = Dop853::from_param(
+        Rhs { p: *p, regime },
+        t0,
+        t1,
+        t1 - t0,
+        z0,
+        tol.rtol,
+        tol.atol,
+        0.9,
+        0.0,
+        0.333,
+        6.0,
+        h_max.min(t1 - t0),
+        0.0,
+        10_000_000,
+        1000,
+        OutputType::Sparse,
+    );
+    let stats = solver
+        .integrate()
+        .map_err(|e| format!("reference2 DOP853 failed from t = {t0} s in {regime:?}: {e:?}"))?;
+    let (ts, zs) = (solver.x_out().clone(), solver.y_out().clone());
+    if zs.iter().any(|z| !z.iter().all(|v| v.is_finite())) {
+        return Err(format!("reference2 DOP853 produced a non-finite state after t = {t0} s in {regime:?}"));
+    }
+    Ok((ts, zs, stats.accepted_steps as u64))
+}
+
+fn state_at(p: &Phys, regime: Regime, t0: f64, z0: Z, t: f64, h_max: f64, tol: &Tolerances) -> Result<Z, String> {
+    let (_, zs, _) = integrate(p, regime, t0, z0, t, h_max, tol)?;
+    Ok(*zs.last().expect("DOP853 output holds the start"))
+}
+
+/// Bisects for the time in (lo, hi] where `f(state)` first turns `>= 0` (false at lo, true at
+/// hi), re-integrating from (t_a, z_a) <= lo. Returns (time, state).
+#[allow(clippy::too_many_arguments)]
+fn bisect<F: Fn(&Z) -> bool>(
+    p: &Phys,
+    regime: Regime,
+    t_a: f64,
+    z_a: Z,
+    mut lo: f64,
+    mut hi: f64,
+    mut z_hi: Z,
+    h_max: f64,
+    tol: &Tolerances,
+    f: F,
+) -> Result<(f64, Z), String> {
+    while hi - lo > tol.t_tol {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        let zm = state_at(p, regime, t_a, z_a, mid, h_max, tol)?;
+        if f(&zm) {
+            hi = mid;
+            z_hi = zm;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok((hi, z_hi))
+}
+
+/// One transition: at `t` the regime changed from `from` to `to`; `state` is the state the new
+/// regime starts from (after the stick projection `v = 0` when `to` is stick).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transition {
+    pub t: f64,
+    pub from: Regime,
+    pub to: Regime,
+    pub state: [f64; 6],
+}
+
+/// Window statistics of a run. Quantities are indexed [x, x', phi, phi', x_b', u''] (x_b' =
+/// V + u' the band's velocity, u'' its acceleration; V and 0 without the band).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats2 {
+    pub min: [f64; 6],
+    pub max: [f64; 6],
+    /// Share of the window spent in stick.
+    pub stick_fraction: f64,
+    /// 1 / (mean interval between stick -> slip transitions in the window); 0 with fewer than
+    /// two.
+    pub stick_slip_hz: f64,
+    /// Number of stick -> slip transitions in the window.
+    pub slip_onsets: usize,
+}
+
+impl Stats2 {
+    /// Peak-to-peak of quantity i.
+    pub fn pp(&self, i: usize) -> f64 {
+        self.max[i] - self.min[i]
+    }
+}
+
+/// Where a run starts: the state `[x, x', phi, phi', u, u']` at t = 0 and its regime.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Start {
+    pub state: [f64; 6],
+    pub regime: Regime,
+}
+
+impl Start {
+    /// The default initial state of docs/model.md: stick, x = 0, x' = V, phi = F_N a_N / K,
+    /// phi' = 0, u = u' = 0.
+    pub fn default_of(scene: &Scene) -> Start {
+        let p = Phys::of(scene);
+        Start { state: [0.0, p.v, p.phi0, 0.0, 0.0, 0.0], regime: Regime::Stick }
+    }
+}
+
+/// A reference run of model 2, part 1, from t = 0 to `duration`.
+#[derive(Clone, Debug)]
+pub struct Run2 {
+    /// The start state and regime (after normalisation: phi held without rotation, u = u' = 0
+    /// without the band).
+    pub start: Start,
+    pub transitions: Vec<Transition>,
+    /// The state at `duration`, and its regime.
+    pub final_state: [f64; 6],
+    pub final_regime: Regime,
+    pub duration: f64,
+    /// DOP853 steps accepted on the main path (not counting bisections).
+    pub accepted_steps: u64,
+    p: Phys,
+    tol: Tolerances,
+    h_max: f64,
+}
+
+fn arr(z: &Z) -> [f64; 6] {
+    [z[0], z[1], z[2], z[3], z[4], z[5]]
+}
+
+/// Runs `scene` from the default initial state to `scene.duration` at the default (tight)
+/// tolerances (rtol 1e-12, atol 1e-16, transitions to 1e-13 s, steps up to 0.05 / the fastest
+/// rate).
+pub fn simulate(scene: &Scene) -> Result<Run2, String> {
+    simulate_from(scene, Start::default_of(scene), Tolerances::default())
+}
+
+/// Runs `scene` from `start` (at t = 0) to `scene.duration` with the given tolerances.
+pub fn simulate_from(scene: &Scene, start: Start, tol: Tolerances) -> Result<Run2, String> {
+    scene.validate().map_err(|e| format!("invalid scene: {e}"))?;
+    if !(tol.rtol > 0.0 && tol.atol > 0.0 && tol.t_tol > 0.0 && tol.h_max_factor > 0.0) {
+        return Err(format!("reference2: tolerances must be > 0: {tol:?}"));
+    }
+    if !start.state.iter().all(|v| v.is_finite()) {
+        return Err(format!("reference2: non-finite start state {:?}", start.state));
+    }
+    let p = Phys::of(scene);
+    let h_max = tol.h_max_factor / p.fastest_rate();
+    let mut z = Z::from_row_slice(&start.state);
+    if !p.rotation {
+        z[2] = p.phi0;
+        z[3] = 0.0;
+    }
+    if !p.band {
+        z[4] = 0.0;
+        z[5] = 0.0;
+    }
+    let mut regime = start.regime;
+    if regime == Regime::Stick {
+        p.project_stick(&mut z);
+    }
+    let start = Start { state: arr(&z), regime };
+    let t_end = scene.duration;
+    let chunk = CHUNK_STEPS * h_max;
+    let arm_level = -ARM * p.v;
+    let mut t = 0.0;
+    let mut armed = regime == Regime::Stick || p.guard(regime, &z) < arm_level;
+    let mut transitions = Vec::new();
+    let mut accepted = 0u64;
+    while t < t_end {
+        let stop = if t_end - t > 1.5 * chunk { t + chunk } else { t_end };
+        let (ts, zs, acc) = integrate(&p, regime, t, z, stop, h_max, &tol)?;
+        accepted += acc;
+        let mut event: Option<(f64, Z)> = None;
+        for k in 1..zs.len() {
+            if armed {
+                if p.guard(regime, &zs[k]) >= 0.0 {
+                    let ev = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], ts[k], zs[k], h_max, &tol, |y| {
+                        p.guard(regime, y) >= 0.0
+                    })?;
+                    event = Some(ev);
+                    break;
+                }
+                // a crest of the guard inside the step (negative at both ends)
+                if p.guard_rate(regime, &zs[k - 1]) > 0.0 && p.guard_rate(regime, &zs[k]) < 0.0 {
+                    let (tc, zc) = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], ts[k], zs[k], h_max, &tol, |y| {
+                        p.guard_rate(regime, y) <= 0.0
+                    })?;
+                    if p.guard(regime, &zc) >= 0.0 {
+                        let ev = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], tc, zc, h_max, &tol, |y| {
+                            p.guard(regime, y) >= 0.0
+                        })?;
+                        event = Some(ev);
+                        break;
+                    }
+                }
+            } else if p.guard(regime, &zs[k]) < arm_level {
+                armed = true;
+            }
+        }
+        match event {
+            None => {
+                let t_last = *ts.last().expect("DOP853 output holds the start");
+                if (t_last - stop).abs() > 1e-9 * stop.abs().max(1e-9) {
+                    return Err(format!("reference2: DOP853 stopped at t = {t_last} s before {stop} s"));
+                }
+                t = stop;
+                z = *zs.last().expect("DOP853 output holds the start");
+            }
+            Some((te, ze)) => {
+                let mut zn = ze;
+                let next = p.next_regime(regime, &ze);
+                if next == Regime::Stick {
+                    p.project_stick(&mut zn);
+                }
+                transitions.push(Transition { t: te, from: regime, to: next, state: arr(&zn) });
+                if transitions.len() > MAX_TRANSITIONS {
+                    return Err(format!("reference2: more than {MAX_TRANSITIONS} transitions by t = {te} s (chattering)"));
+                }
+                t = te;
+                z = zn;
+                regime = next;
+                armed = regime == Regime::Stick || p.guard(regime, &z) < arm_level;
+            }
+        }
+    }
+    Ok(Run2 {
+        start,
+        transitions,
+        final_state: arr(&z),
+        final_regime: regime,
+        duration: t_end,
+        accepted_steps: accepted,
+        p,
+        tol,
+        h_max,
+    })
+}
+
+impl Run2 {
+    /// The regime segments: (start time, start state, regime, end time).
+    fn segments(&self) -> Vec<(f64, Z, Regime, f64)> {
+        let mut out = Vec::with_capacity(self.transitions.len() + 1);
+        let mut t0 = 0.0;
+        let mut z0 = Z::from_row_slice(&self.start.state);
+        let mut r0 = self.start.regime;
+        for tr in &self.transitions {
+            out.push((t0, z0, r0, tr.t));
+            t0 = tr.t;
+            z0 = Z::from_row_slice(&tr.state);
+            r0 = tr.to;
+        }
+        out.push((t0, z0, r0, self.duration));
+        out
+    }
+
+    /// Integrates a segment from its start to `t1` in chunks; the step ends of every chunk at
+    /// and after `from` are handed to `f` (times, states).
+    fn walk<F: FnMut(&[f64], &[Z]) -> Result<(), String>>(
+        &self,
+        seg: (f64, Z, Regime),
+        from: f64,
+        t1: f64,
+        mut f: F,
+    ) -> Result<Z, String> {
+        let (mut t, mut z, regime) = seg;
+        let chunk = CHUNK_STEPS * self.h_max;
+        if from > t {
+            // to the window's start without output
+            while t < from {
+                let stop = if from - t > 1.5 * chunk { t + chunk } else { from };
+                z = state_at(&self.p, regime, t, z, stop, self.h_max, &self.tol)?;
+                t = stop;
+            }
+        }
+        while t < t1 {
+            let stop = if t1 - t > 1.5 * chunk { t + chunk } else { t1 };
+            let (ts, zs, _) = integrate(&self.p, regime, t, z, stop, self.h_max, &self.tol)?;
+            f(&ts, &zs)?;
+            t = stop;
+            z = *zs.last().expect("DOP853 output holds the start");
+        }
+        Ok(z)
+    }
+
+    /// Statistics over [from, to] (0 <= from < to <= duration): the true extremes of the
+    /// continuous motion (extrema inside a step are bisected on the sign of the quantity's rate;
+    /// both one-sided values at a transition count), the stick fraction and the stick-slip
+    /// frequency.
+    pub fn window_stats(&self, from: f64, to: f64) -> Result<Stats2, String> {
+        if !(from >= 0.0 && from < to && to <= self.duration) {
+            return Err(format!("reference2: window [{from}, {to}] s not inside [0, {}] s", self.duration));
+        }
+        let p = self.p;
+        let mut lo = [f64::INFINITY; 6];
+        let mut hi = [f64::NEG_INFINITY; 6];
+        let mut stick_time = 0.0;
+        for (t0, z0, regime, t1) in self.segments() {
+            if t0 > to || (t1 <= from && t0 < from) {
+                continue;
+            }
+            let (a, b) = (t0.max(from), t1.min(to));
+            if regime == Regime::Stick {
+                stick_time += b - a;
+            }
+            let mut include = |q: [f64; 6]| {
+                for c in 0..6 {
+                    lo[c] = lo[c].min(q[c]);
+                    hi[c] = hi[c].max(q[c]);
+                }
+            };
+            if t0 >= from {
+                include(p.quantities(regime, &z0));
+            }
+            if b <= a {
+                continue;
+            }
+            let tol = self.tol;
+            let h_max = self.h_max;
+            let z_end = self.walk((t0, z0, regime), a, b, |ts, zs| {
+                include(p.quantities(regime, &zs[0]));
+                for k in 1..zs.len() {
+                    include(p.quantities(regime, &zs[k]));
+                    let ra = p.quantity_rates(regime, &zs[k - 1]);
+                    let rb = p.quantity_rates(regime, &zs[k]);
+                    for c in 0..6 {
+                        if ra[c] * rb[c] < 0.0 {
+                            let up = ra[c] > 0.0;
+                            let (_, ze) = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], ts[k], zs[k], h_max, &tol, |y| {
+                                (p.quantity_rates(regime, y)[c] > 0.0) != up
+                            })?;
+                            include(p.quantities(regime, &ze));
+                        }
+                    }
+                }
+                Ok(())
+            })?;
+            include(p.quantities(regime, &z_end));
+        }
+        let onsets: Vec<f64> = self
+            .transitions
+            .iter()
+            .filter(|tr| tr.from == Regime::Stick && tr.t >= from && tr.t <= to)
+            .map(|tr| tr.t)
+            .collect();
+        let hz = if onsets.len() >= 2 {
+            (onsets.len() - 1) as f64 / (onsets[onsets.len() - 1] - onsets[0])
+        } else {
+            0.0
+        };
+        Ok(Stats2 { min: lo, max: hi, stick_fraction: stick_time / (to - from), stick_slip_hz: hz, slip_onsets: onsets.len() })
+    }
+
+    /// The regime at time t (the regime a transition at exactly t enters).
+    pub fn regime_at(&self, t: f64) -> Regime {
+        self.transitions.iter().take_while(|tr| tr.t <= t).last().map_or(self.start.regime, |tr| tr.to)
+    }
+
+    /// The states `[x, x', phi, phi', u, u']` at the given times (each in [0, duration]; any
+    /// order). At a transition's time the state is the one the new regime starts from. Each
+    /// state is integrated from the previous requested time in the same segment (or the
+    /// segment's start), at the run's tolerances.
+    pub fn sample(&self, times: &[f64]) -> Result<Vec<[f64; 6]>, String> {
+        if let Some(t) = times.iter().find(|t| !(**t >= 0.0 && **t <= self.duration)) {
+            return Err(format!("reference2: sample time {t} s not inside [0, {}] s", self.duration));
+        }
+        let mut order: Vec<usize> = (0..times.len()).collect();
+        order.sort_by(|a, b| times[*a].total_cmp(&times[*b]));
+        let segs = self.segments();
+        let mut out = vec![[0.0; 6]; times.len()];
+        let mut si = 0;
+        let (mut t, mut z) = (segs[0].0, segs[0].1);
+        for idx in order {
+            let tq = times[idx];
+            // the segment holding tq: the last one starting at or before it
+            while si + 1 < segs.len() && segs[si + 1].0 <= tq {
+                si += 1;
+                t = segs[si].0;
+                z = segs[si].1;
+            }
+            let regime = segs[si].2;
+            z = self.walk((t, z, regime), t, tq, |_, _| Ok(()))?;
+            t = tq;
+            out[idx] = arr(&z);
+        }
+        Ok(out)
+    }
+
+    /// Window statistics over the scene's window [stats_from, duration].
+    pub fn stats(&self, scene: &Scene) -> Result<Stats2, String> {
+        self.window_stats(scene.stats_from, self.duration)
+    }
+}
