@@ -141,14 +141,15 @@ pub struct Model2Stepper<T: Real> {
     /// that a long stick in f32 does not accumulate x += V h round-off.
     anchor_x: T,
     anchor_t: f64,
+    /// Whether the current slip's return to v = 0 is watched (see `substep`).
+    armed: bool,
+    /// Round-off level of the sliding velocity: 2^-(L-8) V [m/s].
+    v_round: T,
 }
 
 impl<T: Real> Model2Stepper<T> {
     const LEVELS: usize = T::DYADIC_LEVELS;
     const UNITS: u64 = 1u64 << T::DYADIC_LEVELS;
-    /// A slip guard crossing this close to the slip's entry is its start (2^-20 of a substep,
-    /// at least 4 units).
-    const GRACE: u64 = if T::DYADIC_LEVELS > 22 { 1u64 << (T::DYADIC_LEVELS - 20) } else { 4 };
 
     /// Validates `scene` and starts at rest in stick: x = 0, x' = V, phi = F_N a_N / K,
     /// phi' = 0, u = u' = 0.
@@ -252,6 +253,8 @@ impl<T: Real> Model2Stepper<T> {
             transitions: 0,
             anchor_x: T::zero(),
             anchor_t: 0.0,
+            armed: false,
+            v_round: t(libm::ldexp(scene.v, 8 - Self::LEVELS as i32)),
         })
     }
 
@@ -288,6 +291,8 @@ impl<T: Real> Model2Stepper<T> {
     pub fn set_state(&mut self, z: [T; NS], regime: Regime) {
         self.z = z;
         self.regime = regime;
+        // a state set in slip is taken as a slip under way
+        self.armed = true;
         if regime == Regime::Stick {
             let mut z = self.z;
             self.enter_stick(&mut z);
@@ -557,14 +562,19 @@ impl<T: Real> Model2Stepper<T> {
         let mut transitions = 0usize;
         let mut events = 0u32;
         let mut touched: Option<(Regime, usize)> = None;
-        // unit at which the current regime was entered in this substep
-        let mut entered: Option<u64> = None;
         while pos < units {
             let j = self.chunk_level(regime, &z, units - pos);
             let z1 = self.chunk(regime, j, &z);
             let mut best: Option<(u64, [T; NS], usize)> = None;
+            // A slip starts at v = 0 (with Stribeck friction also at v' = 0): its guard is armed
+            // once v has left zero by more than round-off in the slip's own direction. Until
+            // then only a departure beyond round-off to the other side counts as a crossing.
+            let unarmed = regime != Regime::Stick && !self.armed;
             for which in 0..Self::guard_count(regime) {
                 if touched == Some((regime, which)) {
+                    continue;
+                }
+                if unarmed && !(row_dot(&self.guard(regime, 0), &z1) > self.v_round) {
                     continue;
                 }
                 if let Some((p, zp)) = self.crossing(regime, which, &z, pos, j, &z1) {
@@ -573,16 +583,10 @@ impl<T: Real> Model2Stepper<T> {
                     }
                 }
             }
-            // A slip entered from stick starts with v = 0, and with Stribeck friction also with
-            // v' = 0: a crossing found within `GRACE` units of the entry is that start, not a
-            // return to v = 0. It is a touch (not tested again in this substep).
-            if let (Some((p, _, which)), Some(e)) = (best, entered) {
-                if regime != Regime::Stick && p < e + Self::GRACE {
-                    touched = Some((regime, which));
-                    continue;
-                }
-            }
             let Some((p, zp, which)) = best else {
+                if unarmed && row_dot(&self.guard(regime, 0), &z1) < -self.v_round {
+                    self.armed = true;
+                }
                 let mut z1 = z1;
                 self.anchor_stick_x(regime, &mut z1, sub, pos + (1u64 << j));
                 self.emit(obs, regime, sub, pos, pos + (1u64 << j), z, z1);
@@ -616,7 +620,7 @@ impl<T: Real> Model2Stepper<T> {
                 touched = Some((regime, which));
             } else {
                 touched = None;
-                entered = Some(at);
+                self.armed = false;
                 obs.transition(&Transition2 { t: self.time_at(sub, at), from: regime, to: next, z: zn });
                 transitions += 1;
                 self.transitions += 1;

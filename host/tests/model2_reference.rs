@@ -1,0 +1,58 @@
+//! The model-2 stepper against the independent reference (`stickslip::reference2`: its own
+//! right-hand side from docs/model.md, adaptive DOP853 at rtol 1e-12, events bisected to
+//! 1e-13 s): the 1-DOF Stribeck oracle's period and amplitude, a 2-DOF Stribeck case and a
+//! rig-set case (Stribeck, band, damping), at the rig's step, in f64 and f32.
+
+use stickslip::builtin;
+use stickslip::reference2;
+use stickslip_model::model2::{Model2Stepper, Stats2, Stats2Observer};
+use stickslip_model::{Real, Scene};
+
+fn stepper<T: Real>(scene: &Scene) -> Stats2 {
+    let mut s = Model2Stepper::<T>::new(scene).unwrap();
+    let mut obs = Stats2Observer::new(scene.stats_from, scene.v);
+    for _ in 0..(scene.duration / scene.dt).round() as u64 {
+        s.step_observed(&mut obs).unwrap();
+    }
+    obs.finish()
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// Relative errors of (period, x pp, x' pp, stick fraction) against the reference.
+fn errors(scene: &Scene, s: &Stats2) -> [f64; 4] {
+    let r = reference2::simulate(scene).unwrap().stats(scene).unwrap();
+    [
+        rel(1.0 / s.stick_slip_hz, 1.0 / r.stick_slip_hz),
+        rel(s.pp(0), r.pp(0)),
+        rel(s.pp(1), r.pp(1)),
+        (s.stick_fraction - r.stick_fraction).abs(),
+    ]
+}
+
+#[test]
+fn the_stribeck_oracle_matches_the_reference() {
+    let scene = builtin::find("oracle_stribeck").unwrap().scene;
+    let e64 = errors(&scene, &stepper::<f64>(&scene));
+    let e32 = errors(&scene, &stepper::<f32>(&scene));
+    println!("oracle_stribeck f64 {e64:?}\noracle_stribeck f32 {e32:?}");
+    assert!(e64.iter().all(|&e| e <= 1e-6), "f64 {e64:?}");
+    assert!(e32.iter().all(|&e| e <= 1e-4), "f32 {e32:?}");
+}
+
+#[test]
+fn two_dof_stribeck_and_the_rig_set_match_the_reference() {
+    let mut stribeck = Scene::case(stickslip_model::Caliper::Pull, 0.040);
+    stribeck.friction = stickslip_model::FrictionLaw::Stribeck;
+    stribeck.v_s = 0.002;
+    let rig = builtin::find("rig_pull_center").unwrap().scene;
+    for (name, scene) in [("pull_center + Stribeck", stribeck), ("rig_pull_center", rig)] {
+        let e64 = errors(&scene, &stepper::<f64>(&scene));
+        let e32 = errors(&scene, &stepper::<f32>(&scene));
+        println!("{name} f64 {e64:?}\n{name} f32 {e32:?}");
+        assert!(e64.iter().all(|&e| e <= 1e-5), "{name} f64 {e64:?}");
+        assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
+    }
+}
