@@ -33,6 +33,8 @@ use stickslip_model::propagator::Propagator;
 use crate::builtin;
 use crate::error::{HostError, Result};
 use crate::reference::{self, Tolerances};
+use crate::reference2;
+use stickslip_model::model2::{Model2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 
 /// The rig's sample period [s].
 pub const RIG_DT: f64 = 1.0 / 25600.0;
@@ -50,6 +52,157 @@ pub const BOUND_ORACLE_F64: f64 = 1e-9;
 pub const BOUND_ORACLE_F32: f64 = 1e-5;
 pub const EQUAL_ERROR: f64 = 1e-6;
 pub const BOUND_SPEEDUP: f64 = 10.0;
+/// Model 2: the Stribeck oracle at the rig's step, against the adaptive reference.
+pub const BOUND_STRIBECK_F64: f64 = 1e-6;
+pub const BOUND_STRIBECK_F32: f64 = 1e-4;
+/// The model-2 stepper's method name in the rows.
+pub const MODEL2_METHOD: &str = "model2";
+/// Model-2 scenes of the report: the 1-DOF Stribeck oracle, a 2-DOF Stribeck case (pull_center
+/// with v_s = 2 mm/s) and a rig-set case; all periodic.
+pub const MODEL2_SCENES: [&str; 3] = ["oracle_stribeck", "pull_center_stribeck", "rig_pull_center"];
+
+fn model2_scene(name: &str) -> Scene {
+    if name == "pull_center_stribeck" {
+        let mut s = builtin::find("pull_center").expect("built-in").scene;
+        s.friction = stickslip_model::FrictionLaw::Stribeck;
+        s.v_s = 0.002;
+        return s;
+    }
+    builtin::find(name).expect("built-in").scene
+}
+
+struct Model2Observer {
+    stats: Stats2Observer,
+    onsets: Vec<f64>,
+    from: f64,
+}
+
+impl<T: Real> Observer2<T> for Model2Observer {
+    fn segment(&mut self, seg: &Segment2<T>) {
+        <Stats2Observer as Observer2<T>>::segment(&mut self.stats, seg);
+    }
+    fn transition(&mut self, tr: &Transition2<T>) {
+        <Stats2Observer as Observer2<T>>::transition(&mut self.stats, tr);
+        if tr.from == Regime::Stick && tr.t >= self.from {
+            self.onsets.push(tr.t);
+        }
+    }
+}
+
+/// The model-2 stepper in precision `T` with observation (untimed).
+fn observe_model2<T: Real>(scene: &Scene) -> Result<Observed> {
+    let mut st = Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+    let from = (scene.stats_from / scene.dt).round() * scene.dt;
+    let mut ob = Model2Observer { stats: Stats2Observer::new(from, scene.v), onsets: Vec::new(), from };
+    let mut o = Observed::default();
+    for _ in 0..steps_of(scene) {
+        if let Err(h) = st.step_observed(&mut ob) {
+            o.halt = Some(h);
+            break;
+        }
+        o.steps += 1;
+    }
+    let s = ob.stats.finish();
+    let z = st.state();
+    o.onsets = ob.onsets;
+    o.min = [s.min[0], s.min[1], s.min[2], s.min[3]];
+    o.max = [s.max[0], s.max[1], s.max[2], s.max[3]];
+    o.stick_fraction = s.stick_fraction;
+    o.final_state = [z[0].to_f64(), z[1].to_f64(), z[2].to_f64(), z[3].to_f64()];
+    Ok(o)
+}
+
+/// The model-2 reference (DOP853, its own right-hand side) at `tol`, as an observed run.
+fn observe_reference2(scene: &Scene, tol: Tolerances) -> Result<Observed> {
+    let run = reference2::simulate_from(scene, reference2::Start::default_of(scene), tol).map_err(HostError::Input)?;
+    let st = run.stats(scene).map_err(HostError::Input)?;
+    Ok(Observed {
+        onsets: run
+            .transitions
+            .iter()
+            .filter(|t| t.from == reference2::Regime::Stick && t.t >= scene.stats_from)
+            .map(|t| t.t)
+            .collect(),
+        min: [st.min[0], st.min[1], st.min[2], st.min[3]],
+        max: [st.max[0], st.max[1], st.max[2], st.max[3]],
+        stick_fraction: st.stick_fraction,
+        final_state: [run.final_state[0], run.final_state[1], run.final_state[2], run.final_state[3]],
+        steps: run.accepted_steps,
+        halt: None,
+    })
+}
+
+fn periodic_truth(o: &Observed) -> Truth {
+    Truth::Periodic {
+        period: o.period().unwrap_or(f64::NAN),
+        amplitude: o.pp(0),
+        final_state: o.final_state,
+        scale: [o.pp(0), o.pp(1), o.pp(2), o.pp(3)],
+    }
+}
+
+fn model2_row<T: Real>(name: &str, truth: &Truth, scene: &Scene, repeats: usize) -> Result<Row> {
+    let o = observe_model2::<T>(scene)?;
+    let (error, ep, ea, ef) = measure(truth, &o);
+    let n = steps_of(scene);
+    let mut best = f64::INFINITY;
+    let mut steps = 0;
+    for _ in 0..repeats.max(1) {
+        let mut m = Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+        let t0 = Instant::now();
+        let mut k = 0;
+        while k < n {
+            if std::hint::black_box(m.step()).is_err() {
+                break;
+            }
+            k += 1;
+        }
+        best = best.min(t0.elapsed().as_secs_f64());
+        steps = k;
+    }
+    Ok(Row {
+        scene: name.into(),
+        method: MODEL2_METHOD.into(),
+        precision: T::NAME.into(),
+        dt: Some(scene.dt),
+        error,
+        ns_per_step: (steps > 0).then(|| best * 1e9 / steps as f64),
+        run_s: best,
+        steps,
+        outcome: outcome_word(&o.halt),
+        rtol: None,
+        error_period: ep,
+        error_amplitude: ea,
+        error_final: ef,
+    })
+}
+
+fn model2_adaptive_row(name: &str, truth: &Truth, scene: &Scene, rtol: f64, repeats: usize) -> Result<Row> {
+    let tol = Tolerances::loose(rtol);
+    let mut best = f64::INFINITY;
+    let mut o = Observed::default();
+    for _ in 0..repeats.max(1) {
+        let t0 = Instant::now();
+        o = observe_reference2(scene, tol)?;
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    let (error, ep, ea, ef) = measure(truth, &o);
+    Ok(Row {
+        scene: name.into(),
+        method: "dop853_adaptive".into(),
+        precision: "f64".into(),
+        dt: None,
+        error,
+        ns_per_step: (o.steps > 0).then(|| best * 1e9 / o.steps as f64),
+        run_s: best,
+        steps: o.steps,
+        outcome: "completed".into(),
+        rtol: Some(rtol),
+        error_period: ep,
+        error_amplitude: ea,
+        error_final: ef,
+    })
+}
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
@@ -445,6 +598,24 @@ pub fn run(opts: &Options) -> Result<Report> {
             rows.push(adaptive_row(name, &truth, &base, rtol, opts.repeats)?);
         }
     }
+    // model 2: its stepper in f32 and f64 against the independent adaptive reference at
+    // rtol 1e-12 (reference2: its own right-hand side from docs/model.md)
+    for name in MODEL2_SCENES {
+        let base = model2_scene(name);
+        let truth = periodic_truth(&observe_reference2(&base, Tolerances::default())?);
+        for &dt in dts {
+            let mut scene = base;
+            scene.dt = dt;
+            if opts.progress {
+                eprint!("\r{name} model2 dt {dt:.2e}{:<40}", "");
+            }
+            rows.push(model2_row::<f64>(name, &truth, &scene, opts.repeats)?);
+            rows.push(model2_row::<f32>(name, &truth, &scene, opts.repeats)?);
+        }
+        for &rtol in rtols {
+            rows.push(model2_adaptive_row(name, &truth, &base, rtol, opts.repeats)?);
+        }
+    }
     if opts.progress {
         eprintln!();
     }
@@ -455,10 +626,17 @@ pub fn run(opts: &Options) -> Result<Report> {
             .find(|r| r.scene == scene && r.method == "exact" && r.precision == prec && r.dt == Some(RIG_DT))
             .and_then(|r| r.error)
     };
+    let find_m2 = |scene: &str, prec: &str| {
+        rows.iter()
+            .find(|r| r.scene == scene && r.method == MODEL2_METHOD && r.precision == prec && r.dt == Some(RIG_DT))
+            .and_then(|r| r.error)
+    };
     let checks = vec![
         check("oracle_1dof exact f64 error at 1/25600 s", find("oracle_1dof", "f64"), BOUND_ORACLE_F64, false),
         check("oracle_1dof exact f32 error at 1/25600 s", find("oracle_1dof", "f32"), BOUND_ORACLE_F32, false),
         check("pull_center speed-up of exact f64 over DOP853 at error <= 1e-6", speedup, BOUND_SPEEDUP, true),
+        check("oracle_stribeck model2 f64 error at 1/25600 s", find_m2("oracle_stribeck", "f64"), BOUND_STRIBECK_F64, false),
+        check("oracle_stribeck model2 f32 error at 1/25600 s", find_m2("oracle_stribeck", "f32"), BOUND_STRIBECK_F32, false),
     ];
     Ok(Report { rows, speedup_at_equal_error: speedup, reference_check, checks })
 }
@@ -506,7 +684,14 @@ pub fn markdown(rep: &Report) -> String {
          worst time difference {:.1e} s, worst peak-to-peak difference {:.1e}.\n\n",
         rc.transitions, rc.worst_time_difference_s, rc.worst_pp_difference
     ));
-    for scene in ["oracle_1dof", "pull_center", "push_center"] {
+    for scene in ["oracle_1dof", "pull_center", "push_center"].into_iter().chain(MODEL2_SCENES) {
+        if MODEL2_SCENES.contains(&scene) {
+            out.push_str(&format!(
+                "Model 2 ({scene}): the model-2 stepper (exact flows, ETDRK4 in Stribeck slip) against the model-2 \
+                 reference (DOP853 at rtol 1e-12, its own right-hand side); period and amplitude as for the periodic \
+                 scenes.\n\n"
+            ));
+        }
         out.push_str(&format!("## {scene}\n\n| method | precision | dt [s] | error | period | amplitude | final | ns/step | run [s] | outcome |\n|---|---|---|---|---|---|---|---|---|---|\n"));
         for r in rep.rows.iter().filter(|r| r.scene == scene) {
             let dt = match (r.dt, r.rtol) {
