@@ -18,9 +18,21 @@ fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
     let (code, v) = run(&["stability", "--quick", "--json", "--check"]);
     assert_eq!(code, 0);
     let rows = v["rows"].as_array().expect("rows");
-    // 8 sweeps, 5 methods, 2 precisions
+    // 8 sweeps, 5 methods, 2 precisions; then 4 model-2 sweeps, the model-2 stepper, 2 precisions
     let values = 7 + 7 + 8 + 8 + 5 + 5 + 5 + 6;
-    assert_eq!(rows.len(), values * 5 * 2);
+    let model2_values = 7 + 5 + 5 + 5;
+    assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2);
+    // model 2's extremes (v_s down to 1e-6 m/s, k_b to 1e10 N/m, m_b 1e-3 to 1e3 kg, damping to
+    // critical) stay bounded on its stepper in both precisions
+    let m2: Vec<&Value> = rows.iter().filter(|r| r["method"] == "model2").collect();
+    assert_eq!(m2.len(), model2_values * 2);
+    for r in &m2 {
+        assert_eq!(r["outcome"], "bounded", "{r}");
+        for key in ["v_s", "k_b", "m_b"] {
+            assert!(r[key].as_f64().is_some_and(f64::is_finite), "{r}");
+        }
+    }
+    assert!(m2.iter().any(|r| r["sweep"] == "v_s" && r["v_s"] == 1e-6));
     for r in rows {
         for key in ["method", "precision", "dt", "contact_stiffness", "k_g", "mu_s", "v", "beta", "f_n", "damping_ratio", "outcome"] {
             assert!(!r[key].is_null(), "row without {key}: {r}");
@@ -47,7 +59,9 @@ fn accuracy_report_meets_its_bounds() {
     let (code, v) = run(&["accuracy", "--quick", "--json", "--check"]);
     assert_eq!(code, 0, "a bound failed: {}", v["checks"]);
     let rows = v["rows"].as_array().expect("rows");
-    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3));
+    // thesis scenes: 3 steps x 5 methods x 2 precisions + 3 tolerances; model 2: 3 scenes x
+    // (3 steps x 2 precisions + 3 tolerances)
+    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3) + 3 * (3 * 2 + 3));
     for r in rows {
         for key in ["scene", "method", "precision", "run_s"] {
             assert!(!r[key].is_null(), "row without {key}: {r}");
@@ -63,6 +77,14 @@ fn accuracy_report_meets_its_bounds() {
     };
     assert!(exact("oracle_1dof", "f64") <= 1e-9);
     assert!(exact("oracle_1dof", "f32") <= 1e-5);
+    let model2 = |scene: &str, prec: &str| {
+        rows.iter()
+            .find(|r| r["scene"] == scene && r["method"] == "model2" && r["precision"] == prec && r["dt"] == 1.0 / 25600.0)
+            .and_then(|r| r["error"].as_f64())
+            .expect("row")
+    };
+    assert!(model2("oracle_stribeck", "f64") <= 1e-6);
+    assert!(model2("oracle_stribeck", "f32") <= 1e-4);
     assert!(v["speedup_at_equal_error"].as_f64().unwrap() >= 10.0);
     let rc = &v["reference_check"];
     assert!(rc["worst_time_difference_s"].as_f64().unwrap() < 1e-9);
