@@ -45,7 +45,8 @@ pub trait Real:
     fn abs(self) -> Self;
     fn is_finite(self) -> bool;
     fn sqrt(self) -> Self;
-    /// e^self (libm: the same software routine on the host and the Cortex-M4F).
+    /// e^self (libm: the same software routine on the host and the Cortex-M4F; for f32,
+    /// micromath's approximation with the cargo feature `micromath`).
     fn exp(self) -> Self;
     /// self^e for self > 0 (libm).
     fn powf(self, e: Self) -> Self;
@@ -122,5 +123,16 @@ macro_rules! impl_real {
     };
 }
 
+/// e^x in f32 with the feature `micromath`: micromath's `F32Ext::exp` (called by path, so that
+/// no inherent `f32::exp` can shadow it).
+#[cfg(feature = "micromath")]
+#[inline(always)]
+fn expf_micromath(x: f32) -> f32 {
+    micromath::F32Ext::exp(x)
+}
+
+#[cfg(not(feature = "micromath"))]
 impl_real!(f32, 24, "f32", libm::sqrtf, libm::expf, libm::powf);
+#[cfg(feature = "micromath")]
+impl_real!(f32, 24, "f32", libm::sqrtf, expf_micromath, libm::powf);
 impl_real!(f64, 53, "f64", libm::sqrt, libm::exp, libm::pow);

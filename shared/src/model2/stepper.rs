@@ -154,6 +154,19 @@ impl<T: Real> Model2Stepper<T> {
     /// Validates `scene` and starts at rest in stick: x = 0, x' = V, phi = F_N a_N / K,
     /// phi' = 0, u = u' = 0.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
+        let mut slot = None;
+        Self::init_in(&mut slot, scene)?;
+        match slot {
+            Some(s) => Ok(s),
+            None => unreachable!("init_in returned Ok without filling the slot"),
+        }
+    }
+
+    /// [`Self::new`] built in `slot` (e.g. a `static`): the dyadic tables (tens of KB in
+    /// f32) are filled where they stay, not on the stack and then moved, which a Cortex-M4F's
+    /// stack cannot hold twice (tests/on-target bin `count_model2` prints the stack it takes).
+    /// The same values as [`Self::new`]. On an error `slot` is left as it was.
+    pub fn init_in<'a>(slot: &'a mut Option<Self>, scene: &Scene) -> Result<&'a mut Self, SceneError> {
         scene.validate()?;
         let co = Coefficients::of(scene);
         let sys = System::of(scene, &co);
@@ -168,63 +181,13 @@ impl<T: Real> Model2Stepper<T> {
         let n_sub = n_sub as u32;
         let h_sub = scene.dt / n_sub as f64;
         let t = T::from_f64;
-        let zero_flow = [T::zero(); NS * NA];
         let zero_etd = EtdVectors { phi1: [T::zero(); NS], w0: [T::zero(); NS], wab: [T::zero(); NS], wc: [T::zero(); NS] };
-        let mut flows = [[zero_flow; MAX_LEVELS]; 3];
-        let mut etd = [[zero_etd; MAX_LEVELS]; 2];
-        for regime in Regime::ALL {
-            let a = &sys.a[regime.index()];
-            let with_phi = sys.stribeck && regime != Regime::Stick;
-            for j in 0..=Self::LEVELS {
-                let tau = h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32);
-                let flow = &mut flows[regime.index()][j];
-                if with_phi {
-                    // [[A, b, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]] * tau
-                    let mut m: MatN<10> = [[0.0; 10]; 10];
-                    for r in 0..NA {
-                        m[r][..NA].copy_from_slice(&a[r]);
-                        m[r][NA] = sys.b[r];
-                    }
-                    m[NA][NA + 1] = 1.0;
-                    m[NA + 1][NA + 2] = 1.0;
-                    let e = linalg::expm_minus_identity(&linalg::scale(&m, tau));
-                    for r in 0..NS {
-                        for c in 0..NA {
-                            flow[r * NA + c] = t(e[r][c]);
-                        }
-                    }
-                    let v = &mut etd[regime.index() - 1][j];
-                    for r in 0..NS {
-                        let (c1, c2, c3) = (e[r][NA], e[r][NA + 1] / tau, e[r][NA + 2] / (tau * tau));
-                        v.phi1[r] = t(c1);
-                        v.w0[r] = t(c1 - 3.0 * c2 + 4.0 * c3);
-                        v.wab[r] = t(2.0 * c2 - 4.0 * c3);
-                        v.wc[r] = t(4.0 * c3 - c2);
-                    }
-                } else {
-                    let e = linalg::expm_minus_identity(&linalg::scale(a, tau));
-                    for r in 0..NS {
-                        for c in 0..NA {
-                            flow[r * NA + c] = t(e[r][c]);
-                        }
-                    }
-                }
-            }
-        }
-        let mut arows = [[[T::zero(); NA]; NS]; 3];
-        for regime in Regime::ALL {
-            for r in 0..NS {
-                for c in 0..NA {
-                    arows[regime.index()][r][c] = t(sys.a[regime.index()][r][c]);
-                }
-            }
-        }
         let tv = |r: &[f64; NA]| -> [T; NA] { core::array::from_fn(|i| t(r[i])) };
         let z = [T::zero(), t(scene.v), t(co.phi0), T::zero(), T::zero(), T::zero()];
-        Ok(Model2Stepper {
-            flows,
-            etd,
-            a: arows,
+        let s = slot.insert(Model2Stepper {
+            flows: [[[T::zero(); NS * NA]; MAX_LEVELS]; 3],
+            etd: [[zero_etd; MAX_LEVELS]; 2],
+            a: [[[T::zero(); NA]; NS]; 3],
             b: core::array::from_fn(|i| t(sys.b[i])),
             r_v: tv(&sys.r_v),
             r_n: tv(&sys.r_n),
@@ -255,7 +218,53 @@ impl<T: Real> Model2Stepper<T> {
             anchor_t: 0.0,
             armed: false,
             v_round: t(libm::ldexp(scene.v, 8 - Self::LEVELS as i32)),
-        })
+        });
+        let sys = &s.sys;
+        for regime in Regime::ALL {
+            let a = &sys.a[regime.index()];
+            let with_phi = sys.stribeck && regime != Regime::Stick;
+            for j in 0..=Self::LEVELS {
+                let tau = h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32);
+                let flow = &mut s.flows[regime.index()][j];
+                if with_phi {
+                    // [[A, b, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]] * tau
+                    let mut m: MatN<10> = [[0.0; 10]; 10];
+                    for r in 0..NA {
+                        m[r][..NA].copy_from_slice(&a[r]);
+                        m[r][NA] = sys.b[r];
+                    }
+                    m[NA][NA + 1] = 1.0;
+                    m[NA + 1][NA + 2] = 1.0;
+                    let e = linalg::expm_minus_identity(&linalg::scale(&m, tau));
+                    for r in 0..NS {
+                        for c in 0..NA {
+                            flow[r * NA + c] = t(e[r][c]);
+                        }
+                    }
+                    let v = &mut s.etd[regime.index() - 1][j];
+                    for r in 0..NS {
+                        let (c1, c2, c3) = (e[r][NA], e[r][NA + 1] / tau, e[r][NA + 2] / (tau * tau));
+                        v.phi1[r] = t(c1);
+                        v.w0[r] = t(c1 - 3.0 * c2 + 4.0 * c3);
+                        v.wab[r] = t(2.0 * c2 - 4.0 * c3);
+                        v.wc[r] = t(4.0 * c3 - c2);
+                    }
+                } else {
+                    let e = linalg::expm_minus_identity(&linalg::scale(a, tau));
+                    for r in 0..NS {
+                        for c in 0..NA {
+                            flow[r * NA + c] = t(e[r][c]);
+                        }
+                    }
+                }
+            }
+            for r in 0..NS {
+                for c in 0..NA {
+                    s.a[regime.index()][r][c] = t(sys.a[regime.index()][r][c]);
+                }
+            }
+        }
+        Ok(s)
     }
 
     pub fn state(&self) -> [T; NS] {
