@@ -273,8 +273,8 @@ fn the_reference_guards_are_the_models() {
     let st = ExactStepper::<f64>::new(&scene).unwrap();
     let g: &Guard<f64> = &st.guards().stick_behind;
     let c = [scene.k_g, 0.0, -scene.mu_s * co.c_n, 0.0, scene.c_x * scene.v];
-    for i in 0..5 {
-        assert!((g.c[i] - c[i]).abs() <= 1e-12 * c[i].abs().max(1.0), "stick guard coefficient {i}");
+    for (i, (got, want)) in g.c.iter().zip(c).enumerate() {
+        assert!((got - want).abs() <= 1e-12 * want.abs().max(1.0), "stick guard coefficient {i}");
     }
     let g = &st.guards().slower_caught_up;
     assert_eq!(g.c, [0.0, 1.0, 0.0, 0.0, -scene.v]);

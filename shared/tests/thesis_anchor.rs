@@ -14,6 +14,7 @@
 //! - push_lead at 1 ms (f32 and f64): the breakaway at 0.470766 s, seen before only at 0.472766 s;
 //! - thesis-mu at 1/25600 s and 1 ms (f32 and f64): slips that touch V_r = 0 between two
 //!   substep ends (the first in f64 at 1/25600 s: 0.2022945 s).
+//!
 //! Every other run, f32 and f64, is bit-identical to af3be34.
 
 use stickslip_model::digest::{DigestBits, Fnv1a64};
