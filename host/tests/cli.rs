@@ -273,11 +273,12 @@ fn oracle_1dof_matches_the_closed_form() {
 
 #[test]
 fn thesis_mu_has_no_sustained_stick_slip() {
-    // model.md: with mu_k = mu_s the pad slides forever after a few early events.
+    // model.md: with mu_k = mu_s the pad slides after a few early events; its velocity only
+    // touches the band's once per 0.49 s, a stick of 3 us (at 0.956 s in the window)
     let j = json(&["simulate", "thesis-mu", "--json"]);
     assert_eq!(j["outcome"], "completed");
     assert_eq!(num(&j, "stick_slip_hz"), 0.0);
-    assert_eq!(num(&j, "stick_fraction"), 0.0);
+    assert!(num(&j, "stick_fraction") < 1e-4, "stick fraction {}", num(&j, "stick_fraction"));
     assert!(num(&j, "first_slip_s") < 0.1, "it does slip early");
 }
 

@@ -3,12 +3,20 @@
 //!
 //! One call of [`ExactStepper::step`] advances the run by `dt`. A step is split into `n_sub`
 //! equal substeps, just enough that the fastest mode turns by at most a quarter radian per
-//! substep (one substep per step at the rig's rate for the default scenes), so that no guard or
-//! extremum can cross and come back unseen inside one. In a substep without a transition the
-//! work is one small matrix product and one guard test; a substep whose end state has a fired
+//! substep (one substep per step at the rig's rate for the default scenes), so that a guard has
+//! at most one extremum inside one. In a substep without a transition the work is one small
+//! matrix product, one guard test and one crest test; a substep whose end state has a fired
 //! guard is resolved by binary lifting over the substep's `2^L` units (L = 24 in f32, 53 in f64),
 //! the new regime is entered at the first unit where the guard holds, and the rest of the
 //! substep continues in it.
+//!
+//! Crests: a guard can also poke above zero and come back between two substep ends (by up to
+//! about A (omega h)^2 / 8 for a guard ringing with amplitude A). Its time derivative
+//! g' = c . A [z; 1] is linear in z (stick: +-k_g V - mu_s c_N phi'; slip: +-x''), so the crest
+//! test is the sign of g' at both ends: + to - means a crest inside. Such a substep goes to
+//! the in-substep search like a fired one, which bounds the crest by the two end tangents
+//! (when g'' <= 0 at both ends) and, unless that bound is below zero, finds the zero of g' by
+//! binary lifting, tests g there and, if it fired, lifts on g over [start, crest].
 //!
 //! Round-off containment: while sticking, x is not accumulated step by step but recomputed as
 //! x_entry + V (elapsed since entry), so a long stick phase in f32 does not lose digits; time
@@ -17,10 +25,11 @@
 use crate::coefficients::Coefficients;
 use crate::halt::Limits;
 pub use crate::halt::Halt;
-use crate::propagator::{apply, Propagator};
+use crate::linalg;
+use crate::propagator::{apply, system_matrix, Propagator};
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
-use crate::stickslip::{Guards, Regime};
+use crate::stickslip::{Guard, Guards, Regime};
 
 /// Transitions kept per step for [`ExactStepper::transitions`]; more are counted in
 /// [`ExactStepper::transitions_dropped`] (an observer still sees every one).
@@ -102,6 +111,8 @@ struct FastPath<T> {
     c_n: T,
     n0: T,
     mu_k: T,
+    /// k_g V: with mu_s c_N phi' it gives the stick guards' rates (crest test).
+    k_g_v: T,
 }
 
 /// The exact fixed-step stepper, generic over f32 and f64.
@@ -113,6 +124,9 @@ pub struct ExactStepper<T: Real> {
     rotation: bool,
     dt: f64,
     limits: Limits<T>,
+    /// curv[regime][which]: the second time derivative of each guard, c . A^2 [z; 1], for the
+    /// crest pre-test of [`Self::crest_crossing`].
+    curv: [[[T; 5]; 2]; 3],
     z: [T; 4],
     regime: Regime,
     step: u64,
@@ -151,7 +165,9 @@ impl<T: Real> ExactStepper<T> {
             c_n: t(co.c_n),
             n0: t(co.n0),
             mu_k: t(scene.mu_k),
+            k_g_v: t(scene.k_g * scene.v),
         };
+        let curv = Self::curvatures(scene, &co);
         let z = [T::zero(), t(scene.v), t(co.phi0), T::zero()];
         let empty = Transition { t: 0.0, from: Regime::Stick, to: Regime::Stick, state: State::default() };
         Ok(ExactStepper {
@@ -162,6 +178,7 @@ impl<T: Real> ExactStepper<T> {
             rotation: scene.rotation,
             dt: scene.dt,
             limits,
+            curv,
             z,
             regime: Regime::Stick,
             step: 0,
@@ -173,6 +190,24 @@ impl<T: Real> ExactStepper<T> {
             dropped: 0,
             halted: None,
         })
+    }
+
+    /// c . A^2 for every guard of every regime, in f64, rounded to T.
+    fn curvatures(scene: &Scene, co: &Coefficients) -> [[[T; 5]; 2]; 3] {
+        let g64 = Guards::<f64>::new(scene, co);
+        let mut out = [[[T::zero(); 5]; 2]; 3];
+        for regime in Regime::ALL {
+            let a = system_matrix(scene, co, regime);
+            let a2 = linalg::mul(&a, &a);
+            let (gs, n) = g64.of(regime);
+            for (which, g) in gs.iter().take(n).enumerate() {
+                for col in 0..5 {
+                    let v: f64 = (0..5).map(|r| g.c[r] * a2[r][col]).sum();
+                    out[regime.index()][which][col] = T::from_f64(v);
+                }
+            }
+        }
+        out
     }
 
     fn stick_fold(prop: &Propagator<T>, v: f64) -> [T; 8] {
@@ -263,7 +298,7 @@ impl<T: Real> ExactStepper<T> {
         if self.prop.n_sub == 1 && self.halted.is_none() {
             let regime = self.regime;
             let z1 = self.fast_substep(regime, &self.z);
-            if !self.fires(regime, &z1) && self.limits.in_range(&z1) {
+            if !self.fires(regime, &z1) && !self.crest_possible(regime, &self.z, &z1) && self.limits.in_range(&z1) {
                 self.z = z1;
                 if regime == Regime::Stick {
                     self.anchor_subs = self.anchor_subs.saturating_add(1);
@@ -288,7 +323,7 @@ impl<T: Real> ExactStepper<T> {
             let z0 = self.z;
             let regime = self.regime;
             let z1 = self.fast_substep(regime, &z0);
-            if !self.fires(regime, &z1) {
+            if !self.fires(regime, &z1) && !self.crest_possible(regime, &z0, &z1) {
                 obs.segment(
                     &Segment { regime, step: self.step, sub, p0: 0, p1: Propagator::<T>::UNITS, z0, z1 },
                     &self.prop,
@@ -360,6 +395,124 @@ impl<T: Real> ExactStepper<T> {
         }
     }
 
+    /// The time derivative of guard `which` of `regime` at `z`: g'(z) = c . A [z; 1], itself
+    /// linear in z. Stick: d/dt (+-F_req - mu_s N) = +-k_g V - mu_s c_N phi' (x' = V, x'' = 0;
+    /// without rotation the constant +-k_g V: no crest). Slip: +-x''.
+    #[inline(always)]
+    fn guard_rate(&self, regime: Regime, which: usize, z: &[T; 4]) -> T {
+        match regime {
+            Regime::Stick => {
+                let m = if self.rotation { self.fast.mu_s_c_n * z[3] } else { T::zero() };
+                if which == 0 {
+                    self.fast.k_g_v - m
+                } else {
+                    -self.fast.k_g_v - m
+                }
+            }
+            Regime::SlipSlower => self.prop.accelerations(regime, z).0,
+            Regime::SlipFaster => -self.prop.accelerations(regime, z).0,
+        }
+    }
+
+    /// Whether a guard of `regime` may have a crest at or above zero inside the segment from
+    /// `z0` to `z1` (the fast path's crest test; see [`Self::crest_suspect`]).
+    #[inline(always)]
+    fn crest_possible(&self, regime: Regime, z0: &[T; 4], z1: &[T; 4]) -> bool {
+        match regime {
+            Regime::Stick => {
+                self.rotation
+                    && (self.crest_suspect(regime, 0, &self.guards.stick_behind, z0, z1)
+                        || self.crest_suspect(regime, 1, &self.guards.stick_ahead, z0, z1))
+            }
+            Regime::SlipSlower => self.crest_suspect(regime, 0, &self.guards.slower_caught_up, z0, z1),
+            Regime::SlipFaster => self.crest_suspect(regime, 0, &self.guards.faster_caught_up, z0, z1),
+        }
+    }
+
+    /// Whether guard `which` (`g`) of `regime`, below zero at both ends of the segment from
+    /// `z0` to `z1` (at most a substep), may have a crest at or above zero inside it.
+    ///
+    /// 1. Its rate must go from > 0 to < 0 (the quarter-radian substep holds at most one
+    ///    extremum of a guard). Stick: m = mu_s c_N phi' crossing +-k_g V upward. This is the
+    ///    common exit, a few instructions.
+    /// 2. A guard at (or above) zero where the segment starts is one the regime was just
+    ///    entered on (or one at its own boundary): it is not taken for a new crossing here, as
+    ///    the lifting never tests the start; a real departure is seen at the end of the
+    ///    substep. Without this, mu_k = mu_s (the slip guard leaves zero with a rate that is
+    ///    zero up to round-off) would storm between stick and slip.
+    /// 3. Tangent bound: where the guard is concave over the segment (g'' <= 0 at both ends,
+    ///    so everywhere: one sign change at most per substep), g' <= d0 before the crest and
+    ///    g' >= d1 after it, so the crest lies below both end tangents, below their
+    ///    intersection (g0 |d1| + g1 d0 + d0 |d1| tau) / (d0 + |d1|), tau the segment's length
+    ///    (taken as the substep's: the bound only grows with tau). If that is below zero, no.
+    #[inline(always)]
+    fn crest_suspect(&self, regime: Regime, which: usize, g: &Guard<T>, z0: &[T; 4], z1: &[T; 4]) -> bool {
+        let zero = T::zero();
+        let d0 = self.guard_rate(regime, which, z0);
+        let d1 = self.guard_rate(regime, which, z1);
+        if !(d0 > zero && d1 < zero) {
+            return false;
+        }
+        self.crest_not_excluded(regime, which, g, z0, z1, d0, -d1)
+    }
+
+    /// Steps 2 and 3 of [`Self::crest_suspect`] (kept out of line: rarely reached).
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn crest_not_excluded(
+        &self,
+        regime: Regime,
+        which: usize,
+        g: &Guard<T>,
+        z0: &[T; 4],
+        z1: &[T; 4],
+        d0: T,
+        d1: T,
+    ) -> bool {
+        let zero = T::zero();
+        let g0 = g.value(z0);
+        if !(g0 < zero) {
+            return false;
+        }
+        let k = &self.curv[regime.index()][which];
+        let curv = |c: &[T; 4]| k[0] * c[0] + k[1] * c[1] + k[2] * c[2] + k[3] * c[3] + k[4];
+        if !(curv(z0) > zero) && !(curv(z1) > zero) && g0 * d1 + g.value(z1) * d0 + d0 * d1 * self.h_sub_t < zero {
+            return false;
+        }
+        true
+    }
+
+    /// The first unit p in (from, units) after which guard `which` of `regime` has fired, with
+    /// the state at p, when the guard did not fire at the end of the substep (`z_end`) but
+    /// may have a crest inside ([`Self::crest_suspect`]): the zero of its rate is found by
+    /// binary lifting, the guard is tested at the two units around it, and if it fired there
+    /// the first crossing is found by lifting over [from, crest], where it rises.
+    fn crest_crossing(
+        &self,
+        regime: Regime,
+        which: usize,
+        g: &Guard<T>,
+        z: &[T; 4],
+        z_end: &[T; 4],
+        from: u64,
+    ) -> Option<(u64, [T; 4])> {
+        let units = Propagator::<T>::UNITS;
+        let zero = T::zero();
+        if !self.crest_suspect(regime, which, g, z, z_end) {
+            return None;
+        }
+        // last unit where the rate is still > 0 (never evaluated at `from`)
+        let (pc, zc) = self.prop.lift(regime, z, from, units, |c| self.guard_rate(regime, which, c) > zero);
+        let to = if pc > from && g.fired(&zc) {
+            pc + 1
+        } else if pc + 1 < units && g.fired(&apply(self.prop.flow(regime, 0), &zc)) {
+            pc + 2
+        } else {
+            return None;
+        };
+        Some(self.prop.lift(regime, z, from, to, |c| !g.fired(c)))
+    }
+
     fn time_at(&self, sub: u32, unit: u64) -> f64 {
         let u = Propagator::<T>::UNITS as f64;
         self.step as f64 * self.dt + (sub as f64 + unit as f64 / u) * self.prop.h_sub
@@ -387,8 +540,13 @@ impl<T: Real> ExactStepper<T> {
                 if touched == Some((regime, which)) {
                     continue;
                 }
-                if g.fired(&z_end) {
-                    let (p, zp) = self.prop.lift(regime, &z, pos, units, |c| !g.fired(c));
+                let found = if g.fired(&z_end) {
+                    Some(self.prop.lift(regime, &z, pos, units, |c| !g.fired(c)))
+                } else {
+                    // not fired at the end: it may still have poked above zero and come back
+                    self.crest_crossing(regime, which, g, &z, &z_end, pos)
+                };
+                if let Some((p, zp)) = found {
                     if best.is_none_or(|b| p < b.0) {
                         best = Some((p, zp, which));
                     }

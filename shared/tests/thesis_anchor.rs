@@ -7,6 +7,15 @@
 //! any model-2 option existed). A change that alters one bit of one step of one of these runs
 //! fails here; re-pin only for a change that is meant to alter the thesis arithmetic, and say
 //! so in the commit.
+//!
+//! Re-pinned once since, on branch crest (guard crests inside a substep are found): three runs
+//! changed, each because a crest the end-of-substep test had missed is now found
+//! (shared/tests/grazing.rs, `the_thesis_set_crests_found_since_are_real`):
+//! - push_lead at 1 ms (f32 and f64): the breakaway at 0.470766 s, seen before only at 0.472766 s;
+//! - thesis-mu at 1/25600 s and 1 ms (f32 and f64): slips that touch V_r = 0 between two
+//!   substep ends (the first in f64 at 1/25600 s: 0.2022945 s).
+//!
+//! Every other run, f32 and f64, is bit-identical to af3be34.
 
 use stickslip_model::digest::{DigestBits, Fnv1a64};
 use stickslip_model::scene::CASE_BETAS;
@@ -53,22 +62,22 @@ fn digest<T: Real + DigestBits>(scene: &Scene) -> u64 {
     d.finish()
 }
 
-/// (scene, dt, f32 digest, f64 digest), pinned on af3be34.
+/// (scene, dt, f32 digest, f64 digest), pinned on af3be34 (three rows re-pinned on branch crest).
 const PINNED: &[(&str, f64, u64, u64)] = &[
     ("push_trail", 3.90625e-5, 0x56909c8c498e8811, 0x335f7107590556fb),
     ("push_trail", 0.001, 0xc956c5bbae6900be, 0x4dfb8b4f86607849),
     ("push_center", 3.90625e-5, 0x1173da501f708092, 0x2932073910ebe1e6),
     ("push_center", 0.001, 0xb2e8332804730d2e, 0xd81243c718e85de1),
     ("push_lead", 3.90625e-5, 0xe03caea0e9c9c7b7, 0xc796bfc15ed5d8bc),
-    ("push_lead", 0.001, 0x4ca21b9c77f9515e, 0x5bb42114f46c9d58),
+    ("push_lead", 0.001, 0xde01f522c7c8b91f, 0x4362ac49bcdfb02a),
     ("pull_trail", 3.90625e-5, 0x5ee9292e3195810c, 0x29705610abb59b17),
     ("pull_trail", 0.001, 0x65d634263c107a11, 0xbbfafbf3b2aace63),
     ("pull_center", 3.90625e-5, 0xb3ea2bca5f05f777, 0x69e7959da491ea02),
     ("pull_center", 0.001, 0x8036b57455dee7f5, 0xf6a75ea1d8b07c48),
     ("pull_lead", 3.90625e-5, 0xd76fdb0d8ca2ab43, 0x505e121f2e1322cd),
     ("pull_lead", 0.001, 0x769986a05c2a154a, 0xa51653294740568e),
-    ("thesis-mu", 3.90625e-5, 0x7f2bf796a1871f78, 0xb1aac14ff922b9fc),
-    ("thesis-mu", 0.001, 0xb60f3895156cdc5e, 0x39cb763de8b67622),
+    ("thesis-mu", 3.90625e-5, 0x52baff1c24dc06d0, 0x0aec84f8eb87530c),
+    ("thesis-mu", 0.001, 0xcbcdf55e54e94bc1, 0xf8ab050fc5b4c645),
     ("oracle_1dof", 3.90625e-5, 0xc6102c7542173cd2, 0x6049fa72355b99d7),
     ("oracle_1dof", 0.001, 0x6126e0ee9e158efa, 0xcc28d6587b6d8570),
 ];
