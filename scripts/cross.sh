@@ -52,8 +52,20 @@ _cross_apt_install() {
     $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >&2 || return 1
 }
 
+# The oldest Debian rustc the firmware's dependencies accept (heapless 0.9 and
+# embedded-storage 0.3.2 need 1.87). An older rustc-web (installed from stale package lists)
+# is upgraded, not used.
+CROSS_DEBIAN_MIN_RUSTC="1.87"
+
+_cross_debian_rustc_recent() {
+    local v
+    v="$(/usr/bin/rustc --version 2>/dev/null | awk '{print $2}')" || return 1
+    [ -n "$v" ] && [ "$(printf '%s\n%s\n' "$CROSS_DEBIAN_MIN_RUSTC" "$v" | sort -V | head -n 1)" = "$CROSS_DEBIAN_MIN_RUSTC" ]
+}
+
 _cross_debian_toolchain_ok() {
     [ -x /usr/bin/rustc ] && [ -x /usr/bin/cargo ] \
+        && _cross_debian_rustc_recent \
         && [ -d /usr/lib/rustlib/src/rust/library/core ] \
         && command -v arm-none-eabi-ld >/dev/null 2>&1
 }

@@ -143,6 +143,11 @@ pub struct Model2Stepper<T: Real> {
     anchor_t: f64,
     /// Whether the current slip's return to v = 0 is watched (see `substep`).
     armed: bool,
+    /// (mu_s - mu_k) delta / v_s (1/m + 1/m_b): the falling slope's rate per unit of N and of
+    /// the shape y^(delta-1) exp(-y^delta) [1/(N s)].
+    rate_coef: T,
+    /// The largest slope rate a chunk of 2^j units takes: STRIBECK_RATE_H / h_j [1/s].
+    rate_limit: [T; MAX_LEVELS],
     /// Round-off level of the sliding velocity: 2^-(L-8) V [m/s].
     v_round: T,
 }
@@ -218,6 +223,11 @@ impl<T: Real> Model2Stepper<T> {
             anchor_t: 0.0,
             armed: false,
             v_round: t(libm::ldexp(scene.v, 8 - Self::LEVELS as i32)),
+            rate_coef: t(sys.d_mu * scene.stribeck_exponent / scene.v_s
+                * (1.0 / scene.m + if scene.band { 1.0 / scene.m_b } else { 0.0 })),
+            rate_limit: core::array::from_fn(|j| {
+                t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)))
+            }),
         });
         let sys = &s.sys;
         for regime in Regime::ALL {
@@ -412,11 +422,20 @@ impl<T: Real> Model2Stepper<T> {
     fn chunk_level(&self, regime: Regime, z: &[T; NS], remaining: u64) -> usize {
         let mut j = 63 - remaining.leading_zeros() as usize; // largest 2^j <= remaining
         if self.is_stribeck_slip(regime) {
-            let v = self.sliding_velocity(z).to_f64();
-            let n = self.normal_force(z).to_f64();
-            let rate = self.sys.stribeck_rate(libm::fabs(v), n);
+            // the falling slope's rate, |dq/dv| (1/m + 1/m_b), in T (no f64 on the M4F's path)
+            let y = self.sliding_velocity(z).abs() * self.inv_v_s;
+            let shape = if self.delta_is_one {
+                (-y).exp()
+            } else if y > T::zero() {
+                y.powf(self.delta - T::one()) * (-(y.powf(self.delta))).exp()
+            } else if self.delta > T::one() {
+                T::zero()
+            } else {
+                self.rate_limit[0] * self.rate_limit[0] // delta < 1: infinite slope at v = 0
+            };
+            let rate = self.rate_coef * shape * self.normal_force(z).abs();
             let floor = (Self::LEVELS.saturating_sub(STRIBECK_REFINE)).max(1);
-            while j > floor && rate * self.h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32) > STRIBECK_RATE_H {
+            while j > floor && rate > self.rate_limit[j] {
                 j -= 1;
             }
             j = j.max(1);
