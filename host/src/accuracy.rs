@@ -144,22 +144,12 @@ fn periodic_truth(o: &Observed) -> Truth {
 fn model2_row<T: Real>(name: &str, truth: &Truth, scene: &Scene, repeats: usize) -> Result<Row> {
     let o = observe_model2::<T>(scene)?;
     let (error, ep, ea, ef) = measure(truth, &o);
-    let n = steps_of(scene);
-    let mut best = f64::INFINITY;
-    let mut steps = 0;
-    for _ in 0..repeats.max(1) {
-        let mut m = Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
-        let t0 = Instant::now();
-        let mut k = 0;
-        while k < n {
-            if std::hint::black_box(m.step()).is_err() {
-                break;
-            }
-            k += 1;
-        }
-        best = best.min(t0.elapsed().as_secs_f64());
-        steps = k;
-    }
+    let (best, steps) = time_loop(
+        steps_of(scene),
+        repeats,
+        || Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string())),
+        |m| std::hint::black_box(m.step()).is_ok(),
+    )?;
     Ok(Row {
         scene: name.into(),
         method: MODEL2_METHOD.into(),
@@ -358,17 +348,22 @@ fn observe<T: Real>(kind: MethodKind, scene: &Scene) -> Result<Observed> {
     Ok(o)
 }
 
-/// Wall time of the plain stepping loop, the minimum over `repeats` [s].
-fn time_steps<T: Real>(kind: MethodKind, scene: &Scene, repeats: usize) -> Result<(f64, u64)> {
-    let n = steps_of(scene);
+/// Wall time of a plain loop of `n` steps (`step` false: the run halted), the minimum over
+/// `repeats` fresh steppers from `make` [s], and the steps done.
+fn time_loop<S>(
+    n: u64,
+    repeats: usize,
+    mut make: impl FnMut() -> Result<S>,
+    mut step: impl FnMut(&mut S) -> bool,
+) -> Result<(f64, u64)> {
     let mut best = f64::INFINITY;
     let mut steps = 0;
     for _ in 0..repeats.max(1) {
-        let mut m = AnyMethod::<T>::new(kind, scene).map_err(|e| HostError::Input(e.to_string()))?;
+        let mut m = make()?;
         let t0 = Instant::now();
         let mut k = 0;
         while k < n {
-            if std::hint::black_box(m.step()).is_err() {
+            if !step(&mut m) {
                 break;
             }
             k += 1;
@@ -377,6 +372,16 @@ fn time_steps<T: Real>(kind: MethodKind, scene: &Scene, repeats: usize) -> Resul
         steps = k;
     }
     Ok((best, steps))
+}
+
+/// Wall time of the plain stepping loop of a method, the minimum over `repeats` [s].
+fn time_steps<T: Real>(kind: MethodKind, scene: &Scene, repeats: usize) -> Result<(f64, u64)> {
+    time_loop(
+        steps_of(scene),
+        repeats,
+        || AnyMethod::<T>::new(kind, scene).map_err(|e| HostError::Input(e.to_string())),
+        |m| std::hint::black_box(m.step()).is_ok(),
+    )
 }
 
 /// The reference against which a scene's runs are measured.

@@ -41,6 +41,13 @@ pub enum Outcome {
 }
 
 impl Outcome {
+    /// The outcome of a run of `scene` that halted with `halt`.
+    pub fn halted(scene: &Scene, halt: Halt) -> Outcome {
+        let co = Coefficients::of(scene);
+        let self_locked = co.effective_rotational_stiffness(scene, 1.0, scene.mu_s) <= 0.0;
+        Outcome::Halted { halt, self_locked }
+    }
+
     /// The JSON/summary keyword: completed, contact_loss, diverged, sprag, non_finite,
     /// transition_storm.
     pub fn keyword(&self) -> &'static str {
@@ -214,9 +221,7 @@ fn run_model2_in<T: Real>(
     let mut steps_done = 0;
     for _ in 0..steps_planned {
         if let Err(halt) = stepper.step_observed(&mut obs) {
-            let co = Coefficients::of(scene);
-            let self_locked = co.effective_rotational_stiffness(scene, 1.0, scene.mu_s) <= 0.0;
-            outcome = Outcome::Halted { halt, self_locked };
+            outcome = Outcome::halted(scene, halt);
             break;
         }
         steps_done += 1;
@@ -278,9 +283,7 @@ fn run_in<T: Real>(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> 
     let mut steps_done = 0;
     for _ in 0..steps_planned {
         if let Err(halt) = stepper.step_observed(&mut obs) {
-            let co = Coefficients::of(scene);
-            let self_locked = co.effective_rotational_stiffness(scene, 1.0, scene.mu_s) <= 0.0;
-            outcome = Outcome::Halted { halt, self_locked };
+            outcome = Outcome::halted(scene, halt);
             break;
         }
         steps_done += 1;

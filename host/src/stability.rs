@@ -342,15 +342,7 @@ pub fn markdown(rep: &Report) -> String {
         rep.duration_s
     );
     for sweep in &SWEEPS {
-        out.push_str(&format!("## {} [{}]\n\n| method | precision |", sweep.key, sweep.unit));
-        for v in sweep.values {
-            out.push_str(&format!(" {v:e} |"));
-        }
-        out.push_str("\n|---|---|");
-        for _ in sweep.values {
-            out.push_str("---|");
-        }
-        out.push('\n');
+        sweep_header(&mut out, sweep);
         // omega dt per value (the same for every method)
         out.push_str("| omega_max dt | |");
         for v in sweep.values {
@@ -378,15 +370,7 @@ pub fn markdown(rep: &Report) -> String {
          decides the model's own findings, and f32 is checked against it.\n\n",
     );
     for sweep in &MODEL2_SWEEPS {
-        out.push_str(&format!("## {} [{}]\n\n| method | precision |", sweep.key, sweep.unit));
-        for v in sweep.values {
-            out.push_str(&format!(" {v:e} |"));
-        }
-        out.push_str("\n|---|---|");
-        for _ in sweep.values {
-            out.push_str("---|");
-        }
-        out.push('\n');
+        sweep_header(&mut out, sweep);
         for precision in ["f64", "f32"] {
             out.push_str(&format!("| {MODEL2_METHOD} | {precision} |"));
             for v in sweep.values {
@@ -401,6 +385,19 @@ pub fn markdown(rep: &Report) -> String {
         out.push('\n');
     }
     out
+}
+
+/// A sweep's table head: one column per swept value.
+fn sweep_header(out: &mut String, sweep: &Sweep) {
+    out.push_str(&format!("## {} [{}]\n\n| method | precision |", sweep.key, sweep.unit));
+    for v in sweep.values {
+        out.push_str(&format!(" {v:e} |"));
+    }
+    out.push_str("\n|---|---|");
+    for _ in sweep.values {
+        out.push_str("---|");
+    }
+    out.push('\n');
 }
 
 /// The swept value of a row.

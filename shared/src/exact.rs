@@ -487,6 +487,7 @@ impl<T: Real> ExactStepper<T> {
     /// may have a crest inside ([`Self::crest_suspect`]): the zero of its rate is found by
     /// binary lifting, the guard is tested at the two units around it, and if it fired there
     /// the first crossing is found by lifting over [from, crest], where it rises.
+    #[inline(never)]
     fn crest_crossing(
         &self,
         regime: Regime,

@@ -27,7 +27,7 @@ use stickslip_model::rig::contact::ContactThresholds;
 use stickslip_model::rig::sensor_model::{
     Model2Motion, Motion, Noise, SensorModel, SensorModelConfig, SensorModelError,
 };
-use stickslip_model::{Coefficients, Real, Regime};
+use stickslip_model::{Real, Regime};
 
 use super::analysis::{Analysis, AnalysisConfig, Analyzer};
 use super::spectrum::CH;
@@ -209,9 +209,7 @@ fn sample_run<T: Real, M: Motion<T>>(
         let frame = match sensor.next_frame() {
             Ok(f) => f,
             Err(halt) => {
-                let co = Coefficients::of(scene);
-                let self_locked = co.effective_rotational_stiffness(scene, 1.0, scene.mu_s) <= 0.0;
-                outcome = Outcome::Halted { halt, self_locked };
+                outcome = Outcome::halted(scene, halt);
                 break;
             }
         };

@@ -109,15 +109,16 @@ impl<const N: usize> BandPass<N> {
         )?;
         let pi = core::f64::consts::PI;
         let k = 2.0 * fs_hz;
-        let w_lo = k * libm::tan(pi * f_lo_hz / fs_hz);
-        let w_hi = k * libm::tan(pi * f_hi_hz / fs_hz);
+        let w_lo = k * tan(pi * f_lo_hz / fs_hz);
+        let w_hi = k * tan(pi * f_hi_hz / fs_hz);
         let bw = w_hi - w_lo;
         let w0_sq = w_lo * w_hi;
         let mut analog = [(0.0f64, 0.0f64); N]; // (a1, a0) of s^2 + a1 s + a0
         let mut n = 0usize;
         for i in 0..N / 2 {
             let theta = pi / 2.0 + pi * (2 * i + 1) as f64 / (2 * N) as f64;
-            let p = Complex { re: libm::cos(theta), im: libm::sin(theta) };
+            let (sin, cos) = sin_cos(theta);
+            let p = Complex { re: cos, im: sin };
             // roots of s^2 - p B s + Omega_0^2
             let pb = p.scale(bw);
             let disc = pb.mul(pb).sub(Complex { re: 4.0 * w0_sq, im: 0.0 }).sqrt();
@@ -154,4 +155,37 @@ impl<const N: usize> BandPass<N> {
         }
         v
     }
+}
+
+/// sin and cos of |x| <= 2 pi for the set-up of the design (f64): Cody-Waite reduction by
+/// pi/2 (two-part constant) and Taylor series on |r| <= pi/4 to the 25th order (truncation
+/// below 1e-20). The firmware designs its filter at boot; libm's sin, cos and tan would link
+/// their general argument reduction (about 5 KB of flash) for these few small angles.
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    const PIO2_HI: f64 = 1.570_796_326_794_896_558; // nearest f64 to pi/2
+    const PIO2_LO: f64 = 6.123_233_995_736_766e-17; // pi/2 - PIO2_HI
+    let k = libm::round(x / PIO2_HI);
+    let r = (x - k * PIO2_HI) - k * PIO2_LO;
+    let r2 = r * r;
+    // Horner from the highest term: sin r = r (1 - r^2/(2*3) (1 - r^2/(4*5) (...)))
+    let (mut s, mut c) = (1.0, 1.0);
+    let mut n = 24.0;
+    while n >= 2.0 {
+        s = 1.0 - r2 / (n * (n + 1.0)) * s;
+        c = 1.0 - r2 / ((n - 1.0) * n) * c;
+        n -= 2.0;
+    }
+    let (sr, cr) = (r * s, c);
+    match (k as i64).rem_euclid(4) {
+        0 => (sr, cr),
+        1 => (cr, -sr),
+        2 => (-sr, -cr),
+        _ => (-cr, sr),
+    }
+}
+
+/// tan x for |x| < pi/2 (the prewarp of a band edge below fs / 2), from [`sin_cos`].
+pub fn tan(x: f64) -> f64 {
+    let (s, c) = sin_cos(x);
+    s / c
 }
