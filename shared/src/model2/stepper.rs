@@ -171,6 +171,7 @@ impl<T: Real> Model2Stepper<T> {
     /// f32) are filled where they stay, not on the stack and then moved, which a Cortex-M4F's
     /// stack cannot hold twice (tests/on-target bin `count_model2` prints the stack it takes).
     /// The same values as [`Self::new`]. On an error `slot` is left as it was.
+    #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
     pub fn init_in<'a>(slot: &'a mut Option<Self>, scene: &Scene) -> Result<&'a mut Self, SceneError> {
         scene.validate()?;
         let co = Coefficients::of(scene);
@@ -548,6 +549,7 @@ impl<T: Real> Model2Stepper<T> {
         self.step as f64 * self.dt + (sub as f64 + unit as f64 / Self::UNITS as f64) * self.h_sub
     }
 
+    #[allow(clippy::too_many_arguments)] // a segment's regime, place and two ends
     fn emit<O: Observer2<T>>(&self, obs: &mut O, regime: Regime, sub: u32, p0: u64, p1: u64, z0: [T; NS], z1: [T; NS]) {
         let (zd0, zd1) = if O::DERIVATIVES {
             (self.derivative(regime, &z0), self.derivative(regime, &z1))

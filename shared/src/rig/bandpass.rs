@@ -162,7 +162,7 @@ impl<const N: usize> BandPass<N> {
 /// below 1e-20). The firmware designs its filter at boot; libm's sin, cos and tan would link
 /// their general argument reduction (about 5 KB of flash) for these few small angles.
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    const PIO2_HI: f64 = 1.570_796_326_794_896_558; // nearest f64 to pi/2
+    const PIO2_HI: f64 = core::f64::consts::FRAC_PI_2; // nearest f64 to pi/2
     const PIO2_LO: f64 = 6.123_233_995_736_766e-17; // pi/2 - PIO2_HI
     let k = libm::round(x / PIO2_HI);
     let r = (x - k * PIO2_HI) - k * PIO2_LO;
