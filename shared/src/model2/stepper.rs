@@ -25,7 +25,7 @@
 use crate::coefficients::Coefficients;
 use crate::halt::{Halt, Limits};
 use crate::linalg::{self, MatN};
-use crate::model2::system::{row_dot, System, NA, NS, ONE};
+use crate::model2::system::{row_dot, System, NA, NS};
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
@@ -691,6 +691,3 @@ impl<T: Real> Model2Stepper<T> {
         Ok(())
     }
 }
-
-/// The constant column index, for readers of [`Segment2`] states.
-pub const CONSTANT: usize = ONE;

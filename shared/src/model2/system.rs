@@ -199,29 +199,6 @@ impl System {
         }
         rate
     }
-
-    /// The falling friction's rate at sliding speed |v| [1/s]: |dq/dv| times the inverse mass
-    /// of the sliding velocity (1/m + 1/m_b), with N at `n` [N]. Zero for Coulomb friction.
-    pub fn stribeck_rate(&self, v_abs: f64, n: f64) -> f64 {
-        if !self.stribeck {
-            return 0.0;
-        }
-        let y = v_abs / self.v_s;
-        // d/dv [d_mu exp(-y^delta)] = -d_mu delta y^(delta-1) exp(-y^delta) / v_s
-        let slope = if y > 0.0 {
-            self.d_mu * self.delta * libm::pow(y, self.delta - 1.0) * libm::exp(-libm::pow(y, self.delta)) / self.v_s
-        } else if self.delta >= 1.0 {
-            if self.delta == 1.0 {
-                self.d_mu / self.v_s
-            } else {
-                0.0
-            }
-        } else {
-            f64::INFINITY
-        };
-        let inv_mass = 1.0 / self.m + if self.band { 1.0 / self.m_b } else { 0.0 };
-        slope * libm::fabs(n) * inv_mass
-    }
 }
 
 /// Dot product of a row with an augmented state (z, 1).
