@@ -34,7 +34,7 @@ use crate::builtin;
 use crate::error::{HostError, Result};
 use crate::reference::{self, Tolerances};
 use crate::reference2;
-use stickslip_model::model2::{Model2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
+use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 
 /// The rig's sample period [s].
 pub const RIG_DT: f64 = 1.0 / 25600.0;
@@ -91,7 +91,7 @@ impl<T: Real> Observer2<T> for Model2Observer {
 
 /// The model-2 stepper in precision `T` with observation (untimed).
 fn observe_model2<T: Real>(scene: &Scene) -> Result<Observed> {
-    let mut st = Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+    let mut st = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     let from = (scene.stats_from / scene.dt).round() * scene.dt;
     let mut ob = Model2Observer { stats: Stats2Observer::new(from, scene.v), onsets: Vec::new(), from };
     let mut o = Observed::default();
@@ -147,7 +147,7 @@ fn model2_row<T: Real>(name: &str, truth: &Truth, scene: &Scene, repeats: usize)
     let (best, steps) = time_loop(
         steps_of(scene),
         repeats,
-        || Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string())),
+        || AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string())),
         |m| std::hint::black_box(m.step()).is_ok(),
     )?;
     Ok(Row {

@@ -3,7 +3,7 @@
 //! (`oracle_1dof`). All of them start from the default pad of the model crate.
 
 use stickslip_model::scene::CASE_BETAS;
-use stickslip_model::{Caliper, Coefficients, FrictionLaw, Scene, DEFAULT_SCENE};
+use stickslip_model::{Caliper, FrictionLaw, Scene, DEFAULT_SCENE};
 
 /// A built-in scene.
 #[derive(Clone, Debug)]
@@ -46,33 +46,7 @@ pub fn cases() -> Vec<Builtin> {
     out
 }
 
-/// Model 2's rig set: the default pad with falling (Stribeck) friction, the band as a mass on
-/// its drive, and a few percent of damping on every degree of freedom (docs/model.md,
-/// "The rig set"). Every model-2 value is a guess until it is fitted to the rig's Table 3.1.
-pub fn rig_scene(caliper: Caliper, beta: f64) -> Scene {
-    let mut s = Scene::case(caliper, beta);
-    s.friction = FrictionLaw::Stribeck;
-    s.v_s = RIG_V_S;
-    s.stribeck_exponent = 1.0;
-    s.band = true;
-    s.m_b = RIG_M_B;
-    s.k_b = RIG_K_B;
-    s.c_b = 2.0 * RIG_ZETA_B * (s.k_b * s.m_b).sqrt();
-    s.c_x = 2.0 * RIG_ZETA * (s.k_g * s.m).sqrt();
-    s.c_phi = 2.0 * RIG_ZETA * (Coefficients::of(&s).k_rot * s.inertia).sqrt();
-    s
-}
-
-/// Rig set, guessed: Stribeck velocity [m/s].
-pub const RIG_V_S: f64 = 0.002;
-/// Rig set, guessed: band and carriage mass [kg].
-pub const RIG_M_B: f64 = 2.0;
-/// Rig set, guessed: band drive (cylinder and linkage) stiffness [N/m].
-pub const RIG_K_B: f64 = 1e6;
-/// Rig set, guessed: damping ratio of the band drive [-].
-pub const RIG_ZETA_B: f64 = 0.05;
-/// Rig set, guessed: damping ratio of the pad's x and rotation [-].
-pub const RIG_ZETA: f64 = 0.02;
+pub use stickslip_model::rig_set::{rig_scene, RIG_K_B, RIG_M_B, RIG_V_S, RIG_ZETA, RIG_ZETA_B};
 
 /// The rig set: the six cases with model 2 on, named `rig_push_trail` ... `rig_pull_lead`.
 pub fn rig_cases() -> Vec<Builtin> {

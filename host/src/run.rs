@@ -3,7 +3,7 @@
 
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{RunStats, StatsObserver};
-use stickslip_model::model2::{Model2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
+use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 use stickslip_model::{
     Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
 };
@@ -208,7 +208,7 @@ fn run_model2_in<T: Real>(
     sink: &mut dyn Sink,
 ) -> Result<RunReport> {
     let mut stepper =
-        Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+        AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
     let window_start = (scene.stats_from / scene.dt).round() * scene.dt;
     let mut obs = Run2Observer {

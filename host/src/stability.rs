@@ -16,7 +16,7 @@
 use serde::Serialize;
 use stickslip_model::methods::{AnyMethod, Method, MethodKind};
 use stickslip_model::propagator::fastest_rate;
-use stickslip_model::model2::Model2Stepper;
+use stickslip_model::model2::AnyModel2Stepper;
 use stickslip_model::{Coefficients, Halt, Real, Regime, Scene};
 
 use crate::builtin;
@@ -251,7 +251,7 @@ pub fn run(opts: &Options) -> Result<Report> {
 
 /// Runs the model-2 stepper over a scene: its halt, if any, and whether the pad ever slipped.
 fn run_model2<T: Real>(scene: &Scene) -> Result<(Option<Halt>, bool)> {
-    let mut m = Model2Stepper::<T>::new(scene).map_err(|e| HostError::Input(format!("stability scene: {e}")))?;
+    let mut m = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(format!("stability scene: {e}")))?;
     let n = (scene.duration / scene.dt).round() as u64;
     let mut slipped = false;
     for _ in 0..n {
@@ -284,7 +284,7 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
                 Some(_) => Verdict::Other,
                 None => Verdict::Bounded,
             };
-            let rate = Model2Stepper::<f64>::new(&scene)
+            let rate = AnyModel2Stepper::<f64>::new(&scene)
                 .map(|m| m.system().linear_rate(&scene, &co))
                 .map_err(|e| HostError::Input(e.to_string()))?;
             for precision in ["f64", "f32"] {

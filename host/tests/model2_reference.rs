@@ -5,11 +5,11 @@
 
 use stickslip::builtin;
 use stickslip::reference2;
-use stickslip_model::model2::{Model2Stepper, Stats2, Stats2Observer};
+use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
 use stickslip_model::{Real, Scene};
 
 fn stepper<T: Real>(scene: &Scene) -> Stats2 {
-    let mut s = Model2Stepper::<T>::new(scene).unwrap();
+    let mut s = AnyModel2Stepper::<T>::new(scene).unwrap();
     let mut obs = Stats2Observer::new(scene.stats_from, scene.v);
     for _ in 0..(scene.duration / scene.dt).round() as u64 {
         s.step_observed(&mut obs).unwrap();

@@ -3,11 +3,34 @@
 //! The steppers run on continuously, so the measured mean includes transitions at their
 //! natural rate (about 90 per second of simulated time, one per 290 steps); a run that
 //! halts (explicit Euler loses contact on pull_center) is restarted, outside the timing.
+//!
+//! Model 2: 1000 steps of each composition's specialised stepper (`model2_1000_steps/<composition>/<T>`)
+//! on pull_center with that composition's options of the rig set (docs/numerics.md,
+//! "Compositions"), continuing from run to run (stick, slip and transitions at their rate).
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use std::hint::black_box;
 use stickslip_model::methods::{AnyMethod, Method, MethodKind};
-use stickslip_model::{Caliper, ExactStepper, Real, Scene};
+use stickslip_model::model2::{Band, Composition, Model2Stepper, Stribeck, StribeckBand};
+use stickslip_model::rig_set::rig_scene;
+use stickslip_model::{Caliper, ExactStepper, FrictionLaw, Real, Scene};
+
+fn model2<T: Real, C: Composition>(c: &mut Criterion) {
+    let mut scene = rig_scene(Caliper::Pull, 0.040);
+    scene.band = C::BAND;
+    if !C::STRIBECK {
+        scene.friction = FrictionLaw::Coulomb;
+    }
+    let id = format!("model2_1000_steps/{}/{}", C::NAME, T::NAME);
+    let mut st = Model2Stepper::<T, C>::new(&scene).unwrap();
+    c.bench_function(&id, |b| {
+        b.iter(|| {
+            for _ in 0..1000 {
+                black_box(st.step()).unwrap();
+            }
+        })
+    });
+}
 
 fn bench_method<T: Real>(c: &mut Criterion, scene_name: &str, scene: &Scene, kind: MethodKind) {
     let id = format!("step/{scene_name}/{}/{}", kind.name(), T::NAME);
@@ -39,6 +62,12 @@ fn exact_direct<T: Real>(c: &mut Criterion, scene_name: &str, scene: &Scene) {
     });
 }
 
+fn for_each_model2<T: Real>(c: &mut Criterion) {
+    model2::<T, Band>(c);
+    model2::<T, Stribeck>(c);
+    model2::<T, StribeckBand>(c);
+}
+
 fn benches(c: &mut Criterion) {
     let pull = Scene::case(Caliper::Pull, 0.040);
     let oracle = Scene::oracle_1dof();
@@ -50,6 +79,8 @@ fn benches(c: &mut Criterion) {
     damped.c_x = 50.0;
     damped.c_phi = 0.05;
     exact_direct::<f64>(c, "pull_center_damped", &damped);
+    for_each_model2::<f64>(c);
+    for_each_model2::<f32>(c);
     for kind in MethodKind::ALL {
         bench_method::<f64>(c, "pull_center", &pull, kind);
         bench_method::<f32>(c, "pull_center", &pull, kind);

@@ -1,6 +1,6 @@
 //! The effect of the f32 exponential on a Stribeck run (docs/numerics.md, "Transcendentals on
 //! the Cortex-M4F"): push_center with Stribeck friction (v_s = 0.002 m/s, delta = 1), 1 s at
-//! dt = 1/25 600 s, statistics over [0.5, 1] s, in f32 and f64 on `Model2Stepper`.
+//! dt = 1/25 600 s, statistics over [0.5, 1] s, in f32 and f64 on `AnyModel2Stepper`.
 //!
 //!     cargo run --release -p stickslip-model --example stribeck_exp
 //!     cargo run --release -p stickslip-model --example stribeck_exp --features micromath
@@ -8,7 +8,7 @@
 //! The first uses libm::expf for f32, the second micromath's exp (f64 is libm in both). Each
 //! prints one line per precision: `exp=<f32 exp> <precision> period_s=... x_pp_m=...
 //! stick_fraction=... transitions=...`, with the full significand so two runs can be compared.
-use stickslip_model::model2::{Model2Stepper, Stats2, Stats2Observer};
+use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
 use stickslip_model::{Caliper, FrictionLaw, Real, Scene};
 
 fn scene() -> Scene {
@@ -23,7 +23,7 @@ fn scene() -> Scene {
 }
 
 fn run<T: Real>(scene: &Scene) -> Stats2 {
-    let mut st = Model2Stepper::<T>::new(scene).expect("valid scene");
+    let mut st = AnyModel2Stepper::<T>::new(scene).expect("valid scene");
     let mut obs = Stats2Observer::new(scene.stats_from, scene.v);
     let steps = (scene.duration / scene.dt).round() as u64;
     for _ in 0..steps {

@@ -10,6 +10,8 @@
 //! - [`stickslip`]: the regimes and their transitions (the state machine).
 //! - [`propagator`]: exact flows of each regime on a dyadic grid.
 //! - [`exact`]: the fixed-step exact stepper.
+//! - [`model2`]: model 2 (Stribeck friction, the band, damping), stepper per composition.
+//! - [`rig_set`]: model 2's rig set of scenes.
 //! - [`stats`]: run statistics with exact extremes (peak-to-peak, stick fraction, frequency).
 #![no_std]
 #![forbid(unsafe_code)]
@@ -29,6 +31,7 @@ pub mod model2;
 pub mod propagator;
 pub mod real;
 pub mod rig;
+pub mod rig_set;
 pub mod scene;
 pub mod stats;
 pub mod stickslip;

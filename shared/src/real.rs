@@ -31,6 +31,11 @@ pub trait Real:
     type DyadicTable: Copy + Debug + AsRef<[[Self; 20]]> + AsMut<[[Self; 20]]>;
     /// A table filled with zeros.
     fn empty_table() -> Self::DyadicTable;
+    /// One value per dyadic level: `DYADIC_LEVELS + 1` entries (25 in f32, 54 in f64), for
+    /// the model-2 stepper's tables.
+    type PerLevel<X: Copy + Debug>: Copy + Debug + AsRef<[X]> + AsMut<[X]>;
+    /// Every level holding `x`.
+    fn per_level<X: Copy + Debug>(x: X) -> Self::PerLevel<X>;
     /// Short name used in reports ("f32", "f64").
     const NAME: &'static str;
     fn zero() -> Self;
@@ -74,6 +79,10 @@ macro_rules! impl_real {
             type DyadicTable = [[$t; 20]; $levels + 1];
             fn empty_table() -> Self::DyadicTable {
                 [[0.0; 20]; $levels + 1]
+            }
+            type PerLevel<X: Copy + Debug> = [X; $levels + 1];
+            fn per_level<X: Copy + Debug>(x: X) -> [X; $levels + 1] {
+                [x; $levels + 1]
             }
             #[inline(always)]
             fn zero() -> Self {

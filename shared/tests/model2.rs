@@ -2,12 +2,12 @@
 //! (v_s -> 0 is Coulomb, k_b -> infinity is the constant-speed band), and the linear
 //! stability of steady sliding against the closed form of docs/model.md.
 
-use stickslip_model::model2::{Model2Stepper, Stats2, Stats2Observer};
+use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
 use stickslip_model::stats::StatsObserver;
 use stickslip_model::{Caliper, ExactStepper, FrictionLaw, Real, Regime, Scene};
 
 fn run2<T: Real>(scene: &Scene) -> Stats2 {
-    let mut s = Model2Stepper::<T>::new(scene).unwrap();
+    let mut s = AnyModel2Stepper::<T>::new(scene).unwrap();
     let mut obs = Stats2Observer::new(scene.stats_from, scene.v);
     let steps = (scene.duration / scene.dt).round() as u64;
     for _ in 0..steps {
@@ -111,7 +111,7 @@ fn growth_rate(scene: &Scene) -> f64 {
     let n = Scene::ORACLE_N0;
     let mu = scene.mu_k + (scene.mu_s - scene.mu_k) * (-scene.v / scene.v_s).exp();
     let x_eq = mu * n / scene.k_g;
-    let mut st = Model2Stepper::<f64>::new(scene).unwrap();
+    let mut st = AnyModel2Stepper::<f64>::new(scene).unwrap();
     let mut z = st.state();
     z[0] = x_eq + 1e-8;
     z[1] = 0.0;

@@ -95,7 +95,7 @@ fn the_pipeline_runs_the_model_during_the_record_only_and_faults_stop_it() {
     let f_n = (2234.0 * 3.3 / 4096.0 - 0.6) / 0.24 * 1e5 * 3e-4;
     let (k, c_n) = (1e6 * (0.01f64.powi(2) + 0.065f64.powi(2)), 1e6 * (0.01 + 0.065));
     let n0 = c_n * f_n * 0.04 / k;
-    let n = rig.estimator().model().map(|m| m.stepper().normal_force()).unwrap() as f64;
+    let n = rig.estimator().model().map(|m| m.normal_force()).unwrap() as f64;
     assert!((n - n0).abs() < 1e-5 * n0, "model N0 {n} vs {n0}");
     let mut recorded = 1;
     loop {

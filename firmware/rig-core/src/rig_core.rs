@@ -116,7 +116,7 @@ impl CoreConfig {
             has_pressure,
             has_end_of_stroke,
             calibration: RIG_CALIBRATION,
-            model_template: stickslip_model::DEFAULT_SCENE,
+            model_template: stickslip_model::rig::lockstep::default_template(),
             timing: Timing::RIG,
         }
     }
@@ -314,7 +314,7 @@ impl RigCore {
         let scfg = cfg.sequencer();
         let setpoint = scfg.clamp_setpoint_bar as f64;
         let count_for: fn(&PressureChannel, &Adc, f64) -> u16 = cold(PressureChannel::count_for);
-        let scene: fn(&Scene, f64, f64, f64, f64) -> Scene = cold(LockstepModel::scene);
+        let scene: fn(&Scene, f64, f64, f64, f64) -> Scene = cold(<LockstepModel>::scene);
         let new_calibrator: fn(&Calibration) -> Result<Calibrator, ConfigError> = cold(Calibrator::new);
         let new_sequencer: fn(&SequencerConfig) -> Result<Sequencer, ConfigError> = cold(Sequencer::new);
         let start_model: fn(&mut Estimator, &Scene, f64) -> Result<(), SceneError> = cold(Estimator::start_model);
@@ -408,7 +408,7 @@ impl RigCore {
     }
     /// The lockstep model's normal force at its start [N].
     pub fn model_normal_force(&self) -> f32 {
-        self.armed.model().map_or(0.0, |m| m.stepper().normal_force())
+        self.armed.model().map_or(0.0, |m| m.normal_force())
     }
 
     /// One frame from the ADC words of one scan (`adc_channels()` words, frame order): without

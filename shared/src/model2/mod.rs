@@ -2,17 +2,23 @@
 //! freedom, damping on every degree of freedom, on top of the thesis model.
 //!
 //! - [`system`]: the equations as matrices and rows (state x, x', phi, phi', u, u').
+//! - [`composition`]: which options a stepper is compiled for (band; Stribeck or Coulomb).
 //! - [`stepper`]: the fixed-step stepper (exact flows for the linear regimes, ETDRK4 for
-//!   Stribeck slip, in-step transitions and crests).
+//!   Stribeck slip, in-step transitions and crests), generic over its composition.
+//! - [`any`]: the stepper of the composition a scene asks for, chosen at run time (host).
 //! - [`stats`]: window statistics of a model-2 run (extremes inside segments by cubic Hermite
 //!   interpolation of the state and its derivative).
 //!
 //! The stick-slip state machine is the thesis's ([`crate::stickslip::Regime`] and its
 //! transition table, with the sliding velocity and the required force of model 2).
+pub mod any;
+pub mod composition;
 pub mod stats;
 pub mod stepper;
 pub mod system;
 
+pub use any::AnyModel2Stepper;
+pub use composition::{Band, Composition, Coulomb, Stribeck, StribeckBand};
 pub use stats::{Stats2, Stats2Observer};
 pub use stepper::{Model2Stepper, Observer2, Segment2, Transition2};
 pub use system::{System, NA, NS};

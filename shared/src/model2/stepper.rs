@@ -19,19 +19,23 @@
 //!   change of its derivative: the derivative's zero is lifted, and the guard is evaluated
 //!   there.
 //!
+//! The stepper is generic over its [`Composition`] (band or not, Stribeck or Coulomb): a
+//! composition without the band moves 4 state entries with 4 x 5 flows, one with Coulomb
+//! friction has no ETDRK4 tables and no exponential in its code. [`super::AnyModel2Stepper`]
+//! chooses the composition from a scene at run time.
+//!
 //! The thesis model (every option off) never runs here: it keeps [`crate::ExactStepper`],
 //! bit for bit.
 
 use crate::coefficients::Coefficients;
 use crate::halt::{Halt, Limits};
 use crate::linalg::{self, MatN};
-use crate::model2::system::{row_dot, System, NA, NS};
+use crate::model2::composition::{Composition, EtdVectors};
+use crate::model2::system::{row_dot, System, NA, NS, ONE};
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
 
-/// Levels of the dyadic tables (enough for f64: L = 53).
-const MAX_LEVELS: usize = 54;
 /// Deepest refinement of a Stribeck substep below the whole substep (2^-16).
 const STRIBECK_REFINE: usize = 16;
 /// Largest rate x chunk length allowed for the falling friction's slope.
@@ -42,27 +46,45 @@ const MAX_TRANSITIONS_PER_SUBSTEP: u32 = 64;
 const U_LIMIT: f64 = 1.0;
 const UDOT_LIMIT: f64 = 1e3;
 
-/// Flow in increment form: rows x .. u', columns x .. u', 1 (6 x 7, row-major).
-type Flow<T> = [T; NS * NA];
-
+/// z(t + h) - z(t) = F (z, 1) for a flow F of composition `C` (rows and columns of the
+/// entries it moves; without the band, u and u' stay 0 and are not touched).
 #[inline(always)]
-fn increment<T: Real>(f: &Flow<T>, z: &[T; NS]) -> [T; NS] {
+fn increment<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
+    let f = f.as_ref();
     let mut out = [T::zero(); NS];
-    for (r, o) in out.iter_mut().enumerate() {
-        let row = &f[r * NA..r * NA + NA];
-        *o = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[4] * z[4] + row[5] * z[5] + row[6];
+    if C::BAND {
+        for (r, o) in out.iter_mut().enumerate() {
+            let row = &f[r * NA..r * NA + NA];
+            *o = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[4] * z[4] + row[5] * z[5] + row[6];
+        }
+    } else {
+        for (r, o) in out.iter_mut().take(4).enumerate() {
+            let row = &f[r * 5..r * 5 + 5];
+            *o = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[4];
+        }
     }
     out
 }
 
-/// The ETDRK4 vectors of one dyadic level: h phi_1(hA) b and the three weights of the final
-/// combination, h (phi_1 - 3 phi_2 + 4 phi_3) b, h (2 phi_2 - 4 phi_3) b, h (4 phi_3 - phi_2) b.
+/// A row (z, 1) . r over the entries composition `C` moves (the same value as
+/// [`row_dot`]: the left-out entries are 0).
+#[inline(always)]
+fn dot<T: Real, C: Composition>(r: &[T; NA], z: &[T; NS]) -> T {
+    if C::BAND {
+        row_dot(r, z)
+    } else {
+        r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[ONE]
+    }
+}
+
+/// The friction's falling part at one state, for Stribeck slip: y = |v| / v_s, the shape
+/// e = exp(-y^delta) and the normal force N [N]. Computed once per point: the chunk's forcing,
+/// its length rule and the crest test all read it.
 #[derive(Clone, Copy, Debug)]
-struct EtdVectors<T> {
-    phi1: [T; NS],
-    w0: [T; NS],
-    wab: [T; NS],
-    wc: [T; NS],
+struct Excess<T> {
+    y: T,
+    e: T,
+    n: T,
 }
 
 /// A piece of motion inside one regime, between two located instants.
@@ -101,30 +123,54 @@ impl<T: Real> Observer2<T> for () {
     const DERIVATIVES: bool = false;
 }
 
-/// The model-2 stepper, generic over f32 and f64.
+/// A count of units (below 2^53) in T, exactly, with two 32-bit conversions (one instruction
+/// each on the Cortex-M4F, where a 64-bit one is a library call).
+#[inline(always)]
+fn units_t<T: Real>(u: u64) -> T {
+    let hi = T::from_u32((u >> 32) as u32);
+    let lo = T::from_u32(u as u32);
+    if (u >> 32) == 0 {
+        lo
+    } else {
+        hi * T::from_f64(4294967296.0) + lo
+    }
+}
+
+/// Where each guard's rate (its row times z') is kept: stick's two breakaway guards, then the
+/// two slips' velocity guards.
+fn guard_slot(regime: Regime, which: usize) -> usize {
+    match regime {
+        Regime::Stick => which,
+        Regime::SlipSlower => 2,
+        Regime::SlipFaster => 3,
+    }
+}
+
+/// The model-2 stepper, generic over f32 and f64 and over its [`Composition`].
 #[derive(Clone, Debug)]
-pub struct Model2Stepper<T: Real> {
+pub struct Model2Stepper<T: Real, C: Composition> {
     /// flows[regime][level]
-    flows: [[Flow<T>; MAX_LEVELS]; 3],
-    /// Stribeck slip: etd[slip regime - 1][level]
-    etd: [[EtdVectors<T>; MAX_LEVELS]; 2],
+    flows: [T::PerLevel<C::Flow<T>>; 3],
+    /// Stribeck slip: etd[slip regime - 1][level] (empty with Coulomb friction)
+    etd: C::Etd<T>,
     /// A rows (z' = A z) per regime, for derivatives.
     a: [[[T; NA]; NS]; 3],
     b: [T; NS],
     r_v: [T; NA],
     r_n: [T; NA],
     r_freq: [T; NA],
+    /// The guards' rates: row . A of each guard ([`guard_slot`]), and row . b (Stribeck slip:
+    /// the rate is row . A z + (row . b) q).
+    guard_rate: [[T; NA]; 4],
+    guard_rate_b: [T; 4],
     mu_s: T,
     d_mu: T,
     inv_v_s: T,
     delta: T,
     delta_is_one: bool,
-    stribeck: bool,
-    band: bool,
     v: T,
     m: T,
     m_b: T,
-    /// Stribeck slope rate per unit of N at |v| = 0, for the chunk choice (f64, set-up).
     sys: System,
     limits: Limits<T>,
     u_limit: T,
@@ -134,30 +180,43 @@ pub struct Model2Stepper<T: Real> {
     dt: f64,
     z: [T; NS],
     regime: Regime,
+    /// Stribeck slip: the friction's falling part at `z`, carried from the end of one chunk to
+    /// the start of the next (and from step to step).
+    head: Option<Excess<T>>,
     step: u64,
     halted: Option<Halt>,
     transitions: u64,
-    /// Stick without the band: x = anchor_x + V (t - anchor_t), recomputed after each chunk so
-    /// that a long stick in f32 does not accumulate x += V h round-off.
+    /// Stick without the band: x = anchor_x + V (t - t_anchor), recomputed after each chunk so
+    /// that a long stick in f32 does not accumulate x += V h round-off. t - t_anchor is counted
+    /// in T from whole substeps and units (no f64 on the M4F's path): the anchor's substep
+    /// (global index) and its unit in that substep.
     anchor_x: T,
-    anchor_t: f64,
+    anchor_sub: u64,
+    anchor_unit: T,
+    /// Substeps completed since the start (the global index of the current substep).
+    subs_done: u64,
+    /// h_sub and h_sub / 2^L in T.
+    h_t: T,
+    hu_t: T,
+    /// The guards' rows ([`guard_slot`]; fire at row . z >= 0), in T.
+    guards: [[T; NA]; 4],
     /// Whether the current slip's return to v = 0 is watched (see `substep`).
     armed: bool,
     /// (mu_s - mu_k) delta / v_s (1/m + 1/m_b): the falling slope's rate per unit of N and of
     /// the shape y^(delta-1) exp(-y^delta) [1/(N s)].
     rate_coef: T,
     /// The largest slope rate a chunk of 2^j units takes: STRIBECK_RATE_H / h_j [1/s].
-    rate_limit: [T; MAX_LEVELS],
+    rate_limit: T::PerLevel<T>,
     /// Round-off level of the sliding velocity: 2^-(L-8) V [m/s].
     v_round: T,
 }
 
-impl<T: Real> Model2Stepper<T> {
+impl<T: Real, C: Composition> Model2Stepper<T, C> {
     const LEVELS: usize = T::DYADIC_LEVELS;
     const UNITS: u64 = 1u64 << T::DYADIC_LEVELS;
 
-    /// Validates `scene` and starts at rest in stick: x = 0, x' = V, phi = F_N a_N / K,
-    /// phi' = 0, u = u' = 0.
+    /// Validates `scene` (and that it asks for composition `C`) and starts at rest in stick:
+    /// x = 0, x' = V, phi = F_N a_N / K, phi' = 0, u = u' = 0.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
         let mut slot = None;
         Self::init_in(&mut slot, scene)?;
@@ -167,13 +226,14 @@ impl<T: Real> Model2Stepper<T> {
         }
     }
 
-    /// [`Self::new`] built in `slot` (e.g. a `static`): the dyadic tables (tens of KB in
-    /// f32) are filled where they stay, not on the stack and then moved, which a Cortex-M4F's
-    /// stack cannot hold twice (tests/on-target bin `count_model2` prints the stack it takes).
-    /// The same values as [`Self::new`]. On an error `slot` is left as it was.
+    /// [`Self::new`] built in `slot` (e.g. a `static`): the dyadic tables (kilobytes in f32)
+    /// are filled where they stay, not on the stack and then moved, which a Cortex-M4F's stack
+    /// cannot hold twice (tests/on-target bin `count_model2` prints the stack it takes). The
+    /// same values as [`Self::new`]. On an error `slot` is left as it was.
     #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
     pub fn init_in<'a>(slot: &'a mut Option<Self>, scene: &Scene) -> Result<&'a mut Self, SceneError> {
         scene.validate()?;
+        C::matches(scene)?;
         let co = Coefficients::of(scene);
         let sys = System::of(scene, &co);
         let rate = sys.linear_rate(scene, &co);
@@ -187,24 +247,46 @@ impl<T: Real> Model2Stepper<T> {
         let n_sub = n_sub as u32;
         let h_sub = scene.dt / n_sub as f64;
         let t = T::from_f64;
-        let zero_etd = EtdVectors { phi1: [T::zero(); NS], w0: [T::zero(); NS], wab: [T::zero(); NS], wc: [T::zero(); NS] };
         let tv = |r: &[f64; NA]| -> [T; NA] { core::array::from_fn(|i| t(r[i])) };
         let z = [T::zero(), t(scene.v), t(co.phi0), T::zero(), T::zero(), T::zero()];
+        // the guards' rows in f64 and their rates row . A, row . b
+        let mut guard_rate = [[T::zero(); NA]; 4];
+        let mut guard_rate_b = [T::zero(); 4];
+        for (regime, which) in [(Regime::Stick, 0), (Regime::Stick, 1), (Regime::SlipSlower, 0), (Regime::SlipFaster, 0)] {
+            let g: [f64; NA] = match (regime, which) {
+                (Regime::Stick, 0) => core::array::from_fn(|c| sys.r_freq[c] - scene.mu_s * sys.r_n[c]),
+                (Regime::Stick, _) => core::array::from_fn(|c| -sys.r_freq[c] - scene.mu_s * sys.r_n[c]),
+                (Regime::SlipSlower, _) => sys.r_v,
+                (Regime::SlipFaster, _) => core::array::from_fn(|c| -sys.r_v[c]),
+            };
+            let a = &sys.a[regime.index()];
+            let k = guard_slot(regime, which);
+            for c in 0..NA {
+                let mut acc = 0.0;
+                for r in 0..NA {
+                    acc += g[r] * a[r][c];
+                }
+                guard_rate[k][c] = t(acc);
+            }
+            if sys.stribeck && regime != Regime::Stick {
+                guard_rate_b[k] = t((0..NA).map(|r| g[r] * sys.b[r]).sum());
+            }
+        }
         let s = slot.insert(Model2Stepper {
-            flows: [[[T::zero(); NS * NA]; MAX_LEVELS]; 3],
-            etd: [[zero_etd; MAX_LEVELS]; 2],
+            flows: [T::per_level(C::zero_flow()); 3],
+            etd: C::zero_etd(),
             a: [[[T::zero(); NA]; NS]; 3],
             b: core::array::from_fn(|i| t(sys.b[i])),
             r_v: tv(&sys.r_v),
             r_n: tv(&sys.r_n),
             r_freq: tv(&sys.r_freq),
+            guard_rate,
+            guard_rate_b,
             mu_s: t(scene.mu_s),
             d_mu: t(sys.d_mu),
             inv_v_s: t(1.0 / scene.v_s),
             delta: t(scene.stribeck_exponent),
             delta_is_one: scene.stribeck_exponent == 1.0,
-            stribeck: sys.stribeck,
-            band: sys.band,
             v: t(scene.v),
             m: t(scene.m),
             m_b: t(scene.m_b),
@@ -217,27 +299,50 @@ impl<T: Real> Model2Stepper<T> {
             dt: scene.dt,
             z,
             regime: Regime::Stick,
+            head: None,
             step: 0,
             halted: None,
             transitions: 0,
             anchor_x: T::zero(),
-            anchor_t: 0.0,
+            anchor_sub: 0,
+            anchor_unit: T::zero(),
+            subs_done: 0,
+            h_t: t(h_sub),
+            hu_t: t(libm::ldexp(h_sub, -(Self::LEVELS as i32))),
+            guards: core::array::from_fn(|k| {
+                let (sign, mu) = match k {
+                    0 => (1.0, scene.mu_s),
+                    1 => (-1.0, scene.mu_s),
+                    2 => (1.0, 0.0),
+                    _ => (-1.0, 0.0),
+                };
+                core::array::from_fn(|c| {
+                    if k < 2 {
+                        t(sign * sys.r_freq[c] - mu * sys.r_n[c])
+                    } else {
+                        t(sign * sys.r_v[c])
+                    }
+                })
+            }),
             armed: false,
             v_round: t(libm::ldexp(scene.v, 8 - Self::LEVELS as i32)),
             rate_coef: t(sys.d_mu * scene.stribeck_exponent / scene.v_s
                 * (1.0 / scene.m + if scene.band { 1.0 / scene.m_b } else { 0.0 })),
-            rate_limit: core::array::from_fn(|j| {
-                t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)))
-            }),
+            rate_limit: T::per_level(T::zero()),
         });
+        for (j, r) in s.rate_limit.as_mut().iter_mut().enumerate() {
+            *r = t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)));
+        }
+        // the flow's columns: the moved entries, then the constant 1
+        let cols: [usize; NA] = if C::BAND { [0, 1, 2, 3, 4, 5, ONE] } else { [0, 1, 2, 3, ONE, ONE, ONE] };
         let sys = &s.sys;
         for regime in Regime::ALL {
             let a = &sys.a[regime.index()];
-            let with_phi = sys.stribeck && regime != Regime::Stick;
+            let with_phi = C::STRIBECK && regime != Regime::Stick;
             for j in 0..=Self::LEVELS {
                 let tau = h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32);
-                let flow = &mut s.flows[regime.index()][j];
-                if with_phi {
+                let flow = s.flows[regime.index()].as_mut()[j].as_mut();
+                let e = if with_phi {
                     // [[A, b, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]] * tau
                     let mut m: MatN<10> = [[0.0; 10]; 10];
                     for r in 0..NA {
@@ -246,26 +351,28 @@ impl<T: Real> Model2Stepper<T> {
                     }
                     m[NA][NA + 1] = 1.0;
                     m[NA + 1][NA + 2] = 1.0;
-                    let e = linalg::expm_minus_identity(&linalg::scale(&m, tau));
-                    for r in 0..NS {
-                        for c in 0..NA {
-                            flow[r * NA + c] = t(e[r][c]);
-                        }
+                    linalg::expm_minus_identity(&linalg::scale(&m, tau))
+                } else {
+                    let e7 = linalg::expm_minus_identity(&linalg::scale(a, tau));
+                    let mut e: MatN<10> = [[0.0; 10]; 10];
+                    for r in 0..NA {
+                        e[r][..NA].copy_from_slice(&e7[r]);
                     }
-                    let v = &mut s.etd[regime.index() - 1][j];
+                    e
+                };
+                for r in 0..C::ROWS {
+                    for c in 0..C::COLS {
+                        flow[r * C::COLS + c] = t(e[r][cols[c]]);
+                    }
+                }
+                if with_phi {
+                    let v: &mut EtdVectors<T> = &mut s.etd.as_mut()[regime.index() - 1].as_mut()[j];
                     for r in 0..NS {
                         let (c1, c2, c3) = (e[r][NA], e[r][NA + 1] / tau, e[r][NA + 2] / (tau * tau));
                         v.phi1[r] = t(c1);
                         v.w0[r] = t(c1 - 3.0 * c2 + 4.0 * c3);
                         v.wab[r] = t(2.0 * c2 - 4.0 * c3);
                         v.wc[r] = t(4.0 * c3 - c2);
-                    }
-                } else {
-                    let e = linalg::expm_minus_identity(&linalg::scale(a, tau));
-                    for r in 0..NS {
-                        for c in 0..NA {
-                            flow[r * NA + c] = t(e[r][c]);
-                        }
                     }
                 }
             }
@@ -278,6 +385,14 @@ impl<T: Real> Model2Stepper<T> {
         Ok(s)
     }
 
+    /// The composition's name ("band", "stribeck", "stribeck+band").
+    pub fn composition(&self) -> &'static str {
+        C::NAME
+    }
+    /// Bytes of the dyadic tables (flows and ETDRK4 vectors).
+    pub fn table_bytes(&self) -> usize {
+        core::mem::size_of::<[T::PerLevel<C::Flow<T>>; 3]>() + core::mem::size_of::<C::Etd<T>>()
+    }
     pub fn state(&self) -> [T; NS] {
         self.z
     }
@@ -307,10 +422,15 @@ impl<T: Real> Model2Stepper<T> {
     }
 
     /// Replaces the state and regime (e.g. to start from steady sliding). In stick the sliding
-    /// velocity is set to zero as on entry to stick.
+    /// velocity is set to zero as on entry to stick. Without the band, u and u' are set to 0.
     pub fn set_state(&mut self, z: [T; NS], regime: Regime) {
         self.z = z;
+        if !C::BAND {
+            self.z[4] = T::zero();
+            self.z[5] = T::zero();
+        }
         self.regime = regime;
+        self.head = None;
         // a state set in slip is taken as a slip under way
         self.armed = true;
         if regime == Regime::Stick {
@@ -318,36 +438,49 @@ impl<T: Real> Model2Stepper<T> {
             self.enter_stick(&mut z);
             self.z = z;
             self.anchor_x = z[0];
-            self.anchor_t = self.time();
+            self.anchor_sub = self.subs_done;
+            self.anchor_unit = T::zero();
         }
         self.halted = None;
     }
 
     /// Sliding velocity v = x' - V - u' [m/s].
+    #[inline(always)]
     pub fn sliding_velocity(&self, z: &[T; NS]) -> T {
-        row_dot(&self.r_v, z)
+        // r_v = [0, 1, 0, 0, 0, -1 (band), -V]: the same value as its row product
+        if C::BAND {
+            (z[1] - z[5]) + self.r_v[ONE]
+        } else {
+            z[1] + self.r_v[ONE]
+        }
     }
-    /// Normal force N [N].
+    /// Normal force N [N] (r_n = [0, 0, c_N, 0, 0, 0, N_0]: c_N phi with rotation, N_0
+    /// without).
+    #[inline(always)]
     pub fn normal_force(&self, z: &[T; NS]) -> T {
-        row_dot(&self.r_n, z)
+        self.r_n[2] * z[2] + self.r_n[ONE]
     }
     /// Friction force on the pad [N] in `regime` at `z`.
     pub fn friction_force(&self, regime: Regime, z: &[T; NS]) -> T {
         match regime {
-            Regime::Stick => row_dot(&self.r_freq, z),
+            Regime::Stick => dot::<T, C>(&self.r_freq, z),
             _ => {
                 let n = self.normal_force(z);
                 let sigma = T::from_f64(regime.friction_sign());
-                let mu = if self.stribeck { self.mu_s - self.d_mu + self.excess(z) } else { self.mu_s - self.d_mu };
+                let mu = if C::STRIBECK {
+                    self.mu_s - self.d_mu + self.d_mu * self.excess(z).e
+                } else {
+                    self.mu_s - self.d_mu
+                };
                 sigma * mu * n
             }
         }
     }
 
-    /// (mu(|v|) - mu_k) / (mu_s - mu_k) times (mu_s - mu_k): the falling part of mu.
+    /// The friction's falling part at `z` (Stribeck): y, exp(-y^delta), N.
     #[inline(always)]
-    fn excess(&self, z: &[T; NS]) -> T {
-        let y = row_dot(&self.r_v, z).abs() * self.inv_v_s;
+    fn excess(&self, z: &[T; NS]) -> Excess<T> {
+        let y = self.sliding_velocity(z).abs() * self.inv_v_s;
         let e = if self.delta_is_one {
             (-y).exp()
         } else if y > T::zero() {
@@ -355,21 +488,21 @@ impl<T: Real> Model2Stepper<T> {
         } else {
             T::one()
         };
-        self.d_mu * e
+        Excess { y, e, n: self.normal_force(z) }
     }
 
-    /// Stribeck forcing q(z) = sigma (mu(|v|) - mu_k) N.
+    /// Stribeck forcing q = sigma (mu(|v|) - mu_k) N from the falling part at a point.
     #[inline(always)]
-    fn q(&self, sigma: T, z: &[T; NS]) -> T {
-        sigma * self.excess(z) * row_dot(&self.r_n, z)
+    fn q_of(&self, sigma: T, ex: &Excess<T>) -> T {
+        sigma * (self.d_mu * ex.e) * ex.n
     }
 
     /// z' in `regime` at `z`.
     pub fn derivative(&self, regime: Regime, z: &[T; NS]) -> [T; NS] {
         let a = &self.a[regime.index()];
-        let mut d: [T; NS] = core::array::from_fn(|r| row_dot(&a[r], z));
-        if self.stribeck && regime != Regime::Stick {
-            let q = self.q(T::from_f64(regime.friction_sign()), z);
+        let mut d: [T; NS] = core::array::from_fn(|r| dot::<T, C>(&a[r], z));
+        if C::STRIBECK && regime != Regime::Stick {
+            let q = self.q_of(T::from_f64(regime.friction_sign()), &self.excess(z));
             for (r, v) in d.iter_mut().enumerate() {
                 *v += self.b[r] * q;
             }
@@ -377,66 +510,85 @@ impl<T: Real> Model2Stepper<T> {
         d
     }
 
-    fn is_stribeck_slip(&self, regime: Regime) -> bool {
-        self.stribeck && regime != Regime::Stick
+    #[inline(always)]
+    fn is_stribeck_slip(regime: Regime) -> bool {
+        C::STRIBECK && regime != Regime::Stick
     }
 
     /// The flow over 2^j units in `regime` from `z` (exact in linear regimes; ETDRK4 in
     /// Stribeck slip, which needs j >= 1).
     fn chunk(&self, regime: Regime, j: usize, z: &[T; NS]) -> [T; NS] {
-        let f = &self.flows[regime.index()][j];
-        if !self.is_stribeck_slip(regime) {
-            let d = increment(f, z);
-            return core::array::from_fn(|r| z[r] + d[r]);
+        if Self::is_stribeck_slip(regime) {
+            self.chunk_from(regime, j, z, &self.excess(z))
+        } else {
+            let d = increment::<T, C>(&self.flows[regime.index()].as_ref()[j], z);
+            core::array::from_fn(|r| z[r] + d[r])
         }
+    }
+
+    /// ETDRK4 (Cox-Matthews) over 2^j units of Stribeck slip from `z`, with the falling part
+    /// `ex0` at `z`.
+    fn chunk_from(&self, regime: Regime, j: usize, z: &[T; NS], ex0: &Excess<T>) -> [T; NS] {
+        let rows = C::ROWS;
+        let f = &self.flows[regime.index()].as_ref()[j];
         let sigma = T::from_f64(regime.friction_sign());
-        let half = &self.flows[regime.index()][j - 1];
-        let ph = &self.etd[regime.index() - 1][j - 1].phi1;
-        let w = &self.etd[regime.index() - 1][j];
-        let q0 = self.q(sigma, z);
-        let eh = increment(half, z);
-        let a: [T; NS] = core::array::from_fn(|r| z[r] + (eh[r] + ph[r] * q0));
-        let qa = self.q(sigma, &a);
-        let bb: [T; NS] = core::array::from_fn(|r| z[r] + (eh[r] + ph[r] * qa));
-        let qb = self.q(sigma, &bb);
-        let ea = increment(half, &a);
+        let half = &self.flows[regime.index()].as_ref()[j - 1];
+        let etd = self.etd.as_ref();
+        let ph = &etd[regime.index() - 1].as_ref()[j - 1].phi1;
+        let w = &etd[regime.index() - 1].as_ref()[j];
+        let q0 = self.q_of(sigma, ex0);
+        let eh = increment::<T, C>(half, z);
+        let a: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * q0) } else { z[r] });
+        let qa = self.q_of(sigma, &self.excess(&a));
+        let bb: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * qa) } else { z[r] });
+        let qb = self.q_of(sigma, &self.excess(&bb));
+        let ea = increment::<T, C>(half, &a);
         let two = T::one() + T::one();
         let qcb = two * qb - q0;
-        let c: [T; NS] = core::array::from_fn(|r| a[r] + (ea[r] + ph[r] * qcb));
-        let qc = self.q(sigma, &c);
-        let e = increment(f, z);
+        let c: [T; NS] = core::array::from_fn(|r| if r < rows { a[r] + (ea[r] + ph[r] * qcb) } else { z[r] });
+        let qc = self.q_of(sigma, &self.excess(&c));
+        let e = increment::<T, C>(f, z);
         let qab = qa + qb;
-        core::array::from_fn(|r| z[r] + (e[r] + w.w0[r] * q0 + w.wab[r] * qab + w.wc[r] * qc))
+        core::array::from_fn(|r| {
+            if r < rows {
+                z[r] + (e[r] + w.w0[r] * q0 + w.wab[r] * qab + w.wc[r] * qc)
+            } else {
+                z[r]
+            }
+        })
     }
 
     /// The smallest level a transition is located to in `regime`.
-    fn min_level(&self, regime: Regime) -> usize {
-        if self.is_stribeck_slip(regime) {
+    fn min_level(regime: Regime) -> usize {
+        if Self::is_stribeck_slip(regime) {
             1
         } else {
             0
         }
     }
 
-    /// The level of the next chunk from `z` with `remaining` units left in the substep: the
-    /// largest power of two that fits, limited in Stribeck slip by the friction slope's rate.
-    fn chunk_level(&self, regime: Regime, z: &[T; NS], remaining: u64) -> usize {
+    /// The level of the next chunk with `remaining` units left in the substep: the largest
+    /// power of two that fits, limited in Stribeck slip by the friction slope's rate at the
+    /// chunk's start (from its falling part `ex`).
+    fn chunk_level(&self, ex: Option<&Excess<T>>, remaining: u64) -> usize {
         let mut j = 63 - remaining.leading_zeros() as usize; // largest 2^j <= remaining
-        if self.is_stribeck_slip(regime) {
+        if let Some(ex) = ex {
             // the falling slope's rate, |dq/dv| (1/m + 1/m_b), in T (no f64 on the M4F's path)
-            let y = self.sliding_velocity(z).abs() * self.inv_v_s;
+            let y = ex.y;
             let shape = if self.delta_is_one {
-                (-y).exp()
+                ex.e
             } else if y > T::zero() {
-                y.powf(self.delta - T::one()) * (-(y.powf(self.delta))).exp()
+                y.powf(self.delta - T::one()) * ex.e
             } else if self.delta > T::one() {
                 T::zero()
             } else {
-                self.rate_limit[0] * self.rate_limit[0] // delta < 1: infinite slope at v = 0
+                let r0 = self.rate_limit.as_ref()[0];
+                r0 * r0 // delta < 1: infinite slope at v = 0
             };
-            let rate = self.rate_coef * shape * self.normal_force(z).abs();
+            let rate = self.rate_coef * shape * ex.n.abs();
             let floor = (Self::LEVELS.saturating_sub(STRIBECK_REFINE)).max(1);
-            while j > floor && rate > self.rate_limit[j] {
+            let limits = self.rate_limit.as_ref();
+            while j > floor && rate > limits[j] {
                 j -= 1;
             }
             j = j.max(1);
@@ -444,14 +596,11 @@ impl<T: Real> Model2Stepper<T> {
         j
     }
 
-    /// The guards of `regime` as rows (fire at row . z >= 0) and how many there are.
-    fn guard(&self, regime: Regime, which: usize) -> [T; NA] {
-        match (regime, which) {
-            (Regime::Stick, 0) => core::array::from_fn(|c| self.r_freq[c] - self.mu_s * self.r_n[c]),
-            (Regime::Stick, _) => core::array::from_fn(|c| -self.r_freq[c] - self.mu_s * self.r_n[c]),
-            (Regime::SlipSlower, _) => self.r_v,
-            (Regime::SlipFaster, _) => core::array::from_fn(|c| -self.r_v[c]),
-        }
+    /// The guards of `regime` as rows (fire at row . z >= 0): stick, F_req -+ mu_s N; slip
+    /// slower, v; slip faster, -v.
+    #[inline(always)]
+    fn guard(&self, regime: Regime, which: usize) -> &[T; NA] {
+        &self.guards[guard_slot(regime, which)]
     }
 
     fn guard_count(regime: Regime) -> usize {
@@ -462,12 +611,26 @@ impl<T: Real> Model2Stepper<T> {
         }
     }
 
+    /// The rate of guard `which` at `z` (row . z'), with the falling part `ex` at `z` in
+    /// Stribeck slip.
+    #[inline(always)]
+    fn guard_slope(&self, regime: Regime, which: usize, z: &[T; NS], ex: Option<&Excess<T>>) -> T {
+        let k = guard_slot(regime, which);
+        let lin = dot::<T, C>(&self.guard_rate[k], z);
+        match ex {
+            Some(ex) if Self::is_stribeck_slip(regime) => {
+                lin + self.guard_rate_b[k] * self.q_of(T::from_f64(regime.friction_sign()), ex)
+            }
+            _ => lin,
+        }
+    }
+
     /// Binary lifting over [from, to): the last probed point p such that `holds` is true at
     /// every accepted point, starting from chunks of 2^top units. Never evaluated at `from`.
     fn lift(&self, regime: Regime, z: &[T; NS], from: u64, to: u64, top: usize, mut holds: impl FnMut(&[T; NS]) -> bool) -> (u64, [T; NS]) {
         let mut pos = from;
         let mut cur = *z;
-        let lo = self.min_level(regime);
+        let lo = Self::min_level(regime);
         let mut j = top;
         loop {
             let step = 1u64 << j;
@@ -488,39 +651,54 @@ impl<T: Real> Model2Stepper<T> {
 
     /// Where guard `which` of `regime` first fires inside the chunk [pos, pos + 2^j] from z to
     /// z1: the last unit p where it still holds and the state there. Finds a crest (a guard
-    /// that rises above zero and falls back inside the chunk) from its derivative.
-    fn crossing(&self, regime: Regime, which: usize, z: &[T; NS], pos: u64, j: usize, z1: &[T; NS]) -> Option<(u64, [T; NS])> {
-        let g = self.guard(regime, which);
+    /// that rises above zero and falls back inside the chunk) from its rate's sign change;
+    /// `ex0`, `ex1`: the falling parts at z and z1 in Stribeck slip.
+    #[allow(clippy::too_many_arguments)] // a chunk's two ends and what is known at them
+    fn crossing(
+        &self,
+        regime: Regime,
+        which: usize,
+        z: &[T; NS],
+        pos: u64,
+        j: usize,
+        z1: &[T; NS],
+        ex0: Option<&Excess<T>>,
+        ex1: Option<&Excess<T>>,
+    ) -> Option<(u64, [T; NS])> {
+        let g = *self.guard(regime, which);
         let end = pos + (1u64 << j);
-        let lo = self.min_level(regime);
-        if !(row_dot(&g, z1) < T::zero()) {
-            return Some(self.lift(regime, z, pos, end, j, |c| row_dot(&g, c) < T::zero()));
+        let lo = Self::min_level(regime);
+        if !(dot::<T, C>(&g, z1) < T::zero()) {
+            return Some(self.lift(regime, z, pos, end, j, |c| dot::<T, C>(&g, c) < T::zero()));
         }
         if j <= lo {
             return None;
         }
-        let slope = |c: &[T; NS]| -> T {
-            let d = self.derivative(regime, c);
-            g[0] * d[0] + g[1] * d[1] + g[2] * d[2] + g[3] * d[3] + g[4] * d[4] + g[5] * d[5]
-        };
-        if !(slope(z) > T::zero() && slope(z1) < T::zero()) {
+        if !(self.guard_slope(regime, which, z, ex0) > T::zero() && self.guard_slope(regime, which, z1, ex1) < T::zero()) {
             return None;
         }
         // the crest: the last point where the guard still rises
+        let slope = |c: &[T; NS]| -> T {
+            if Self::is_stribeck_slip(regime) {
+                self.guard_slope(regime, which, c, Some(&self.excess(c)))
+            } else {
+                self.guard_slope(regime, which, c, None)
+            }
+        };
         let (pc, zc) = self.lift(regime, z, pos, end, j, |c| slope(c) > T::zero());
         let after = self.chunk(regime, lo, &zc);
-        let top = if row_dot(&g, &zc) < T::zero() && row_dot(&g, &after) < T::zero() {
+        let top = if dot::<T, C>(&g, &zc) < T::zero() && dot::<T, C>(&g, &after) < T::zero() {
             return None;
         } else {
             pc + (1u64 << lo)
         };
-        Some(self.lift(regime, z, pos, top, j, |c| row_dot(&g, c) < T::zero()))
+        Some(self.lift(regime, z, pos, top, j, |c| dot::<T, C>(&g, c) < T::zero()))
     }
 
     /// Sets the sliding velocity to zero on entry to stick: x' = V without the band; with it,
     /// pad and band take their common momentum velocity.
     fn enter_stick(&self, z: &mut [T; NS]) {
-        if self.band {
+        if C::BAND {
             let xb = self.v + z[5];
             let common = (self.m * z[1] + self.m_b * xb) / (self.m + self.m_b);
             z[1] = common;
@@ -534,8 +712,8 @@ impl<T: Real> Model2Stepper<T> {
     fn after_velocity_match(&self, z: &[T; NS]) -> Regime {
         let mut zs = *z;
         self.enter_stick(&mut zs);
-        let f_req = row_dot(&self.r_freq, &zs);
-        let limit = self.mu_s * row_dot(&self.r_n, &zs);
+        let f_req = dot::<T, C>(&self.r_freq, &zs);
+        let limit = self.mu_s * self.normal_force(&zs);
         if f_req > limit {
             Regime::SlipSlower
         } else if -f_req > limit {
@@ -589,12 +767,20 @@ impl<T: Real> Model2Stepper<T> {
         let mut pos = 0u64;
         let mut z = self.z;
         let mut regime = self.regime;
+        // the falling part at z (Stribeck slip), when known
+        let mut head = self.head.take();
         let mut transitions = 0usize;
         let mut events = 0u32;
         let mut touched: Option<(Regime, usize)> = None;
         while pos < units {
-            let j = self.chunk_level(regime, &z, units - pos);
-            let z1 = self.chunk(regime, j, &z);
+            let stribeck_slip = Self::is_stribeck_slip(regime);
+            let ex0 = if stribeck_slip { Some(head.unwrap_or_else(|| self.excess(&z))) } else { None };
+            let j = self.chunk_level(ex0.as_ref(), units - pos);
+            let z1 = match &ex0 {
+                Some(ex0) => self.chunk_from(regime, j, &z, ex0),
+                None => self.chunk(regime, j, &z),
+            };
+            let ex1 = if stribeck_slip { Some(self.excess(&z1)) } else { None };
             let mut best: Option<(u64, [T; NS], usize)> = None;
             // A slip starts at v = 0 (with Stribeck friction also at v' = 0): its guard is armed
             // once v has left zero by more than round-off in the slip's own direction. Until
@@ -604,31 +790,32 @@ impl<T: Real> Model2Stepper<T> {
                 if touched == Some((regime, which)) {
                     continue;
                 }
-                if unarmed && !(row_dot(&self.guard(regime, 0), &z1) > self.v_round) {
+                if unarmed && !(dot::<T, C>(self.guard(regime, 0), &z1) > self.v_round) {
                     continue;
                 }
-                if let Some((p, zp)) = self.crossing(regime, which, &z, pos, j, &z1) {
+                if let Some((p, zp)) = self.crossing(regime, which, &z, pos, j, &z1, ex0.as_ref(), ex1.as_ref()) {
                     if best.is_none_or(|b| p < b.0) {
                         best = Some((p, zp, which));
                     }
                 }
             }
             let Some((p, zp, which)) = best else {
-                if unarmed && row_dot(&self.guard(regime, 0), &z1) < -self.v_round {
+                if unarmed && dot::<T, C>(self.guard(regime, 0), &z1) < -self.v_round {
                     self.armed = true;
                 }
                 let mut z1 = z1;
-                self.anchor_stick_x(regime, &mut z1, sub, pos + (1u64 << j));
+                self.anchor_stick_x(regime, &mut z1, pos + (1u64 << j));
                 self.emit(obs, regime, sub, pos, pos + (1u64 << j), z, z1);
                 pos += 1u64 << j;
                 z = z1;
+                head = ex1;
                 self.check(&z, regime, sub, pos)?;
                 continue;
             };
-            let lo = self.min_level(regime);
+            let lo = Self::min_level(regime);
             let at = (p + (1u64 << lo)).min(pos + (1u64 << j));
             let mut ze = if at == pos + (1u64 << j) { z1 } else { self.chunk(regime, lo, &zp) };
-            self.anchor_stick_x(regime, &mut ze, sub, at);
+            self.anchor_stick_x(regime, &mut ze, at);
             self.emit(obs, regime, sub, pos, at, z, ze);
             let next = match regime {
                 Regime::Stick => {
@@ -644,7 +831,8 @@ impl<T: Real> Model2Stepper<T> {
             if next == Regime::Stick {
                 self.enter_stick(&mut zn);
                 self.anchor_x = zn[0];
-                self.anchor_t = self.time_at(sub, at);
+                self.anchor_sub = self.subs_done;
+                self.anchor_unit = units_t(at);
             }
             if next == regime {
                 touched = Some((regime, which));
@@ -662,18 +850,25 @@ impl<T: Real> Model2Stepper<T> {
             regime = next;
             pos = at;
             z = zn;
+            head = None;
             self.check(&z, regime, sub, pos)?;
         }
         self.z = z;
         self.regime = regime;
+        self.head = head;
+        self.subs_done += 1;
         Ok(transitions)
     }
 
-    /// In stick without the band, x from its anchor (see `anchor_x`).
+    /// In stick without the band, x from its anchor (see `anchor_x`) at `unit` of the current
+    /// substep.
     #[inline(always)]
-    fn anchor_stick_x(&self, regime: Regime, z: &mut [T; NS], sub: u32, unit: u64) {
-        if regime == Regime::Stick && !self.band {
-            z[0] = self.anchor_x + self.v * T::from_f64(self.time_at(sub, unit) - self.anchor_t);
+    fn anchor_stick_x(&self, regime: Regime, z: &mut [T; NS], unit: u64) {
+        if regime == Regime::Stick && !C::BAND {
+            let d = self.subs_done - self.anchor_sub;
+            let d = if d > u32::MAX as u64 { u32::MAX } else { d as u32 };
+            let elapsed = T::from_u32(d) * self.h_t + (units_t::<T>(unit) - self.anchor_unit) * self.hu_t;
+            z[0] = self.anchor_x + self.v * elapsed;
         }
     }
 
@@ -681,7 +876,7 @@ impl<T: Real> Model2Stepper<T> {
     fn check(&self, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
         let pad = [z[0], z[1], z[2], z[3]];
         self.limits.check(&pad, regime, || self.time_at(sub, unit))?;
-        if !(z[4].abs() <= self.u_limit) || !(z[5].abs() <= self.udot_limit) {
+        if C::BAND && (!(z[4].abs() <= self.u_limit) || !(z[5].abs() <= self.udot_limit)) {
             let t = self.time_at(sub, unit);
             if !(z[4].is_finite() && z[5].is_finite()) {
                 return Err(Halt::NonFinite { t });

@@ -138,7 +138,7 @@ pub struct Estimator {
     groan_state: [[SectionState; GROAN_SECTIONS]; ACCEL_CHANNELS],
     last_groan: [f32; ACCEL_CHANNELS],
     window: WindowAccumulator,
-    model: Option<LockstepModel>,
+    model: LockstepModel,
     model_halt_seen: bool,
     sample: u64,
 }
@@ -155,7 +155,7 @@ impl Estimator {
             groan_state: [[SectionState::default(); GROAN_SECTIONS]; ACCEL_CHANNELS],
             last_groan: [0.0; ACCEL_CHANNELS],
             window: WindowAccumulator::new(cfg.window_samples, cfg.fs_hz),
-            model: None,
+            model: LockstepModel::stopped(),
             model_halt_seen: false,
             sample: 0,
         })
@@ -175,30 +175,27 @@ impl Estimator {
     pub fn contact(&self) -> &ContactEstimator {
         &self.contact
     }
+    /// The lockstep model, while it runs.
     pub fn model(&self) -> Option<&LockstepModel> {
-        self.model.as_ref()
+        if self.model.is_running() {
+            Some(&self.model)
+        } else {
+            None
+        }
     }
 
     /// Starts (or restarts) the lockstep model from the measured actuator pressure [bar]:
     /// `template` with F_N = p A and the configured band speed. Set-up work in f64 (the exact
     /// flows): call it between samples, not inside a tight sample deadline.
     pub fn start_model(&mut self, template: &Scene, actuator_bar: f64) -> Result<(), SceneError> {
-        let m = LockstepModel::new(
-            template,
-            actuator_bar,
-            self.cfg.piston_area_m2,
-            self.cfg.band_speed_m_s,
-            self.cfg.fs_hz,
-        )?;
-        self.model = Some(m);
         self.model_halt_seen = false;
         self.window.set_model_halt(None);
-        Ok(())
+        self.model.start(template, actuator_bar, self.cfg.piston_area_m2, self.cfg.band_speed_m_s, self.cfg.fs_hz)
     }
 
     /// Stops the lockstep model.
     pub fn stop_model(&mut self) {
-        self.model = None;
+        self.model.stop();
     }
 
     /// The report of the last closed window, once. Takes the window's divisions and square
@@ -221,8 +218,7 @@ impl Estimator {
         let sum = a[0].abs() + a[1].abs() + a[2].abs() + a[3].abs() + c.pressure_bar[0].abs() + c.pressure_bar[1].abs();
         if !(sum <= PLAUSIBLE_SUM_LIMIT) {
             // keep the model in time with the samples, but compare it with nothing
-            let model = self.model.as_mut().map(|m| {
-                let mut s = m.step(0.0);
+            let model = self.model.step(0.0).map(|mut s| {
                 s.residual_m_s2 = 0.0;
                 s
             });
@@ -239,7 +235,7 @@ impl Estimator {
             *g = self.groan.run(&mut self.groan_state[i], a[i]);
         }
         self.last_groan = groan;
-        let model = self.model.as_mut().map(|m| m.step(a[PAD_X]));
+        let model = self.model.step(a[PAD_X]);
         self.note_halt();
         let onset = matches!(contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
         let ready = self.window.add(&SampleStats {
@@ -256,7 +252,7 @@ impl Estimator {
     #[inline(always)]
     fn note_halt(&mut self) {
         if !self.model_halt_seen {
-            if let Some(h) = self.model.as_ref().and_then(|m| m.halt()) {
+            if let Some(h) = self.model.halt() {
                 self.window.set_model_halt(Some(h));
                 self.model_halt_seen = true;
             }

@@ -18,11 +18,138 @@
 //!
 //! A model that halts (a finding: sprag, contact loss; see [`Halt`]) stops predicting; the
 //! halt is kept and reported, and no value of the halted step is passed on.
+//!
+//! **Which model.** [`LockstepModel`] is generic over its stepper ([`LockstepStepper`]); its
+//! default, [`RigStepper`], is fixed at build time by a feature of this crate, so that a
+//! firmware links only the model its pad uses:
+//!
+//! | feature of `stickslip-model` | stepper | template ([`default_template`]) |
+//! |---|---|---|
+//! | none | `ExactStepper<f32>` (thesis; damping included) | `DEFAULT_SCENE` |
+//! | `lockstep-band` | `Model2Stepper<f32, Band>` | rig set push_center, Coulomb |
+//! | `lockstep-stribeck` | `Model2Stepper<f32, Stribeck>` | rig set push_center, no band |
+//! | `lockstep-stribeck-band` | `Model2Stepper<f32, StribeckBand>` | rig set push_center |
+//!
+//! At most one of the three features may be on.
 
 use super::pneumatics::normal_load_n;
 use crate::exact::{ExactStepper, Halt};
+use crate::model2::{Composition, Model2Stepper, Observer2, Transition2};
 use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
+
+#[cfg(any(
+    all(feature = "lockstep-band", feature = "lockstep-stribeck"),
+    all(feature = "lockstep-band", feature = "lockstep-stribeck-band"),
+    all(feature = "lockstep-stribeck", feature = "lockstep-stribeck-band"),
+))]
+compile_error!("at most one of the features lockstep-band, lockstep-stribeck, lockstep-stribeck-band");
+
+/// The rig's lockstep stepper, chosen by this crate's features (see the module documentation).
+#[cfg(not(any(feature = "lockstep-band", feature = "lockstep-stribeck", feature = "lockstep-stribeck-band")))]
+pub type RigStepper = ExactStepper<f32>;
+#[cfg(feature = "lockstep-band")]
+pub type RigStepper = Model2Stepper<f32, crate::model2::Band>;
+#[cfg(feature = "lockstep-stribeck")]
+pub type RigStepper = Model2Stepper<f32, crate::model2::Stribeck>;
+#[cfg(feature = "lockstep-stribeck-band")]
+pub type RigStepper = Model2Stepper<f32, crate::model2::StribeckBand>;
+
+/// The pad a rig built with this crate's features runs by default: the thesis's default scene,
+/// or the rig set's push_center with the options of [`RigStepper`]'s composition
+/// ([`crate::rig_set`]).
+pub fn default_template() -> Scene {
+    #[cfg(not(any(feature = "lockstep-band", feature = "lockstep-stribeck", feature = "lockstep-stribeck-band")))]
+    {
+        crate::scene::DEFAULT_SCENE
+    }
+    #[cfg(any(feature = "lockstep-band", feature = "lockstep-stribeck", feature = "lockstep-stribeck-band"))]
+    {
+        let mut s = crate::rig_set::rig_scene(crate::scene::Caliper::Push, 0.040);
+        if !<<RigStepper as LockstepStepper>::Composition as Composition>::STRIBECK {
+            s.friction = crate::scene::FrictionLaw::Coulomb;
+        }
+        s.band = <<RigStepper as LockstepStepper>::Composition as Composition>::BAND;
+        s
+    }
+}
+
+/// What the lockstep model needs of a stepper (f32).
+pub trait LockstepStepper: Sized {
+    /// The model-2 composition ([`crate::model2::Coulomb`] for the thesis stepper).
+    type Composition: Composition;
+    /// Builds the stepper for `scene` in `slot` (in place: see [`LockstepModel`]).
+    fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError>;
+    /// One step; whether a stick-to-slip transition happened in it.
+    fn advance(&mut self) -> Result<bool, Halt>;
+    fn current_regime(&self) -> Regime;
+    /// The pad's acceleration x'' at the current state [m/s^2].
+    fn pad_acceleration(&self) -> f32;
+    /// The normal force at the current state [N].
+    fn current_normal_force(&self) -> f32;
+}
+
+impl LockstepStepper for ExactStepper<f32> {
+    type Composition = crate::model2::Coulomb;
+    fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError> {
+        *slot = Some(ExactStepper::new(scene)?);
+        Ok(())
+    }
+    #[inline(always)]
+    fn advance(&mut self) -> Result<bool, Halt> {
+        self.step()?;
+        Ok(self.transitions().iter().any(|t| t.from == Regime::Stick))
+    }
+    #[inline(always)]
+    fn current_regime(&self) -> Regime {
+        self.regime()
+    }
+    #[inline(always)]
+    fn pad_acceleration(&self) -> f32 {
+        let z = self.state().to_array();
+        self.propagator().accelerations(self.regime(), &z).0
+    }
+    fn current_normal_force(&self) -> f32 {
+        self.normal_force()
+    }
+}
+
+/// Flags a stick-to-slip transition of a model-2 step.
+struct SlipOnset(bool);
+
+impl Observer2<f32> for SlipOnset {
+    const DERIVATIVES: bool = false;
+    #[inline(always)]
+    fn transition(&mut self, tr: &Transition2<f32>) {
+        if tr.from == Regime::Stick {
+            self.0 = true;
+        }
+    }
+}
+
+impl<C: Composition> LockstepStepper for Model2Stepper<f32, C> {
+    type Composition = C;
+    fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError> {
+        Model2Stepper::init_in(slot, scene).map(|_| ())
+    }
+    #[inline(always)]
+    fn advance(&mut self) -> Result<bool, Halt> {
+        let mut onset = SlipOnset(false);
+        self.step_observed(&mut onset)?;
+        Ok(onset.0)
+    }
+    #[inline(always)]
+    fn current_regime(&self) -> Regime {
+        self.regime()
+    }
+    #[inline(always)]
+    fn pad_acceleration(&self) -> f32 {
+        self.derivative(self.regime(), &self.state())[1]
+    }
+    fn current_normal_force(&self) -> f32 {
+        self.normal_force(&self.state())
+    }
+}
 
 /// The model's prediction at one sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,14 +165,27 @@ pub struct ModelSample {
     pub halted: bool,
 }
 
-/// The exact stepper in lockstep with the samples.
+/// The stepper in lockstep with the samples ([`RigStepper`] unless named), or no model
+/// (stopped). The stepper is built in place ([`LockstepStepper::build_in`]): a model-2
+/// stepper's tables (tens of KB in f32) never pass through the stack.
 #[derive(Clone, Debug)]
-pub struct LockstepModel {
-    stepper: ExactStepper<f32>,
+pub struct LockstepModel<S: LockstepStepper = RigStepper> {
+    stepper: Option<S>,
     halt: Option<Halt>,
 }
 
-impl LockstepModel {
+impl<S: LockstepStepper> Default for LockstepModel<S> {
+    fn default() -> Self {
+        Self::stopped()
+    }
+}
+
+impl<S: LockstepStepper> LockstepModel<S> {
+    /// No model.
+    pub const fn stopped() -> Self {
+        LockstepModel { stepper: None, halt: None }
+    }
+
     /// The scene the model runs: `template` with F_N = `actuator_bar` x `piston_area_m2`, band
     /// speed `band_speed_m_s` and step 1 / `fs_hz`.
     pub fn scene(template: &Scene, actuator_bar: f64, piston_area_m2: f64, band_speed_m_s: f64, fs_hz: f64) -> Scene {
@@ -62,41 +202,60 @@ impl LockstepModel {
         s
     }
 
-    /// Builds the model for [`Self::scene`]; a scene that does not validate (e.g. a negative or
-    /// non-finite measured pressure) is refused with the reason.
-    pub fn new(
+    /// (Re)starts the model for [`Self::scene`] from its initial state; a scene that does not
+    /// validate (e.g. a negative or non-finite measured pressure) is refused with the reason,
+    /// and the model is then stopped.
+    pub fn start(
+        &mut self,
         template: &Scene,
         actuator_bar: f64,
         piston_area_m2: f64,
         band_speed_m_s: f64,
         fs_hz: f64,
-    ) -> Result<Self, SceneError> {
+    ) -> Result<(), SceneError> {
         let scene = Self::scene(template, actuator_bar, piston_area_m2, band_speed_m_s, fs_hz);
-        Ok(LockstepModel { stepper: ExactStepper::new(&scene)?, halt: None })
+        self.stepper = None;
+        self.halt = None;
+        S::build_in(&mut self.stepper, &scene)
     }
 
-    pub fn stepper(&self) -> &ExactStepper<f32> {
-        &self.stepper
+    /// Stops the model.
+    pub fn stop(&mut self) {
+        self.stepper = None;
+        self.halt = None;
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.stepper.is_some()
+    }
+    /// The stepper, while the model runs.
+    pub fn stepper(&self) -> Option<&S> {
+        self.stepper.as_ref()
+    }
+    /// The model's normal force now [N] (0 when stopped).
+    pub fn normal_force(&self) -> f32 {
+        self.stepper.as_ref().map_or(0.0, |s| s.current_normal_force())
     }
     pub fn halt(&self) -> Option<Halt> {
         self.halt
     }
 
-    /// One step; compares the model's x'' with the measured `pad_x_m_s2`.
+    /// One step; compares the model's x'' with the measured `pad_x_m_s2`. None when stopped.
     #[inline]
-    pub fn step(&mut self, pad_x_m_s2: f32) -> ModelSample {
+    pub fn step(&mut self, pad_x_m_s2: f32) -> Option<ModelSample> {
+        let stepper = self.stepper.as_mut()?;
+        let mut slip_onset = false;
         if self.halt.is_none() {
-            if let Err(h) = self.stepper.step() {
-                self.halt = Some(h);
+            match stepper.advance() {
+                Ok(onset) => slip_onset = onset,
+                Err(h) => self.halt = Some(h),
             }
         }
-        let regime = self.stepper.regime();
+        let regime = stepper.current_regime();
         if self.halt.is_some() {
-            return ModelSample { xdd_m_s2: 0.0, residual_m_s2: 0.0, regime, slip_onset: false, halted: true };
+            return Some(ModelSample { xdd_m_s2: 0.0, residual_m_s2: 0.0, regime, slip_onset: false, halted: true });
         }
-        let z = self.stepper.state().to_array();
-        let (xdd, _) = self.stepper.propagator().accelerations(regime, &z);
-        let slip_onset = self.stepper.transitions().iter().any(|t| t.from == Regime::Stick);
-        ModelSample { xdd_m_s2: xdd, residual_m_s2: pad_x_m_s2 - xdd, regime, slip_onset, halted: false }
+        let xdd = stepper.pad_acceleration();
+        Some(ModelSample { xdd_m_s2: xdd, residual_m_s2: pad_x_m_s2 - xdd, regime, slip_onset, halted: false })
     }
 }

@@ -33,7 +33,7 @@ use crate::exact::{ExactStepper, Halt};
 use crate::methods::plant::Plant;
 use crate::real::Real;
 use crate::scene::{Caliper, Scene, SceneError};
-use crate::model2::{Model2Stepper, Observer2, Transition2};
+use crate::model2::{AnyModel2Stepper, Observer2, Transition2};
 use crate::stickslip::Regime;
 
 /// What the sensor model samples: a stepper, and the accelerations its sensors see.
@@ -100,7 +100,7 @@ impl<T: Real> Motion<T> for ThesisMotion<T> {
 /// Model 2 (Stribeck friction, the band): disc_x is the band's acceleration.
 #[derive(Clone, Debug)]
 pub struct Model2Motion<T: Real> {
-    stepper: Model2Stepper<T>,
+    stepper: AnyModel2Stepper<T>,
     onsets: OnsetLog,
 }
 
@@ -123,9 +123,9 @@ impl<T: Real> Observer2<T> for OnsetLog {
 
 impl<T: Real> Model2Motion<T> {
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
-        Ok(Model2Motion { stepper: Model2Stepper::<T>::new(scene)?, onsets: OnsetLog::default() })
+        Ok(Model2Motion { stepper: AnyModel2Stepper::<T>::new(scene)?, onsets: OnsetLog::default() })
     }
-    pub fn stepper(&self) -> &Model2Stepper<T> {
+    pub fn stepper(&self) -> &AnyModel2Stepper<T> {
         &self.stepper
     }
 }

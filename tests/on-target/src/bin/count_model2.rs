@@ -10,10 +10,14 @@
 //! Compositions (push_center, beta = 0.040 m, dt = 1/25 600 s, each started fresh):
 //! - `thesis`: `ExactStepper<f32>`, the default scene;
 //! - `damping`: `ExactStepper<f32>`, c_x and c_phi at 2 % of critical;
-//! - `band`: `Model2Stepper<f32>`, Coulomb, the band (m_b = 2 kg, k_b = 1e6 N/m, 5 % of
+//! - `band`: `Model2Stepper<f32, Band>`, Coulomb, the band (m_b = 2 kg, k_b = 1e6 N/m, 5 % of
 //!   critical in c_b);
-//! - `stribeck`: `Model2Stepper<f32>`, Stribeck friction v_s = 0.002 m/s (delta = 1), no band;
-//! - `all`: Stribeck + band + damping.
+//! - `stribeck`: `Model2Stepper<f32, Stribeck>`, Stribeck friction v_s = 0.002 m/s
+//!   (delta = 1), no band;
+//! - `all`: `Model2Stepper<f32, StribeckBand>`, Stribeck + band + damping.
+//!
+//! Each composition is its own compile-time specialised stepper (model2::composition), as the
+//! firmware would build it.
 //!
 //! Every step of each run is measured, from the first step until the end of the second slip
 //! phase (at most [`MAX_STEPS`]), and classed by the regime it starts in and whether it had a
@@ -21,10 +25,13 @@
 //! Then [`EXP_ARGS`] are each passed once to `libm::expf` (`expf_libm`) and to micromath's
 //! `F32Ext::exp` (`exp_micromath`).
 //!
-//! The steppers live in statics (a `Model2Stepper<f32>` is tens of KB: its dyadic tables of 54
-//! levels); the stack is painted at boot and its high-water mark printed after each
+//! The steppers live in statics (a `Model2Stepper<f32, _>` is kilobytes: its dyadic tables of
+//! 54 levels); the stack is painted at boot and its high-water mark printed after each
 //! composition. Printed (semihosting), one line each:
-//! `comp <name> stepper=<type> size=<bytes> n_sub=<n> steps=<k> transitions=<n> stack_used=<bytes> stack_size=<bytes>`
+//! `comp <name> stepper=<type> size=<bytes> tables=<bytes> n_sub=<n> steps=<k> transitions=<n> stack_used=<bytes> stack_size=<bytes>`
+//!
+//! Built with the environment variable `COUNT_MODEL2_MAX_STEPS=<k>`, each composition stops
+//! after k steps (a quick look; the script's figures use the default, [`MAX_STEPS`]).
 //! and at the end `done count_model2`.
 #![no_std]
 #![no_main]
@@ -36,12 +43,30 @@ use core::ptr::addr_of_mut;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
-use stickslip_model::model2::Model2Stepper;
+use stickslip_model::model2::{Band, Composition, Model2Stepper, Stribeck, StribeckBand};
 use stickslip_model::{Coefficients, ExactStepper, FrictionLaw, Halt, Regime, Scene, SceneError};
 use stickslip_on_target::{scenes, stack};
 
 /// Cap on the steps of one composition (0.2 s).
 const MAX_STEPS: u64 = 5_120;
+
+/// The cap in force: [`MAX_STEPS`], or `COUNT_MODEL2_MAX_STEPS` at build time.
+const fn max_steps() -> u64 {
+    match option_env!("COUNT_MODEL2_MAX_STEPS") {
+        None => MAX_STEPS,
+        Some(s) => {
+            let b = s.as_bytes();
+            let mut v = 0u64;
+            let mut i = 0;
+            while i < b.len() {
+                assert!(b[i].is_ascii_digit(), "COUNT_MODEL2_MAX_STEPS: not a number");
+                v = v * 10 + (b[i] - b'0') as u64;
+                i += 1;
+            }
+            v
+        }
+    }
+}
 
 /// Arguments of the exponential calls: exp(-y) for y in [0, 20], the range of the Stribeck law.
 const EXP_ARGS: [f32; 9] = [0.0, -0.01, -0.3, -1.0, -2.5, -5.0, -9.7, -15.0, -20.0];
@@ -130,7 +155,7 @@ impl Steps for ExactStepper<f32> {
     }
 }
 
-impl Steps for Model2Stepper<f32> {
+impl<C: Composition> Steps for Model2Stepper<f32, C> {
     fn regime_now(&self) -> Regime {
         self.regime()
     }
@@ -152,7 +177,7 @@ fn measure<S: Steps>(st: &mut S, classes: &Classes) -> (u64, u64) {
     let mut slip_ends = 0;
     let mut transitions = 0u64;
     let mut k = 0;
-    while k < MAX_STEPS {
+    while k < max_steps() {
         let from = st.regime_now();
         stickslip_mark_begin();
         let result = st.one_step();
@@ -180,13 +205,14 @@ fn measure<S: Steps>(st: &mut S, classes: &Classes) -> (u64, u64) {
     (k, transitions)
 }
 
-fn report(name: &str, stepper: &str, size: usize, n_sub: u32, (steps, transitions): (u64, u64)) {
+fn report(name: &str, stepper: &str, size: usize, tables: usize, n_sub: u32, (steps, transitions): (u64, u64)) {
     let (used, total) = stack::used();
     hprintln!(
-        "comp {} stepper={} size={} n_sub={} steps={} transitions={} stack_used={} stack_size={}",
+        "comp {} stepper={} size={} tables={} n_sub={} steps={} transitions={} stack_used={} stack_size={}",
         name,
         stepper,
         size,
+        tables,
         n_sub,
         steps,
         transitions,
@@ -220,8 +246,10 @@ fn stribeck(mut s: Scene) -> Scene {
 /// The static homes of the steppers (one composition at a time), as `Result`s so that `new`
 /// can build its value in the static itself rather than on the stack and then move it there.
 static mut EXACT: MaybeUninit<Result<ExactStepper<f32>, SceneError>> = MaybeUninit::uninit();
-/// `Model2Stepper::init_in` fills its tables in the static.
-static mut MODEL2: Option<Model2Stepper<f32>> = None;
+/// `Model2Stepper::init_in` fills its tables in the static (one per composition).
+static mut BAND: Option<Model2Stepper<f32, Band>> = None;
+static mut STRIBECK: Option<Model2Stepper<f32, Stribeck>> = None;
+static mut ALL: Option<Model2Stepper<f32, StribeckBand>> = None;
 
 fn run_exact(name: &str, scene: &Scene, classes: &Classes) {
     stack::paint();
@@ -231,19 +259,19 @@ fn run_exact(name: &str, scene: &Scene, classes: &Classes) {
         fail("scene rejected (ExactStepper)");
     };
     let r = measure(st, classes);
-    report(name, "ExactStepper<f32>", core::mem::size_of::<ExactStepper<f32>>(), 1, r);
+    let size = core::mem::size_of::<ExactStepper<f32>>();
+    report(name, "ExactStepper<f32>", size, size, 1, r);
 }
 
-fn run_model2(name: &str, scene: &Scene, classes: &Classes) {
+fn run_model2<C: Composition>(name: &str, slot: &mut Option<Model2Stepper<f32, C>>, scene: &Scene, classes: &Classes) {
     stack::paint();
-    // SAFETY: the only reference made to MODEL2 at a time; single-threaded program.
-    let slot = unsafe { &mut *addr_of_mut!(MODEL2) };
-    let Ok(st) = Model2Stepper::<f32>::init_in(slot, scene) else {
+    let Ok(st) = Model2Stepper::<f32, C>::init_in(slot, scene) else {
         fail("scene rejected (Model2Stepper)");
     };
     let n_sub = st.n_sub();
+    let tables = st.table_bytes();
     let r = measure(st, classes);
-    report(name, "Model2Stepper<f32>", core::mem::size_of::<Model2Stepper<f32>>(), n_sub, r);
+    report(name, C::NAME, core::mem::size_of::<Model2Stepper<f32, C>>(), tables, n_sub, r);
 }
 
 #[inline(never)]
@@ -276,14 +304,23 @@ fn main() -> ! {
         &damped(thesis),
         &[count_class_damping_stick, count_class_damping_slip, count_class_damping_transition],
     );
-    run_model2("band", &banded(thesis), &[count_class_band_stick, count_class_band_slip, count_class_band_transition]);
+    // SAFETY: each static is referenced once, here; single-threaded program.
+    let (band, strib, all) = unsafe { (&mut *addr_of_mut!(BAND), &mut *addr_of_mut!(STRIBECK), &mut *addr_of_mut!(ALL)) };
+    run_model2(
+        "band",
+        band,
+        &banded(thesis),
+        &[count_class_band_stick, count_class_band_slip, count_class_band_transition],
+    );
     run_model2(
         "stribeck",
+        strib,
         &stribeck(thesis),
         &[count_class_stribeck_stick, count_class_stribeck_slip, count_class_stribeck_transition],
     );
     run_model2(
         "all",
+        all,
         &damped(banded(stribeck(thesis))),
         &[count_class_all_stick, count_class_all_slip, count_class_all_transition],
     );

@@ -186,7 +186,7 @@ fn main() -> ! {
         let o = b.core.sample_words(&b.frame.counts, &b.digital, b.command);
         black_box(&o);
         stickslip_mark_end();
-        let model_transition = b.core.estimator().model().is_some_and(|m| !m.stepper().transitions().is_empty());
+        let model_transition = b.core.estimator().model().and_then(|m| m.stepper()).is_some_and(|s| !s.transitions().is_empty());
         match () {
             _ if o.record_started => rig_class_b_record_start(),
             _ if o.before != SeqState::Record => rig_class_b_setup(),

@@ -1,0 +1,152 @@
+//! Which options of model 2 a stepper carries, fixed at compile time.
+//!
+//! A [`Composition`] is a type whose constants say which degrees of freedom and which friction
+//! law the stepper is built for. [`super::Model2Stepper`] is generic over it, so what a
+//! composition leaves out is not in the code or the tables:
+//!
+//! Every table has one entry per dyadic level, `T::DYADIC_LEVELS + 1` of them (25 in f32, 54
+//! in f64).
+//!
+//! | composition | state rows moved | flow table entries per level | ETDRK4 vectors |
+//! |---|---|---|---|
+//! | [`Coulomb`] (no band) | 4 | 4 x 5 | none |
+//! | [`Band`] (Coulomb, band) | 6 (x, x', phi, phi', u, u') | 6 x 7 | none |
+//! | [`Stribeck`] (no band) | 4 (x, x', phi, phi') | 4 x 5 | 2 slip regimes |
+//! | [`StribeckBand`] | 6 | 6 x 7 | 2 slip regimes |
+//!
+//! Damping needs no composition of its own (it is part of every exact flow); the thesis model
+//! with or without damping runs on [`crate::ExactStepper`] ([`Coulomb`] is that model in
+//! model 2's matrices: a cross-check of them, not a production path). [`super::AnyModel2Stepper`] picks
+//! the composition from a scene at run time (the host); the firmware names its composition.
+//! Part 2 (face kinematics, the floating pad) adds constants here.
+
+use core::fmt::Debug;
+
+use crate::real::Real;
+use crate::scene::{FrictionLaw, Scene, SceneError};
+
+/// The ETDRK4 vectors of one dyadic level: h phi_1(hA) b and the three weights of the final
+/// combination, h (phi_1 - 3 phi_2 + 4 phi_3) b, h (2 phi_2 - 4 phi_3) b, h (4 phi_3 - phi_2) b.
+#[derive(Clone, Copy, Debug)]
+pub struct EtdVectors<T> {
+    pub phi1: [T; 6],
+    pub w0: [T; 6],
+    pub wab: [T; 6],
+    pub wc: [T; 6],
+}
+
+impl<T: Real> EtdVectors<T> {
+    pub fn zero() -> Self {
+        EtdVectors { phi1: [T::zero(); 6], w0: [T::zero(); 6], wab: [T::zero(); 6], wc: [T::zero(); 6] }
+    }
+}
+
+/// The options a model-2 stepper is compiled for.
+pub trait Composition: Copy + Debug + 'static {
+    /// The band degree of freedom (u, u').
+    const BAND: bool;
+    /// Stribeck friction (ETDRK4 in slip); Coulomb otherwise.
+    const STRIBECK: bool;
+    /// Name in reports.
+    const NAME: &'static str;
+    /// State entries a flow moves: 6 with the band, 4 without (u = u' = 0 for good).
+    const ROWS: usize = if Self::BAND { 6 } else { 4 };
+    /// Columns of a flow row: the moved entries and the constant 1.
+    const COLS: usize = Self::ROWS + 1;
+    /// One flow, ROWS x COLS entries row-major (increment form: z(t + h) - z(t) = F (z, 1)).
+    type Flow<T: Real>: Copy + Debug + AsRef<[T]> + AsMut<[T]>;
+    /// The ETDRK4 vectors per slip regime and level: two regimes with Stribeck friction, none
+    /// with Coulomb friction.
+    type Etd<T: Real>: Copy + Debug + AsRef<[T::PerLevel<EtdVectors<T>>]> + AsMut<[T::PerLevel<EtdVectors<T>>]>;
+    fn zero_flow<T: Real>() -> Self::Flow<T>;
+    fn zero_etd<T: Real>() -> Self::Etd<T>;
+
+    /// Whether `scene` asks for exactly this composition.
+    fn matches(scene: &Scene) -> Result<(), SceneError> {
+        let stribeck = scene.friction == FrictionLaw::Stribeck;
+        if stribeck != Self::STRIBECK {
+            return Err(SceneError {
+                field: "friction",
+                rule: "is not the friction law this model-2 stepper was compiled for",
+                value: if stribeck { 1.0 } else { 0.0 },
+            });
+        }
+        if scene.band != Self::BAND {
+            return Err(SceneError {
+                field: "band",
+                rule: "is not what this model-2 stepper was compiled for",
+                value: if scene.band { 1.0 } else { 0.0 },
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Coulomb friction, no band: the thesis model in model 2's matrices.
+#[derive(Clone, Copy, Debug)]
+pub struct Coulomb;
+/// Coulomb friction and the band.
+#[derive(Clone, Copy, Debug)]
+pub struct Band;
+/// Stribeck friction, no band.
+#[derive(Clone, Copy, Debug)]
+pub struct Stribeck;
+/// Stribeck friction and the band.
+#[derive(Clone, Copy, Debug)]
+pub struct StribeckBand;
+
+impl Composition for Coulomb {
+    const BAND: bool = false;
+    const STRIBECK: bool = false;
+    const NAME: &'static str = "coulomb";
+    type Flow<T: Real> = [T; 20];
+    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 0];
+    fn zero_flow<T: Real>() -> [T; 20] {
+        [T::zero(); 20]
+    }
+    fn zero_etd<T: Real>() -> Self::Etd<T> {
+        []
+    }
+}
+
+impl Composition for Band {
+    const BAND: bool = true;
+    const STRIBECK: bool = false;
+    const NAME: &'static str = "band";
+    type Flow<T: Real> = [T; 42];
+    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 0];
+    fn zero_flow<T: Real>() -> [T; 42] {
+        [T::zero(); 42]
+    }
+    fn zero_etd<T: Real>() -> Self::Etd<T> {
+        []
+    }
+}
+
+impl Composition for Stribeck {
+    const BAND: bool = false;
+    const STRIBECK: bool = true;
+    const NAME: &'static str = "stribeck";
+    type Flow<T: Real> = [T; 20];
+    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 2];
+    fn zero_flow<T: Real>() -> [T; 20] {
+        [T::zero(); 20]
+    }
+    fn zero_etd<T: Real>() -> Self::Etd<T> {
+        [T::per_level(EtdVectors::zero()); 2]
+    }
+}
+
+impl Composition for StribeckBand {
+    const BAND: bool = true;
+    const STRIBECK: bool = true;
+    const NAME: &'static str = "stribeck+band";
+    type Flow<T: Real> = [T; 42];
+    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 2];
+    fn zero_flow<T: Real>() -> [T; 42] {
+        [T::zero(); 42]
+    }
+    fn zero_etd<T: Real>() -> Self::Etd<T> {
+        [T::per_level(EtdVectors::zero()); 2]
+    }
+}

@@ -1,0 +1,34 @@
+//! Model 2's rig set: the six cases with model 2 on (docs/model.md, "The rig set"): the
+//! default pad with falling (Stribeck) friction, the band as a mass on its drive, and a few
+//! percent of damping on every degree of freedom. Defined here so that the host's built-in
+//! scenes (`rig_*`) and a firmware built for the rig set (feature `model2`) run the same pad.
+//! Every model-2 value is a guess until it is fitted to the rig's Table 3.1.
+
+use crate::coefficients::Coefficients;
+use crate::scene::{Caliper, FrictionLaw, Scene};
+
+/// Rig set, guessed: Stribeck velocity [m/s].
+pub const RIG_V_S: f64 = 0.002;
+/// Rig set, guessed: band and carriage mass [kg].
+pub const RIG_M_B: f64 = 2.0;
+/// Rig set, guessed: band drive (cylinder and linkage) stiffness [N/m].
+pub const RIG_K_B: f64 = 1e6;
+/// Rig set, guessed: damping ratio of the band drive [-].
+pub const RIG_ZETA_B: f64 = 0.05;
+/// Rig set, guessed: damping ratio of the pad's x and rotation [-].
+pub const RIG_ZETA: f64 = 0.02;
+
+/// The rig set's scene for one case.
+pub fn rig_scene(caliper: Caliper, beta: f64) -> Scene {
+    let mut s = Scene::case(caliper, beta);
+    s.friction = FrictionLaw::Stribeck;
+    s.v_s = RIG_V_S;
+    s.stribeck_exponent = 1.0;
+    s.band = true;
+    s.m_b = RIG_M_B;
+    s.k_b = RIG_K_B;
+    s.c_b = 2.0 * RIG_ZETA_B * libm::sqrt(s.k_b * s.m_b);
+    s.c_x = 2.0 * RIG_ZETA * libm::sqrt(s.k_g * s.m);
+    s.c_phi = 2.0 * RIG_ZETA * libm::sqrt(Coefficients::of(&s).k_rot * s.inertia);
+    s
+}

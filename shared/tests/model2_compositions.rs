@@ -1,0 +1,116 @@
+//! Model 2's compile-time compositions: a stepper refuses a scene of another composition
+//! (naming the field), leaves out what its composition does not use (table sizes from the
+//! dimensions, not from the code), and runs as the rig's lockstep model.
+
+use stickslip_model::model2::{AnyModel2Stepper, Band, Coulomb, Model2Stepper, Stribeck, StribeckBand};
+use stickslip_model::rig::lockstep::LockstepModel;
+use stickslip_model::rig_set::rig_scene;
+use stickslip_model::{Caliper, FrictionLaw, Regime, Scene};
+
+fn stribeck_no_band() -> Scene {
+    let mut s = rig_scene(Caliper::Push, 0.040);
+    s.band = false;
+    s
+}
+
+#[test]
+fn a_stepper_refuses_a_scene_of_another_composition() {
+    let rig = rig_scene(Caliper::Push, 0.040);
+    let e = Model2Stepper::<f32, Stribeck>::new(&rig).unwrap_err();
+    assert_eq!(e.field, "band");
+    let e = Model2Stepper::<f32, Band>::new(&rig).unwrap_err();
+    assert_eq!(e.field, "friction");
+    let mut coulomb_band = rig;
+    coulomb_band.friction = FrictionLaw::Coulomb;
+    assert!(Model2Stepper::<f32, Band>::new(&coulomb_band).is_ok());
+    assert!(Model2Stepper::<f32, StribeckBand>::new(&rig).is_ok());
+    assert!(Model2Stepper::<f32, Stribeck>::new(&stribeck_no_band()).is_ok());
+    // validation still comes first
+    let mut bad = rig;
+    bad.m_b = -1.0;
+    assert_eq!(Model2Stepper::<f32, StribeckBand>::new(&bad).unwrap_err().field, "m_b");
+}
+
+/// Tables per composition from the dimensions: 3 regimes x 25 levels (f32: a substep of 2^24
+/// units, levels 0 to 24) x (rows x columns) flow entries, plus, with Stribeck friction, 2 slip
+/// regimes x 25 levels x 4 vectors of 6.
+#[test]
+fn a_composition_carries_only_its_tables() {
+    let f = core::mem::size_of::<f32>();
+    let flows = |rows: usize, cols: usize| 3 * 25 * rows * cols * f;
+    let etd = 2 * 25 * 4 * 6 * f;
+    let mut coulomb = Scene::case(Caliper::Pull, 0.040);
+    coulomb.friction = FrictionLaw::Coulomb;
+    let mut band = rig_scene(Caliper::Push, 0.040);
+    band.friction = FrictionLaw::Coulomb;
+    assert_eq!(Model2Stepper::<f32, Coulomb>::new(&coulomb).unwrap().table_bytes(), flows(4, 5));
+    assert_eq!(Model2Stepper::<f32, Band>::new(&band).unwrap().table_bytes(), flows(6, 7));
+    assert_eq!(Model2Stepper::<f32, Stribeck>::new(&stribeck_no_band()).unwrap().table_bytes(), flows(4, 5) + etd);
+    let all = Model2Stepper::<f32, StribeckBand>::new(&rig_scene(Caliper::Push, 0.040)).unwrap();
+    assert_eq!(all.table_bytes(), flows(6, 7) + etd);
+    // and the stepper's size is its tables plus a small remainder (< 3 KB: rows, state and the f64 equations)
+    assert!(core::mem::size_of::<Model2Stepper<f32, Stribeck>>() < flows(4, 5) + etd + 3072);
+    assert!(core::mem::size_of::<Model2Stepper<f32, Band>>() < flows(6, 7) + 3072);
+}
+
+/// The run-time dispatch is the specialised stepper: the same states, bit for bit.
+#[test]
+fn the_run_time_choice_is_the_compiled_composition() {
+    let scene = stribeck_no_band();
+    let mut a = AnyModel2Stepper::<f32>::new(&scene).unwrap();
+    let mut b = Model2Stepper::<f32, Stribeck>::new(&scene).unwrap();
+    assert_eq!(a.composition(), "stribeck");
+    for _ in 0..4000 {
+        a.step().unwrap();
+        b.step().unwrap();
+        assert_eq!(a.state().map(f32::to_bits), b.state().map(f32::to_bits));
+    }
+}
+
+/// The rig's lockstep model on a model-2 stepper: its x'' agrees with the central difference
+/// of the model's own velocity (an independent estimate, to O(dt^2)), and it flags exactly the
+/// steps whose regime went from stick to slip.
+#[test]
+fn the_lockstep_model_runs_model_2() {
+    let template = rig_scene(Caliper::Push, 0.040);
+    let fs = 25_600.0;
+    // 5 bar on the rig's piston gives the scene's F_N of about 0.5 kN: any positive load runs
+    let mut m = LockstepModel::<Model2Stepper<f32, StribeckBand>>::stopped();
+    m.start(&template, 5.0, 1e-3, template.v, fs).unwrap();
+    let mut v = Vec::new();
+    let mut xdd = Vec::new();
+    let mut onsets = 0;
+    let mut regime_onsets = 0;
+    let mut last = Regime::Stick;
+    for _ in 0..25_600 {
+        let s = m.step(0.0).expect("running");
+        assert!(!s.halted);
+        let st = m.stepper().unwrap();
+        v.push(st.state()[1] as f64);
+        xdd.push(s.xdd_m_s2 as f64);
+        if s.slip_onset {
+            onsets += 1;
+        }
+        if last == Regime::Stick && s.regime != Regime::Stick {
+            regime_onsets += 1;
+        }
+        last = s.regime;
+    }
+    assert!(onsets > 5, "stick-slip expected: {onsets} onsets");
+    assert_eq!(onsets, regime_onsets);
+    // central differences away from the transitions (where x'' jumps)
+    let dt = 1.0 / fs;
+    let scale = xdd.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    let mut compared = 0;
+    for k in 1..v.len() - 1 {
+        let cd = (v[k + 1] - v[k - 1]) / (2.0 * dt);
+        let smooth = (xdd[k + 1] - 2.0 * xdd[k] + xdd[k - 1]).abs() < 0.01 * scale;
+        if smooth {
+            compared += 1;
+            assert!((cd - xdd[k]).abs() < 0.02 * scale, "step {k}: {cd} vs {}", xdd[k]);
+        }
+    }
+    assert!(compared > 20_000, "{compared} steps compared");
+    m.stop();
+    assert!(m.step(0.0).is_none());
+}
