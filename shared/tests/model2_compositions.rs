@@ -51,6 +51,11 @@ fn a_composition_carries_only_its_tables() {
     // and the stepper's size is its tables plus a small remainder (< 3 KB: rows, state and the f64 equations)
     assert!(core::mem::size_of::<Model2Stepper<f32, Stribeck>>() < flows(4, 5) + etd + 3072);
     assert!(core::mem::size_of::<Model2Stepper<f32, Band>>() < flows(6, 7) + 3072);
+    // slip's block structure (the rotation on its own; x and u driven by it) is exact in the
+    // rounded tables, so the slip step skips those zeros
+    assert!(all.slip_flows_are_block_sparse());
+    assert!(Model2Stepper::<f64, StribeckBand>::new(&rig_scene(Caliper::Pull, 0.055)).unwrap().slip_flows_are_block_sparse());
+    assert!(Model2Stepper::<f32, Stribeck>::new(&stribeck_no_band()).unwrap().slip_flows_are_block_sparse());
 }
 
 /// The run-time dispatch is the specialised stepper: the same states, bit for bit.

@@ -66,6 +66,55 @@ fn increment<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
     out
 }
 
+/// [`increment`] for a slip regime's flow, which has the block structure of slip: the
+/// rotation (phi, phi') moves on its own (N depends on phi alone and the friction's kinetic part
+/// on N), the pad's x and the band's u are each driven by it and not by each other. The zeros
+/// this skips are exact in the table (checked at set-up: `slip_sparse`), so the sum is the
+/// same as [`increment`]'s.
+#[inline(always)]
+fn increment_slip<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
+    let f = f.as_ref();
+    let mut out = [T::zero(); NS];
+    let n = C::COLS;
+    let one = n - 1;
+    for r in 0..2 {
+        let row = &f[r * n..r * n + n];
+        out[r] = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[one];
+    }
+    for r in 2..4 {
+        let row = &f[r * n..r * n + n];
+        out[r] = row[2] * z[2] + row[3] * z[3] + row[one];
+    }
+    if C::BAND {
+        for r in 4..6 {
+            let row = &f[r * n..r * n + n];
+            out[r] = row[2] * z[2] + row[3] * z[3] + row[4] * z[4] + row[5] * z[5] + row[one];
+        }
+    }
+    out
+}
+
+/// Whether a slip flow has the zeros [`increment_slip`] skips (exactly).
+fn has_slip_zeros<T: Real, C: Composition>(f: &C::Flow<T>) -> bool {
+    let f = f.as_ref();
+    let n = C::COLS;
+    let zero = |r: usize, c: usize| f[r * n + c] == T::zero();
+    let mut ok = true;
+    for r in 0..C::ROWS {
+        let skipped: &[usize] = match r {
+            0 | 1 => &[4, 5],
+            2 | 3 => &[0, 1, 4, 5],
+            _ => &[0, 1],
+        };
+        for &c in skipped {
+            if c < n - 1 {
+                ok &= zero(r, c);
+            }
+        }
+    }
+    ok
+}
+
 /// A row (z, 1) . r over the entries composition `C` moves (the same value as
 /// [`row_dot`]: the left-out entries are 0).
 #[inline(always)]
@@ -209,6 +258,8 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     rate_limit: T::PerLevel<T>,
     /// Round-off level of the sliding velocity: 2^-(L-8) V [m/s].
     v_round: T,
+    /// Every slip flow has slip's block zeros ([`increment_slip`] applies).
+    slip_sparse: bool,
 }
 
 impl<T: Real, C: Composition> Model2Stepper<T, C> {
@@ -329,6 +380,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             rate_coef: t(sys.d_mu * scene.stribeck_exponent / scene.v_s
                 * (1.0 / scene.m + if scene.band { 1.0 / scene.m_b } else { 0.0 })),
             rate_limit: T::per_level(T::zero()),
+            slip_sparse: false,
         });
         for (j, r) in s.rate_limit.as_mut().iter_mut().enumerate() {
             *r = t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)));
@@ -382,9 +434,28 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                 }
             }
         }
+        s.slip_sparse = [Regime::SlipSlower, Regime::SlipFaster]
+            .iter()
+            .all(|r| s.flows[r.index()].as_ref().iter().all(|f| has_slip_zeros::<T, C>(f)));
         Ok(s)
     }
 
+    /// The increment of the flow over 2^j units of `regime` from `z`.
+    #[inline(always)]
+    fn flow_increment(&self, regime: Regime, j: usize, z: &[T; NS]) -> [T; NS] {
+        let f = &self.flows[regime.index()].as_ref()[j];
+        if regime != Regime::Stick && self.slip_sparse {
+            increment_slip::<T, C>(f, z)
+        } else {
+            increment::<T, C>(f, z)
+        }
+    }
+
+    /// Whether the slip flows have slip's block zeros in the table, exactly (the slip step then
+    /// skips them; see `increment_slip`).
+    pub fn slip_flows_are_block_sparse(&self) -> bool {
+        self.slip_sparse
+    }
     /// The composition's name ("band", "stribeck", "stribeck+band").
     pub fn composition(&self) -> &'static str {
         C::NAME
@@ -521,7 +592,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         if Self::is_stribeck_slip(regime) {
             self.chunk_from(regime, j, z, &self.excess(z))
         } else {
-            let d = increment::<T, C>(&self.flows[regime.index()].as_ref()[j], z);
+            let d = self.flow_increment(regime, j, z);
             core::array::from_fn(|r| z[r] + d[r])
         }
     }
@@ -530,24 +601,22 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// `ex0` at `z`.
     fn chunk_from(&self, regime: Regime, j: usize, z: &[T; NS], ex0: &Excess<T>) -> [T; NS] {
         let rows = C::ROWS;
-        let f = &self.flows[regime.index()].as_ref()[j];
         let sigma = T::from_f64(regime.friction_sign());
-        let half = &self.flows[regime.index()].as_ref()[j - 1];
         let etd = self.etd.as_ref();
         let ph = &etd[regime.index() - 1].as_ref()[j - 1].phi1;
         let w = &etd[regime.index() - 1].as_ref()[j];
         let q0 = self.q_of(sigma, ex0);
-        let eh = increment::<T, C>(half, z);
+        let eh = self.flow_increment(regime, j - 1, z);
         let a: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * q0) } else { z[r] });
         let qa = self.q_of(sigma, &self.excess(&a));
         let bb: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * qa) } else { z[r] });
         let qb = self.q_of(sigma, &self.excess(&bb));
-        let ea = increment::<T, C>(half, &a);
+        let ea = self.flow_increment(regime, j - 1, &a);
         let two = T::one() + T::one();
         let qcb = two * qb - q0;
         let c: [T; NS] = core::array::from_fn(|r| if r < rows { a[r] + (ea[r] + ph[r] * qcb) } else { z[r] });
         let qc = self.q_of(sigma, &self.excess(&c));
-        let e = increment::<T, C>(f, z);
+        let e = self.flow_increment(regime, j, z);
         let qab = qa + qb;
         core::array::from_fn(|r| {
             if r < rows {
