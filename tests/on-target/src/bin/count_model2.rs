@@ -25,8 +25,8 @@
 //! Then [`EXP_ARGS`] are each passed once to `libm::expf` (`expf_libm`) and to micromath's
 //! `F32Ext::exp` (`exp_micromath`).
 //!
-//! The steppers live in statics (a `Model2Stepper<f32, _>` is kilobytes: its dyadic tables of
-//! 54 levels); the stack is painted at boot and its high-water mark printed after each
+//! The steppers live in statics (a `Model2Stepper<f32, _>` is 13 to 20 KB: its dyadic tables of
+//! 25 levels in f32); the stack is painted at boot and its high-water mark printed after each
 //! composition. Printed (semihosting), one line each:
 //! `comp <name> stepper=<type> size=<bytes> tables=<bytes> n_sub=<n> steps=<k> transitions=<n> stack_used=<bytes> stack_size=<bytes>`
 //!
