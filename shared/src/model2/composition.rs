@@ -82,71 +82,46 @@ pub trait Composition: Copy + Debug + 'static {
     }
 }
 
-/// Coulomb friction, no band: the thesis model in model 2's matrices.
-#[derive(Clone, Copy, Debug)]
-pub struct Coulomb;
-/// Coulomb friction and the band.
-#[derive(Clone, Copy, Debug)]
-pub struct Band;
-/// Stribeck friction, no band.
-#[derive(Clone, Copy, Debug)]
-pub struct Stribeck;
-/// Stribeck friction and the band.
-#[derive(Clone, Copy, Debug)]
-pub struct StribeckBand;
+/// Defines a composition: its type, its options, and the sizes that follow from them (flow
+/// entries per level: 4 x 5 without the band, 6 x 7 with it; ETDRK4 tables for the two slip
+/// regimes with Stribeck friction, none with Coulomb).
+macro_rules! composition {
+    ($(#[$doc:meta])* $name:ident, band: $band:expr, stribeck: $stribeck:expr, $label:expr, flow: $flow:expr, etd: $etd:expr) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug)]
+        pub struct $name;
 
-impl Composition for Coulomb {
-    const BAND: bool = false;
-    const STRIBECK: bool = false;
-    const NAME: &'static str = "coulomb";
-    type Flow<T: Real> = [T; 20];
-    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 0];
-    fn zero_flow<T: Real>() -> [T; 20] {
-        [T::zero(); 20]
-    }
-    fn zero_etd<T: Real>() -> Self::Etd<T> {
-        []
-    }
+        impl Composition for $name {
+            const BAND: bool = $band;
+            const STRIBECK: bool = $stribeck;
+            const NAME: &'static str = $label;
+            type Flow<T: Real> = [T; $flow];
+            type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; $etd];
+            fn zero_flow<T: Real>() -> [T; $flow] {
+                [T::zero(); $flow]
+            }
+            fn zero_etd<T: Real>() -> Self::Etd<T> {
+                [T::per_level(EtdVectors::zero()); $etd]
+            }
+        }
+        const _: () = assert!($flow == <$name as Composition>::ROWS * <$name as Composition>::COLS);
+        const _: () = assert!(($etd == 2) == $stribeck);
+    };
 }
 
-impl Composition for Band {
-    const BAND: bool = true;
-    const STRIBECK: bool = false;
-    const NAME: &'static str = "band";
-    type Flow<T: Real> = [T; 42];
-    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 0];
-    fn zero_flow<T: Real>() -> [T; 42] {
-        [T::zero(); 42]
-    }
-    fn zero_etd<T: Real>() -> Self::Etd<T> {
-        []
-    }
-}
-
-impl Composition for Stribeck {
-    const BAND: bool = false;
-    const STRIBECK: bool = true;
-    const NAME: &'static str = "stribeck";
-    type Flow<T: Real> = [T; 20];
-    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 2];
-    fn zero_flow<T: Real>() -> [T; 20] {
-        [T::zero(); 20]
-    }
-    fn zero_etd<T: Real>() -> Self::Etd<T> {
-        [T::per_level(EtdVectors::zero()); 2]
-    }
-}
-
-impl Composition for StribeckBand {
-    const BAND: bool = true;
-    const STRIBECK: bool = true;
-    const NAME: &'static str = "stribeck+band";
-    type Flow<T: Real> = [T; 42];
-    type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; 2];
-    fn zero_flow<T: Real>() -> [T; 42] {
-        [T::zero(); 42]
-    }
-    fn zero_etd<T: Real>() -> Self::Etd<T> {
-        [T::per_level(EtdVectors::zero()); 2]
-    }
-}
+composition!(
+    /// Coulomb friction, no band: the thesis model in model 2's matrices.
+    Coulomb, band: false, stribeck: false, "coulomb", flow: 20, etd: 0
+);
+composition!(
+    /// Coulomb friction and the band.
+    Band, band: true, stribeck: false, "band", flow: 42, etd: 0
+);
+composition!(
+    /// Stribeck friction, no band.
+    Stribeck, band: false, stribeck: true, "stribeck", flow: 20, etd: 2
+);
+composition!(
+    /// Stribeck friction and the band.
+    StribeckBand, band: true, stribeck: true, "stribeck+band", flow: 42, etd: 2
+);
