@@ -2,7 +2,9 @@
 //! programs (tests/on-target) under QEMU's netduinoplus2 and recomputes every digest they print
 //! on x86-64, with the same sources (included below):
 //!
-//! - bin `digest`: the exact stepper in f32 and f64 (`tests/on-target/src/scenes.rs`);
+//! - bin `digest`: the exact stepper in f32 and f64, and each model-2 composition in f32 (the
+//!   firmware's lockstep models: `Band`, `Stribeck`, `StribeckBand` on the rig set's push_center)
+//!   (`tests/on-target/src/scenes.rs`);
 //! - bin `rig`: frames from the sensor model through calibration, estimator (window statistics,
 //!   lockstep model) and sequencer, as `stickslip_model::rig::replay` runs them and as the
 //!   firmware's `RigCore` does (`tests/on-target/src/rig_scenes.rs`,
@@ -37,7 +39,8 @@ mod rig_scenes;
 mod rig_core;
 
 use rig_scenes::{RigReport, RIG_CASES};
-use scenes::{Report, CASES};
+use scenes::{Report, Report2, CASES};
+use stickslip_model::model2::{Band, Composition, Stribeck, StribeckBand};
 
 /// Runs an on-target program under QEMU: its exit status, standard output (UTF-8 text for
 /// these programs) and standard error.
@@ -60,8 +63,8 @@ fn on_target_digests_equal_host_digests() {
     );
     let expected_runs = 2 * CASES.len();
     assert!(
-        out.lines().any(|l| l.trim() == format!("done runs={expected_runs}")),
-        "the on-target program did not report `done runs={expected_runs}`:\n{out}"
+        out.lines().any(|l| l.trim() == format!("done runs={expected_runs} model2_runs=3")),
+        "the on-target program did not report `done runs={expected_runs} model2_runs=3`:\n{out}"
     );
 
     let target_lines: Vec<&str> = out.lines().map(str::trim).filter(|l| l.starts_with("digest ")).collect();
@@ -93,7 +96,27 @@ fn on_target_digests_equal_host_digests() {
             }
         }
     }
+    // model 2, each composition in f32 (the firmware's lockstep models)
+    fn host2<C: Composition>() -> (String, scenes::RunDigest) {
+        let run = scenes::run_model2::<f32, C>(&scenes::model2_scene::<C>()).unwrap();
+        (Report2 { composition: C::NAME, real: "f32", run: &run }.to_string(), run)
+    }
+    for (host, run) in [host2::<Band>(), host2::<Stribeck>(), host2::<StribeckBand>()] {
+        assert!(run.halt.is_none() && run.transitions > 10, "model-2 run on the host: {host}");
+        let prefix = host.splitn(4, ' ').take(3).collect::<Vec<_>>().join(" ") + " ";
+        let target: Vec<&str> = target_lines2(&out).into_iter().filter(|l| l.starts_with(&prefix)).collect();
+        assert_eq!(target.len(), 1, "expected one line starting with `{prefix}` from the target:\n{out}");
+        println!("host:   {host}\ntarget: {}", target[0]);
+        if target[0] != host {
+            mismatches.push(format!("host   {host}\ntarget {}", target[0]));
+        }
+    }
     assert!(mismatches.is_empty(), "host and Cortex-M4F runs differ:\n{}", mismatches.join("\n"));
+}
+
+/// The model-2 digest lines of the target's output.
+fn target_lines2(out: &str) -> Vec<&str> {
+    out.lines().map(str::trim).filter(|l| l.starts_with("digest2 ")).collect()
 }
 
 /// The rig cases' digest lines on the target equal the same runs' digests on the host: the

@@ -17,7 +17,8 @@
 use core::fmt;
 
 use stickslip_model::digest::{DigestBits, Fnv1a64};
-use stickslip_model::{Caliper, ExactStepper, Halt, Real, Scene, SceneError};
+use stickslip_model::model2::{Composition, Model2Stepper, Observer2, Transition2};
+use stickslip_model::{Caliper, ExactStepper, FrictionLaw, Halt, Real, Scene, SceneError};
 
 pub const TAG_STEP: u8 = b'S';
 pub const TAG_TRANSITION: u8 = b'T';
@@ -153,6 +154,100 @@ impl fmt::Display for Report<'_> {
             f,
             "digest {} {} {:016x} steps={} transitions={}",
             self.scene, self.real, self.run.digest, self.run.steps, self.run.transitions
+        )?;
+        if let Some(h) = &self.run.halt {
+            write!(f, " halt={}", halt_kind(h).1)?;
+        }
+        Ok(())
+    }
+}
+
+/// Run length of the model-2 cross-check runs [s] (about 60 transitions each).
+pub const MODEL2_DURATION: f64 = 0.5;
+
+/// The rig set's push_center (`stickslip_model::rig_set`) with the options of composition `C`
+/// (band or not; Stribeck or Coulomb friction), at the rig's step, for [`MODEL2_DURATION`].
+pub fn model2_scene<C: Composition>() -> Scene {
+    let mut s = stickslip_model::rig_set::rig_scene(Caliper::Push, 0.040);
+    s.band = C::BAND;
+    if !C::STRIBECK {
+        s.friction = FrictionLaw::Coulomb;
+    }
+    with_run_settings(s, MODEL2_DURATION)
+}
+
+/// Feeds each transition of a model-2 step into the digest.
+struct DigestTransitions<'a, T> {
+    d: &'a mut Fnv1a64,
+    _t: core::marker::PhantomData<T>,
+}
+
+impl<T: Real + DigestBits> Observer2<T> for DigestTransitions<'_, T> {
+    const DERIVATIVES: bool = false;
+    fn transition(&mut self, tr: &Transition2<T>) {
+        self.d.write_u8(TAG_TRANSITION);
+        self.d.write_u8(tr.from.index() as u8);
+        self.d.write_u8(tr.to.index() as u8);
+        self.d.write_f64(tr.t);
+        for v in tr.z {
+            self.d.write(v);
+        }
+    }
+}
+
+/// Runs `scene` with `Model2Stepper<T, C>` and digests every step as [`run`] does, with the
+/// six state values x, x', phi, phi', u, u' and each transition as the step reports it
+/// (dropped transitions: 0, the model-2 stepper keeps none). The stepper is built in place in
+/// a slot on this frame (its tables are 13 to 20 KB in f32).
+pub fn run_model2<T: Real + DigestBits, C: Composition>(scene: &Scene) -> Result<RunDigest, SceneError> {
+    let mut slot = None;
+    let stepper = Model2Stepper::<T, C>::init_in(&mut slot, scene)?;
+    let n = step_count(scene);
+    let mut d = Fnv1a64::new();
+    let mut transitions = 0u64;
+    let mut halt = None;
+    for _ in 0..n {
+        d.write_u8(TAG_STEP);
+        let step = stepper.step_observed(&mut DigestTransitions { d: &mut d, _t: core::marker::PhantomData });
+        match step {
+            Ok(k) => {
+                transitions += k as u64;
+                d.write_u8(stepper.regime().index() as u8);
+                for v in stepper.state() {
+                    d.write(v);
+                }
+                d.write_u32(k as u32);
+            }
+            Err(h) => {
+                d.write_u8(TAG_HALT);
+                d.write_u8(halt_kind(&h).0);
+                d.write_f64(h.time());
+                halt = Some(h);
+                break;
+            }
+        }
+    }
+    d.write_u8(TAG_END);
+    d.write_u64(stepper.steps());
+    d.write_u64(transitions);
+    d.write_u64(0);
+    Ok(RunDigest { digest: d.finish(), steps: stepper.steps(), transitions, halt })
+}
+
+/// The report line of one model-2 run: `digest2 <composition> <f32|f64> <16 hex digits>
+/// steps=<n> transitions=<n>` (and ` halt=<kind>`).
+pub struct Report2<'a> {
+    pub composition: &'a str,
+    pub real: &'a str,
+    pub run: &'a RunDigest,
+}
+
+impl fmt::Display for Report2<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "digest2 {} {} {:016x} steps={} transitions={}",
+            self.composition, self.real, self.run.digest, self.run.steps, self.run.transitions
         )?;
         if let Some(h) = &self.run.halt {
             write!(f, " halt={}", halt_kind(h).1)?;

@@ -4,8 +4,12 @@
 //!     digest pull_center f32 0123456789abcdef steps=25600 transitions=N
 //!
 //! (all scenes in f32 first, then in f64), the stack's high-water mark after each half
-//! (`stack f32 used=<bytes> of <bytes>`, painted stack) and `done runs=<n>`, and exits
-//! with success (QEMU's exit status). A scene the model rejects exits with failure.
+//! (`stack f32 used=<bytes> of <bytes>`, painted stack), then each model-2 composition in f32
+//! on the rig set's push_center (`scenes::model2_scene`):
+//!
+//!     digest2 stribeck+band f32 0123456789abcdef steps=12800 transitions=N
+//!
+//! and `done runs=<n> model2_runs=<m>`, and exits with success (QEMU's exit status). A scene the model rejects exits with failure.
 //! The host test `tests/tests/on_target.rs` recomputes every digest line on x86-64.
 #![no_std]
 #![no_main]
@@ -15,8 +19,24 @@ use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
 use stickslip_on_target::stack;
 use stickslip_model::digest::DigestBits;
+use stickslip_model::model2::{Band, Composition, Stribeck, StribeckBand};
 use stickslip_model::Real;
-use stickslip_on_target::scenes::{self, Report, CASES};
+use stickslip_on_target::scenes::{self, Report, Report2, CASES};
+
+/// One model-2 composition in f32 (never inlined: its stepper lives in this frame).
+#[inline(never)]
+fn report2<C: Composition>() -> bool {
+    match scenes::run_model2::<f32, C>(&scenes::model2_scene::<C>()) {
+        Ok(run) => {
+            hprintln!("{}", Report2 { composition: C::NAME, real: "f32", run: &run });
+            true
+        }
+        Err(e) => {
+            hprintln!("error {} f32: scene rejected: {}", C::NAME, e);
+            false
+        }
+    }
+}
 
 /// Never inlined, so that the f32 and f64 runs have their own stack frames (and the
 /// high-water marks tell them apart).
@@ -51,7 +71,13 @@ fn main() -> ! {
     }
     let (used, size) = stack::used();
     hprintln!("stack f32+f64 used={} of {}", used, size);
-    hprintln!("done runs={}", runs);
+    stack::paint();
+    ok &= report2::<Band>();
+    ok &= report2::<Stribeck>();
+    ok &= report2::<StribeckBand>();
+    let (used, size) = stack::used();
+    hprintln!("stack model2 used={} of {}", used, size);
+    hprintln!("done runs={} model2_runs=3", runs);
     debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
     #[allow(clippy::empty_loop)]
     loop {}
