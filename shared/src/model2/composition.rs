@@ -101,7 +101,7 @@ macro_rules! composition {
                 [T::zero(); $flow]
             }
             fn zero_etd<T: Real>() -> Self::Etd<T> {
-                [T::per_level(EtdVectors::zero()); $etd]
+                core::array::from_fn(|_| T::per_level(EtdVectors::zero()))
             }
         }
         const _: () = assert!($flow == <$name as Composition>::ROWS * <$name as Composition>::COLS);
