@@ -941,8 +941,21 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
     }
 
-    /// Finite, in range, in contact; the band within its range.
+    /// Finite, in range, in contact; the band within its range. The common case is one
+    /// branch; the halt's classification (and its time, in f64) is out of line.
+    #[inline(always)]
     fn check(&self, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
+        let pad = [z[0], z[1], z[2], z[3]];
+        let band_ok = !C::BAND || ((z[4].abs() <= self.u_limit) & (z[5].abs() <= self.udot_limit));
+        if self.limits.in_range(&pad) & band_ok {
+            return Ok(());
+        }
+        self.check_failed(z, regime, sub, unit)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn check_failed(&self, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
         let pad = [z[0], z[1], z[2], z[3]];
         self.limits.check(&pad, regime, || self.time_at(sub, unit))?;
         if C::BAND && (!(z[4].abs() <= self.u_limit) || !(z[5].abs() <= self.udot_limit)) {
