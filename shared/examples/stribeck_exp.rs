@@ -3,9 +3,11 @@
 //! dt = 1/25 600 s, statistics over [0.5, 1] s, in f32 and f64 on `AnyModel2Stepper`.
 //!
 //!     cargo run --release -p stickslip-model --example stribeck_exp
+//!     cargo run --release -p stickslip-model --example stribeck_exp --features libm-exp
 //!     cargo run --release -p stickslip-model --example stribeck_exp --features micromath
 //!
-//! The first uses libm::expf for f32, the second micromath's exp (f64 is libm in both). Each
+//! The first uses the model's own `expf::expf` for f32, the second libm::expf, the third
+//! micromath's exp (f64 is libm in all three). Each
 //! prints one line per precision: `exp=<f32 exp> <precision> period_s=... x_pp_m=...
 //! stick_fraction=... transitions=...`, with the full significand so two runs can be compared.
 use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
@@ -33,7 +35,13 @@ fn run<T: Real>(scene: &Scene) -> Stats2 {
 }
 
 fn main() {
-    let exp = if cfg!(feature = "micromath") { "micromath" } else { "libm" };
+    let exp = if cfg!(feature = "micromath") {
+        "micromath"
+    } else if cfg!(feature = "libm-exp") {
+        "libm"
+    } else {
+        "model"
+    };
     let s = scene();
     for (name, st) in [("f32", run::<f32>(&s)), ("f64", run::<f64>(&s))] {
         println!(

@@ -10,6 +10,7 @@
 //! - [`stickslip`]: the regimes and their transitions (the state machine).
 //! - [`propagator`]: exact flows of each regime on a dyadic grid.
 //! - [`exact`]: the fixed-step exact stepper.
+//! - [`expf`]: the f32 exponential of Stribeck slip (small and exact on the Cortex-M4F).
 //! - [`model2`]: model 2 (Stribeck friction, the band, damping), stepper per composition.
 //! - [`rig_set`]: model 2's rig set of scenes.
 //! - [`stats`]: run statistics with exact extremes (peak-to-peak, stick fraction, frequency).
@@ -23,6 +24,7 @@
 pub mod coefficients;
 pub mod digest;
 pub mod exact;
+pub mod expf;
 pub mod friction;
 pub mod halt;
 pub mod linalg;

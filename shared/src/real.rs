@@ -50,8 +50,9 @@ pub trait Real:
     fn abs(self) -> Self;
     fn is_finite(self) -> bool;
     fn sqrt(self) -> Self;
-    /// e^self (libm: the same software routine on the host and the Cortex-M4F; for f32,
-    /// micromath's approximation with the cargo feature `micromath`).
+    /// e^self: the same software routine on the host and the Cortex-M4F. f64: libm. f32:
+    /// [`crate::expf::expf`] (Cody-Waite and a degree-5 polynomial, about one ulp); with the
+    /// cargo feature `libm-exp` libm's `expf`, with `micromath` micromath's approximation.
     fn exp(self) -> Self;
     /// self^e for self > 0 (libm).
     fn powf(self, e: Self) -> Self;
@@ -140,8 +141,13 @@ fn expf_micromath(x: f32) -> f32 {
     micromath::F32Ext::exp(x)
 }
 
-#[cfg(not(feature = "micromath"))]
+#[cfg(all(feature = "micromath", feature = "libm-exp"))]
+compile_error!("stickslip-model: the features `micromath` and `libm-exp` each choose the f32 exp; enable at most one");
+
+#[cfg(not(any(feature = "micromath", feature = "libm-exp")))]
+impl_real!(f32, 24, "f32", libm::sqrtf, crate::expf::expf, libm::powf);
+#[cfg(all(feature = "libm-exp", not(feature = "micromath")))]
 impl_real!(f32, 24, "f32", libm::sqrtf, libm::expf, libm::powf);
-#[cfg(feature = "micromath")]
+#[cfg(all(feature = "micromath", not(feature = "libm-exp")))]
 impl_real!(f32, 24, "f32", libm::sqrtf, expf_micromath, libm::powf);
 impl_real!(f64, 53, "f64", libm::sqrt, libm::exp, libm::pow);

@@ -1,7 +1,8 @@
-//! Accuracy of the two f32 exponentials over the arguments the Stribeck law uses, exp(-y) for
-//! y in [0, 20] (docs/numerics.md, "Transcendentals on the Cortex-M4F"): libm::expf (the
-//! model's default) and micromath's `F32Ext::exp` (the feature `micromath`), each against
-//! f64 libm::exp of the same f32 argument. `cargo test --release -p stickslip-model --test
+//! Accuracy of the three f32 exponentials over the arguments the Stribeck law uses, exp(-y) for
+//! y in [0, 20] (docs/numerics.md, "Transcendentals on the Cortex-M4F"): the model's own
+//! `expf::expf` (the default), libm::expf (the feature `libm-exp`) and micromath's
+//! `F32Ext::exp` (the feature `micromath`), each against f64 libm::exp of the same f32
+//! argument; and the model's over f32's whole range, with its edges. `cargo test --release -p stickslip-model --test
 //! exp_accuracy -- --nocapture` prints the figures.
 
 /// Max relative error and where, over `n + 1` evenly spaced y in [0, 20] and every f32 in
@@ -32,11 +33,57 @@ fn max_rel(f: impl Fn(f32) -> f32) -> (f64, f32) {
 fn exp_f32_accuracy_on_the_stribeck_range() {
     let (libm_err, libm_at) = max_rel(libm::expf);
     let (mm_err, mm_at) = max_rel(micromath::F32Ext::exp);
+    let (own_err, own_at) = max_rel(stickslip_model::expf::expf);
     println!("exp(-y), y in [0, 20], max relative error against f64 libm::exp:");
+    println!("  stickslip_model::expf  {own_err:.3e} (at y = {own_at})");
     println!("  libm::expf             {libm_err:.3e} (at y = {libm_at})");
     println!("  micromath F32Ext::exp  {mm_err:.3e} (at y = {mm_at})");
     // libm's expf is correctly rounded to within 1 ulp (2^-23 = 1.19e-7 relative)
     assert!(libm_err < 1.2e-7, "libm::expf: {libm_err:e}");
     // micromath's is an approximation: the bound is the measured figure with margin
     assert!(mm_err < 1e-2, "micromath exp: {mm_err:e}");
+    // the model's: within 1 ulp (Cephes' polynomial, Cody-Waite reduction)
+    assert!(own_err < 1.2e-7, "expf::expf: {own_err:e}");
+}
+
+/// The model's expf over f32's whole range: every 61st f32 in [-87.3, 88.7] within 1 ulp
+/// of f64 libm::exp (relative, or absolute at f32's smallest normal where the result is
+/// subnormal), and the edges: overflow to +inf, flush to 0 below the smallest normal, NaN.
+#[test]
+fn model_expf_over_the_whole_range() {
+    use stickslip_model::expf::expf;
+    let mut worst = (0.0f64, 0.0f32);
+    let mut check = |x: f32| {
+        let exact = libm::exp(x as f64);
+        let got = expf(x) as f64;
+        let err = (got - exact).abs() / exact.max(f32::MIN_POSITIVE as f64);
+        if err > worst.0 {
+            worst = (err, x);
+        }
+    };
+    for sign in [1u32 << 31, 0] {
+        let mut bits = 0u32;
+        loop {
+            let x = f32::from_bits(sign | bits);
+            if !(-87.3..=88.7).contains(&x) {
+                break;
+            }
+            check(x);
+            bits += 61;
+        }
+    }
+    println!("expf::expf over [-87.3, 88.7]: max relative error {:.3e} (at x = {})", worst.0, worst.1);
+    assert!(worst.0 < 1.2e-7, "expf::expf: {:e} at x = {}", worst.0, worst.1);
+    // e^88.72 = 3.39e38 is finite (2^k with k = 128 built in two factors); e^88.73 overflows
+    let near_max = expf(88.72);
+    assert!(near_max.is_finite() && ((near_max as f64 - libm::exp(88.72f32 as f64)) / libm::exp(88.72f32 as f64)).abs() < 1.2e-7);
+    assert_eq!(expf(88.73), f32::INFINITY);
+    assert_eq!(expf(f32::INFINITY), f32::INFINITY);
+    // below -87.3366 the result would be subnormal: flushed to 0 (absolute error < 1.2e-38)
+    assert_eq!(expf(-87.34), 0.0);
+    assert_eq!(expf(-1e30), 0.0);
+    assert_eq!(expf(f32::NEG_INFINITY), 0.0);
+    assert!(expf(f32::NAN).is_nan());
+    assert_eq!(expf(0.0), 1.0);
+    assert_eq!(expf(-0.0), 1.0);
 }

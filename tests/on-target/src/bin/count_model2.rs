@@ -22,8 +22,9 @@
 //! Every step of each run is measured, from the first step until the end of the second slip
 //! phase (at most [`MAX_STEPS`]), and classed by the regime it starts in and whether it had a
 //! transition: `<composition>_stick`, `<composition>_slip`, `<composition>_transition`.
-//! Then [`EXP_ARGS`] are each passed once to `libm::expf` (`expf_libm`) and to micromath's
-//! `F32Ext::exp` (`exp_micromath`).
+//! Then [`EXP_ARGS`] are each passed once to the model's `expf::expf` (`expf_model`, the
+//! default f32 `Real::exp`), to `libm::expf` (`expf_libm`) and to micromath's `F32Ext::exp`
+//! (`exp_micromath`).
 //!
 //! The steppers live in statics (a `Model2Stepper<f32, _>` is 13 to 20 KB: its dyadic tables of
 //! 25 levels in f32); the stack is painted at boot and its high-water mark printed after each
@@ -123,6 +124,7 @@ class_markers!(
     count_class_all_transition = 16,
     count_class_expf_libm = 17,
     count_class_exp_micromath = 18,
+    count_class_expf_model = 19,
 );
 
 /// The three class markers of one composition: stick, slip, transition.
@@ -280,6 +282,11 @@ fn exp_libm(x: f32) -> f32 {
 }
 
 #[inline(never)]
+fn exp_model(x: f32) -> f32 {
+    stickslip_model::expf::expf(x)
+}
+
+#[inline(never)]
 fn exp_micromath(x: f32) -> f32 {
     micromath::F32Ext::exp(x)
 }
@@ -325,11 +332,16 @@ fn main() -> ! {
         &[count_class_all_stick, count_class_all_slip, count_class_all_transition],
     );
 
-    // The exponentials, one call per window (the call's glue is inside the window: both
+    // The exponentials, one call per window (the call's glue is inside the window: the three
     // functions are called the same way).
     let mut sink = 0.0f32;
     for &x in EXP_ARGS.iter() {
         let x = black_box(x);
+        stickslip_mark_begin();
+        let r = exp_model(x);
+        stickslip_mark_end();
+        count_class_expf_model();
+        sink += black_box(r);
         stickslip_mark_begin();
         let r = exp_libm(x);
         stickslip_mark_end();
