@@ -17,6 +17,11 @@
 //! exact propagator in f64 at 1/25600 s (transitions located to 2^-53 of a step, about
 //! 4e-21 s), cross-checked live against DOP853 at rtol 1e-12 (the agreement is printed).
 //!
+//! Model 2 (`MODEL2_SCENES`): the model-2 stepper in f64 and f32 against the independent
+//! model-2 reference (`reference2`, DOP853 at rtol 1e-12), and in f32 with each alternative
+//! exponential the firmware can build with (`exp_variants`: libm's, micromath's; plain "f32"
+//! rows use the model's own), beside the exponentials' own errors on the Stribeck range.
+//!
 //! Cost: wall time of the plain stepping loop (no statistics), the minimum over repeats;
 //! ns per step = that time / steps. Peak-to-peak values of the approximate methods come from
 //! their samples; the exact method's from its exact extrema (as the product reports them).
@@ -32,6 +37,7 @@ use stickslip_model::propagator::Propagator;
 
 use crate::builtin;
 use crate::error::{HostError, Result};
+use crate::exp_variants::{max_rel_error_stribeck_range, ExpF32, F32Exp, LibmExp, MicromathExp, ModelExp};
 use crate::reference::{self, Tolerances};
 use crate::reference2;
 use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
@@ -55,6 +61,8 @@ pub const BOUND_SPEEDUP: f64 = 10.0;
 /// Model 2: the Stribeck oracle at the rig's step, against the adaptive reference.
 pub const BOUND_STRIBECK_F64: f64 = 1e-6;
 pub const BOUND_STRIBECK_F32: f64 = 1e-4;
+/// Evenly spaced arguments of the exponentials' error over [-20, 0].
+const EXP_POINTS: u32 = 200_000;
 /// The model-2 stepper's method name in the rows.
 pub const MODEL2_METHOD: &str = "model2";
 /// Model-2 scenes of the report: the 1-DOF Stribeck oracle, a 2-DOF Stribeck case (pull_center
@@ -225,6 +233,20 @@ pub struct Report {
     /// pull_center: worst transition time difference [s] and worst pp relative difference.
     pub reference_check: ReferenceCheck,
     pub checks: Vec<Check>,
+    /// The f32 exponentials Stribeck slip can use on the Cortex-M4F: each one's own error over
+    /// exp(-y), y in [0, 20]; their effect on the runs is in the model-2 rows (precision
+    /// "f32" is the model's own exp, "f32 libm exp" and "f32 micromath exp" the others).
+    pub exp_f32: Vec<ExpRow>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ExpRow {
+    pub exp: String,
+    /// The precision label of its model-2 rows ("f32" rows use the model's exp).
+    pub precision: String,
+    /// Max relative error of exp(-y) against f64 libm::exp, y in [0, 20].
+    pub max_rel_error: f64,
+    pub at_y: f64,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -616,6 +638,9 @@ pub fn run(opts: &Options) -> Result<Report> {
             }
             rows.push(model2_row::<f64>(name, &truth, &scene, opts.repeats)?);
             rows.push(model2_row::<f32>(name, &truth, &scene, opts.repeats)?);
+            // the firmware's alternative f32 exponentials, same stepper (exp_variants)
+            rows.push(model2_row::<F32Exp<LibmExp>>(name, &truth, &scene, opts.repeats)?);
+            rows.push(model2_row::<F32Exp<MicromathExp>>(name, &truth, &scene, opts.repeats)?);
         }
         for &rtol in rtols {
             rows.push(model2_adaptive_row(name, &truth, &base, rtol, opts.repeats)?);
@@ -643,7 +668,14 @@ pub fn run(opts: &Options) -> Result<Report> {
         check("oracle_stribeck model2 f64 error at 1/25600 s", find_m2("oracle_stribeck", "f64"), BOUND_STRIBECK_F64, false),
         check("oracle_stribeck model2 f32 error at 1/25600 s", find_m2("oracle_stribeck", "f32"), BOUND_STRIBECK_F32, false),
     ];
-    Ok(Report { rows, speedup_at_equal_error: speedup, reference_check, checks })
+    let exp_f32 = vec![exp_row::<ModelExp>(), exp_row::<LibmExp>(), exp_row::<MicromathExp>()];
+    Ok(Report { rows, speedup_at_equal_error: speedup, reference_check, checks, exp_f32 })
+}
+
+/// One f32 exponential's own error over the Stribeck law's range.
+fn exp_row<E: ExpF32>() -> ExpRow {
+    let (max_rel_error, at_y) = max_rel_error_stribeck_range::<E>(EXP_POINTS);
+    ExpRow { exp: E::WHAT.into(), precision: E::NAME.into(), max_rel_error, at_y: at_y as f64 }
 }
 
 fn check(what: &str, value: Option<f64>, bound: f64, at_least: bool) -> Check {
@@ -724,6 +756,18 @@ pub fn markdown(rep: &Report) -> String {
         "pull_center at equal error (<= {EQUAL_ERROR:.0e}): DOP853 run time / exact f64 run time = {}\n\n",
         rep.speedup_at_equal_error.map_or("n/a (a method never reached that error)".into(), |s| format!("{s:.1}x"))
     ));
+    out.push_str(
+        "## f32 exp on the Cortex-M4F\n\nStribeck slip evaluates exp four times per ETDRK4 chunk. The model's own \
+         expf is the f32 default; libm's and micromath's are the alternatives (model crate features), run by the same \
+         stepper in the model-2 rows above (precision `f32 libm exp`, `f32 micromath exp`; plain `f32` is the model's \
+         exp). Their own error over exp(-y), y in [0, 20], against f64:\n\n\
+         | exp | model-2 rows | max relative error | at y |\n|---|---|---|---|\n",
+    );
+    for e in &rep.exp_f32 {
+        let rows = if e.precision == ModelExp::NAME { "f32" } else { e.precision.as_str() };
+        out.push_str(&format!("| {} | {} | {:.2e} | {:.4} |\n", e.exp, rows, e.max_rel_error, e.at_y));
+    }
+    out.push('\n');
     out.push_str("## Checks\n\n| check | value | bound | result |\n|---|---|---|---|\n");
     for c in &rep.checks {
         out.push_str(&format!("| {} | {} | {:.1e} | {} |\n", c.what, fmt_opt(c.value), c.bound, if c.passed { "pass" } else { "FAIL" }));

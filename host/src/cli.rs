@@ -48,7 +48,8 @@ pub enum Command {
     /// List the built-in scenes, or print one as a scene file (`scenes show NAME`)
     Scenes(ScenesArgs),
     /// Work-precision report: error against run time of every method, in f32 and f64, on
-    /// oracle_1dof, pull_center and push_center, with the adaptive DOP853 baseline
+    /// oracle_1dof, pull_center and push_center, and of the model-2 stepper on the Stribeck
+    /// scenes (f32 with each of the three exponentials), with the adaptive DOP853 baseline
     #[command(after_help = ACCURACY_AFTER)]
     Accuracy(AccuracyArgs),
     /// Stability sweeps of stiff and extreme cases around push_center, every method, f32 and
@@ -279,16 +280,22 @@ relative error of the period and the x amplitude (the final-state error, over ea
 peak-to-peak, is reported beside it: phase drift accumulated over the run); for the irregular push_center, the largest relative error of the four
 peak-to-peak values and the stick-slip frequency, and the absolute stick-fraction error.
 References: the closed form (oracle_1dof); the exact method in f64 at 1/25600 s, cross-checked
-against DOP853 at rtol 1e-12 (2-DOF scenes). Cost: minimum wall time over --repeats of the plain
+against DOP853 at rtol 1e-12 (2-DOF scenes). Model 2 (oracle_stribeck, pull_center_stribeck,
+rig_pull_center): method model2 in f64, f32 (the model's own exp), \"f32 libm exp\" and \"f32
+micromath exp\" (the firmware's alternative exponentials, same stepper), against the model-2
+reference (DOP853 at rtol 1e-12, its own right-hand side); the exponentials' own errors over
+exp(-y), y in [0, 20], are listed. Cost: minimum wall time over --repeats of the plain
 stepping loop; ns per step = that time / steps. Timings depend on the machine and its load.
 
 --json prints {\"rows\": [{\"scene\", \"method\", \"precision\", \"dt\" [s] (null: adaptive),
 \"error\" (null: the run halted), \"ns_per_step\", \"run_s\", \"steps\", \"outcome\", \"rtol\",
 \"error_period\", \"error_amplitude\", \"error_final\"}...], \"speedup_at_equal_error\",
-\"reference_check\", \"checks\"}.
+\"reference_check\", \"checks\", \"exp_f32\": [{\"exp\", \"precision\", \"max_rel_error\",
+\"at_y\"}...]}.
 
 --check exits with code 3 if a bound fails: oracle_1dof exact error at 1/25600 s <= 1e-9 (f64)
-and <= 1e-5 (f32); pull_center exact f64 at least 10x faster than DOP853 at error <= 1e-6.";
+and <= 1e-5 (f32); pull_center exact f64 at least 10x faster than DOP853 at error <= 1e-6;
+oracle_stribeck model2 error at 1/25600 s <= 1e-6 (f64) and <= 1e-4 (f32).";
 
 const STABILITY_AFTER: &str = "\
 Sweeps, one parameter at a time around push_center (0.2 s runs; --quick 0.1 s): contact

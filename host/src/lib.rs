@@ -7,6 +7,7 @@ pub mod cli;
 pub mod commands;
 pub mod cycles;
 pub mod error;
+pub mod exp_variants;
 pub mod numerics_plots;
 pub mod plots;
 pub mod recorded;

@@ -60,8 +60,8 @@ fn accuracy_report_meets_its_bounds() {
     assert_eq!(code, 0, "a bound failed: {}", v["checks"]);
     let rows = v["rows"].as_array().expect("rows");
     // thesis scenes: 3 steps x 5 methods x 2 precisions + 3 tolerances; model 2: 3 scenes x
-    // (3 steps x 2 precisions + 3 tolerances)
-    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3) + 3 * (3 * 2 + 3));
+    // (3 steps x 4 precisions (f64, f32, f32 with libm's and with micromath's exp) + 3 tolerances)
+    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3) + 3 * (3 * 4 + 3));
     for r in rows {
         for key in ["scene", "method", "precision", "run_s"] {
             assert!(!r[key].is_null(), "row without {key}: {r}");
@@ -85,6 +85,14 @@ fn accuracy_report_meets_its_bounds() {
     };
     assert!(model2("oracle_stribeck", "f64") <= 1e-6);
     assert!(model2("oracle_stribeck", "f32") <= 1e-4);
+    // the alternative exps' rows are there and ran; their own errors are listed
+    assert!(model2("oracle_stribeck", "f32 libm exp") <= 1e-4);
+    assert!(model2("oracle_stribeck", "f32 micromath exp").is_finite());
+    let exps = v["exp_f32"].as_array().expect("exp_f32");
+    assert_eq!(exps.len(), 3);
+    for e in exps {
+        assert!(e["max_rel_error"].as_f64().is_some_and(|x| x > 0.0 && x < 1e-2), "{e}");
+    }
     assert!(v["speedup_at_equal_error"].as_f64().unwrap() >= 10.0);
     let rc = &v["reference_check"];
     assert!(rc["worst_time_difference_s"].as_f64().unwrap() < 1e-9);
