@@ -52,7 +52,9 @@ for elf in "$elf_model" "$elf_libm" "$elf_mm"; do
     [ -f "$elf" ] || { echo "count-model2: no ELF at $elf" >&2; exit 1; }
 done
 
-# trace_windows ELF DIR
+# trace_windows ELF DIR (three traced runs at once, each setting up five steppers in soft-float
+# f64: a longer hang guard than count-instructions.sh's)
+export TRACE_TIMEOUT_S="${TRACE_TIMEOUT_S:-2400}"
 # shellcheck source=scripts/trace-windows.sh
 . "$root/scripts/trace-windows.sh"
 

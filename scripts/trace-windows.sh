@@ -32,10 +32,11 @@ trace_windows() {
     mkfifo "$dir/trace"
     # QEMU runs in a subshell that records its exit status and then opens and closes the FIFO
     # once: if QEMU died before opening its log, that releases awk (which would otherwise wait
-    # forever for a writer). `timeout` is a hang guard, not a measure.
+    # forever for a writer). `timeout` is a hang guard, not a measure: TRACE_TIMEOUT_S seconds
+    # (default 900; scripts/count-model2.sh sets 2400: its three traced runs share the cores).
     (
         status=0
-        timeout 900 qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial null \
+        timeout "${TRACE_TIMEOUT_S:-900}" qemu-system-arm -M netduinoplus2 -nographic -monitor none -serial null \
             -semihosting-config enable=on,target=native \
             "${one_insn[@]}" -d exec,nochain -D "$dir/trace" \
             -kernel "$elf" </dev/null >"$dir/stdout" 2>"$dir/stderr" || status=$?

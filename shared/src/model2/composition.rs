@@ -11,8 +11,12 @@
 //! |---|---|---|---|
 //! | [`Coulomb`] (no band) | 4 | 4 x 5 | none |
 //! | [`Band`] (Coulomb, band) | 6 (x, x', phi, phi', u, u') | 6 x 7 | none |
-//! | [`Stribeck`] (no band) | 4 (x, x', phi, phi') | 4 x 5 | 2 slip regimes |
-//! | [`StribeckBand`] | 6 | 6 x 7 | 2 slip regimes |
+//! | [`Stribeck`] (no band) | 4 (x, x', phi, phi') | 4 x 5 | 2 slip regimes (+ near) |
+//! | [`StribeckBand`] | 6 | 6 x 7 | 2 slip regimes (+ near) |
+//!
+//! With Stribeck friction each slip regime also has near operators: flows and ETDRK4 vectors
+//! about part of the falling slope at v = 0 (A + b g_k, k = 1 .. [`NEAR_OPS`]), on the top
+//! [`NEAR_LEVELS`] levels only (`Model2Stepper` documents why).
 //!
 //! Damping needs no composition of its own (it is part of every exact flow); the thesis model
 //! with or without damping runs on [`crate::ExactStepper`] ([`Coulomb`] is that model in
@@ -24,6 +28,13 @@ use core::fmt::Debug;
 
 use crate::real::Real;
 use crate::scene::{FrictionLaw, Scene, SceneError};
+
+/// Near operators of Stribeck slip: the falling slope at v = 0 in fractions k / NEAR_OPS,
+/// k = 1 .. NEAR_OPS (k = 0 is the kinetic operator).
+pub const NEAR_OPS: usize = 3;
+/// Levels the near operators are tabulated on: the top ones, L - NEAR_LEVELS + 1 ..= L (a chunk
+/// of 2^j units reads levels j - 1 and j, so chunks of the top NEAR_LEVELS - 1 levels).
+pub const NEAR_LEVELS: usize = 4;
 
 /// The ETDRK4 vectors of one dyadic level: h phi_1(hA) b and the three weights of the final
 /// combination, h (phi_1 - 3 phi_2 + 4 phi_3) b, h (2 phi_2 - 4 phi_3) b, h (4 phi_3 - phi_2) b.
@@ -58,8 +69,17 @@ pub trait Composition: Copy + Debug + 'static {
     /// The ETDRK4 vectors per slip regime and level: two regimes with Stribeck friction, none
     /// with Coulomb friction.
     type Etd<T: Real>: Copy + Debug + AsRef<[T::PerLevel<EtdVectors<T>>]> + AsMut<[T::PerLevel<EtdVectors<T>>]>;
+    /// The slip flows of the near operators (Stribeck slip near v = 0, see
+    /// [`super::Model2Stepper`]) on the top [`NEAR_LEVELS`] levels, per operator and slip
+    /// regime ([`NEAR_OPS`] x 2 with Stribeck friction, none with Coulomb friction).
+    /// Entry (k - 1) 2 NEAR_LEVELS + (slip regime - 1) NEAR_LEVELS + level offset.
+    type NearFlows<T: Real>: Copy + Debug + AsRef<[Self::Flow<T>]> + AsMut<[Self::Flow<T>]>;
+    /// Their ETDRK4 vectors, the same entries.
+    type NearEtd<T: Real>: Copy + Debug + AsRef<[EtdVectors<T>]> + AsMut<[EtdVectors<T>]>;
     fn zero_flow<T: Real>() -> Self::Flow<T>;
     fn zero_etd<T: Real>() -> Self::Etd<T>;
+    fn zero_near<T: Real>() -> Self::NearFlows<T>;
+    fn zero_near_etd<T: Real>() -> Self::NearEtd<T>;
 
     /// Whether `scene` asks for exactly this composition.
     fn matches(scene: &Scene) -> Result<(), SceneError> {
@@ -97,11 +117,22 @@ macro_rules! composition {
             const NAME: &'static str = $label;
             type Flow<T: Real> = [T; $flow];
             type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; $etd];
+            type NearFlows<T: Real> = [[T; $flow]; $etd * NEAR_OPS * NEAR_LEVELS];
+            type NearEtd<T: Real> = [EtdVectors<T>; $etd * NEAR_OPS * NEAR_LEVELS];
             fn zero_flow<T: Real>() -> [T; $flow] {
                 [T::zero(); $flow]
             }
             fn zero_etd<T: Real>() -> Self::Etd<T> {
                 core::array::from_fn(|_| T::per_level(EtdVectors::zero()))
+            }
+            // inlined, so that a stepper built in place (`init_in`) gets its zeros in place too
+            #[inline(always)]
+            fn zero_near<T: Real>() -> Self::NearFlows<T> {
+                [[T::zero(); $flow]; $etd * NEAR_OPS * NEAR_LEVELS]
+            }
+            #[inline(always)]
+            fn zero_near_etd<T: Real>() -> Self::NearEtd<T> {
+                [EtdVectors::zero(); $etd * NEAR_OPS * NEAR_LEVELS]
             }
         }
         const _: () = assert!($flow == <$name as Composition>::ROWS * <$name as Composition>::COLS);

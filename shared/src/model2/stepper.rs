@@ -10,9 +10,20 @@
 //!   phi-function terms are vectors h phi_k(h A) b, computed once per dyadic level from one
 //!   10 x 10 matrix exponential (the augmented-matrix form of the phi functions). A step of
 //!   2^j units costs four flow applications and four evaluations of q.
-//! - **Stiff friction**: where the falling slope is steep (|v| near 0 with a small v_s), a
-//!   substep is walked in dyadic chunks short enough that the slope's rate times the chunk is
-//!   at most a quarter (down to 2^-16 of a substep), so v_s -> 0 stays stable.
+//! - **Near v = 0** the falling slope is steep: its rate |dq/dv| (1/m + 1/m_b) is
+//!   (mu_s - mu_k) N e^(-|v|/v_s) / v_s (1/m + 1/m_b) (delta = 1). Where that rate would
+//!   split the chunk with the kinetic operator (see the next item), the chunk takes a
+//!   *near operator*, A + b g_k with g_k the friction's affine part at v = 0 scaled by
+//!   c_k = k/3 (k = 1, 2, 3), and the forcing q - g_k z: the same equation, split so that the
+//!   exponential carries the slope c_k N_0 / v_s nearest the friction's N e / v_s and the
+//!   forcing only the residual, at most N_0 / (6 v_s). The near operators are tabulated on the
+//!   top four levels (chunks of a whole, a half and a quarter substep; 4.2 KB in f32 without
+//!   the band, 6.3 KB with it) and used where the slope's rate at v = 0 times a substep is at
+//!   most 2 (`NEAR_RATE_H_MAX`).
+//! - **Stiff friction**: where the forcing's slope is still steep (v_s toward 0, or delta != 1),
+//!   a substep is walked in dyadic chunks short enough that the slope's rate (of the residual,
+//!   with a near operator) times the chunk is at most a quarter (down to 2^-16 of a substep), so
+//!   v_s -> 0 stays stable.
 //! - **Transitions**: a guard (a linear row of z) is tested at each chunk end; a fired guard is
 //!   located by binary lifting on the dyadic grid (to 2^-L of a substep, 2^-(L-1) in Stribeck
 //!   slip). A guard that rises and falls back inside a chunk (a crest) is found from the sign
@@ -30,7 +41,7 @@
 use crate::coefficients::Coefficients;
 use crate::halt::{Halt, Limits};
 use crate::linalg::{self, MatN};
-use crate::model2::composition::{Composition, EtdVectors};
+use crate::model2::composition::{Composition, EtdVectors, NEAR_LEVELS, NEAR_OPS};
 use crate::model2::system::{row_dot, System, NA, NS, ONE};
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
@@ -40,6 +51,10 @@ use crate::stickslip::Regime;
 const STRIBECK_REFINE: usize = 16;
 /// Largest rate x chunk length allowed for the falling friction's slope.
 const STRIBECK_RATE_H: f64 = 0.25;
+/// The near operators are used where the falling slope's rate at v = 0 (with N = N_0) times a
+/// substep is at most this: their exponentials then grow by at most e^2 over a substep. Beyond
+/// (v_s toward 0), the split would carry a growth the friction's saturation never reaches.
+const NEAR_RATE_H_MAX: f64 = 2.0;
 /// More transitions than this inside one substep halt the run.
 const MAX_TRANSITIONS_PER_SUBSTEP: u32 = 64;
 /// |u| beyond this is taken as divergence [m]; |u'| beyond this [m/s].
@@ -131,6 +146,8 @@ fn dot<T: Real, C: Composition>(r: &[T; NA], z: &[T; NS]) -> T {
 /// its length rule and the crest test all read it.
 #[derive(Clone, Copy, Debug)]
 struct Excess<T> {
+    /// Sliding velocity v [m/s].
+    v: T,
     y: T,
     e: T,
     n: T,
@@ -202,6 +219,22 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     flows: [T::PerLevel<C::Flow<T>>; 3],
     /// Stribeck slip: etd[slip regime - 1][level] (empty with Coulomb friction)
     etd: C::Etd<T>,
+    /// Stribeck slip near v = 0: the flows and ETDRK4 vectors of the near operators
+    /// A + b g_k on the top levels, entry ((k - 1) 2 + slip regime - 1) NEAR_LEVELS + level -
+    /// (L - NEAR_LEVELS + 1) (see `near_op`).
+    near_flows: C::NearFlows<T>,
+    near_etd: C::NearEtd<T>,
+    /// The near operators are used: exponent delta = 1 (with another exponent the slope at
+    /// v = 0 is 0 or infinite) and the slope's rate x substep <= NEAR_RATE_H_MAX; otherwise
+    /// every chunk takes the kinetic operator.
+    near_on: bool,
+    /// c_k = k / NEAR_OPS (index 0: the kinetic operator, 0), c_k N_0 [N], the thresholds
+    /// between them, (k + 1/2) N_0 / NEAR_OPS [N] (operator k is the one whose c_k N_0 is
+    /// nearest N e), and c_k (mu_s - mu_k) N_0 / v_s [N s/m] (the slope each carries).
+    near_c: [T; NEAR_OPS + 1],
+    near_cn0: [T; NEAR_OPS + 1],
+    near_thr: [T; NEAR_OPS],
+    near_ckv: [T; NEAR_OPS + 1],
     /// A rows (z' = A z) per regime, for derivatives.
     a: [[[T; NA]; NS]; 3],
     b: [T; NS],
@@ -323,9 +356,24 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                 guard_rate_b[k] = t((0..NA).map(|r| g[r] * sys.b[r]).sum());
             }
         }
+        // the falling slope at v = 0 with N = N_0, (mu_s - mu_k) N_0 / v_s [N s/m], and its rate
+        let near_kv = sys.d_mu * co.n0 / scene.v_s;
+        let near_rate = near_kv * (1.0 / scene.m + if scene.band { 1.0 / scene.m_b } else { 0.0 });
+        let near_on = C::STRIBECK && scene.stribeck_exponent == 1.0 && near_rate * h_sub <= NEAR_RATE_H_MAX;
+        let near_c: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(k as f64 / NEAR_OPS as f64));
+        let near_cn0: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(co.n0 * k as f64 / NEAR_OPS as f64));
+        let near_thr: [T; NEAR_OPS] = core::array::from_fn(|k| t(co.n0 * (k as f64 + 0.5) / NEAR_OPS as f64));
+        let near_ckv: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(k as f64 / NEAR_OPS as f64 * near_kv));
         let s = slot.insert(Model2Stepper {
             flows: [T::per_level(C::zero_flow()); 3],
             etd: C::zero_etd(),
+            near_flows: C::zero_near(),
+            near_etd: C::zero_near_etd(),
+            near_on,
+            near_c,
+            near_cn0,
+            near_thr,
+            near_ckv,
             a: [[[T::zero(); NA]; NS]; 3],
             b: core::array::from_fn(|i| t(sys.b[i])),
             r_v: tv(&sys.r_v),
@@ -385,15 +433,54 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         for (j, r) in s.rate_limit.as_mut().iter_mut().enumerate() {
             *r = t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)));
         }
+        s.fill_tables(scene, &co);
+        s.slip_sparse = [Regime::SlipSlower, Regime::SlipFaster]
+            .iter()
+            .all(|r| s.flows[r.index()].as_ref().iter().all(|f| has_slip_zeros::<T, C>(f)));
+        Ok(s)
+    }
+
+    /// Fills the dyadic tables (flows, ETDRK4 vectors, near operators) of a stepper whose
+    /// other fields are set. Out of line: `init_in` then builds its value in the slot rather
+    /// than on the stack (with the loops in its frame, the M4F's build of the whole stepper went
+    /// through a copy on the stack).
+    #[inline(never)]
+    #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
+    fn fill_tables(&mut self, scene: &Scene, co: &Coefficients) {
+        let h_sub = self.h_sub;
+        let t = T::from_f64;
         // the flow's columns: the moved entries, then the constant 1
         let cols: [usize; NA] = if C::BAND { [0, 1, 2, 3, 4, 5, ONE] } else { [0, 1, 2, 3, ONE, ONE, ONE] };
-        let sys = &s.sys;
+        let sys = &self.sys;
         for regime in Regime::ALL {
             let a = &sys.a[regime.index()];
             let with_phi = C::STRIBECK && regime != Regime::Stick;
-            for j in 0..=Self::LEVELS {
+            // the kinetic operator (k = 0) on every level, then the near operators A + b g_k,
+            // g_k = c_k sigma (mu_s - mu_k) (r_n - N_0 sign(v) r_v / v_s) (sign(v) = -sigma in
+            // slip), on the top NEAR_LEVELS levels
+            let near_ops = if with_phi && self.near_on { NEAR_OPS } else { 0 };
+            let top = Self::LEVELS + 1 - NEAR_LEVELS;
+            let kinetic = (0..=Self::LEVELS).map(|j| (0, j));
+            let near = (1..=near_ops).flat_map(|k| (top..=Self::LEVELS).map(move |j| (k, j)));
+            for (k, j) in kinetic.chain(near) {
+                let a_k: [[f64; NA]; NA] = if k == 0 {
+                    *a
+                } else {
+                    let sigma = regime.friction_sign();
+                    let c_k = k as f64 / NEAR_OPS as f64;
+                    let g: [f64; NA] = core::array::from_fn(|c| {
+                        c_k * sigma * sys.d_mu * (sys.r_n[c] + sigma * co.n0 / scene.v_s * sys.r_v[c])
+                    });
+                    core::array::from_fn(|r| core::array::from_fn(|c| a[r][c] + sys.b[r] * g[c]))
+                };
+                let a = &a_k;
+                let near_index = (k.max(1) - 1) * 2 + regime.index().max(1) - 1;
                 let tau = h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32);
-                let flow = s.flows[regime.index()].as_mut()[j].as_mut();
+                let flow = if k > 0 {
+                    self.near_flows.as_mut()[near_index * NEAR_LEVELS + j - top].as_mut()
+                } else {
+                    self.flows[regime.index()].as_mut()[j].as_mut()
+                };
                 let e = if with_phi {
                     // [[A, b, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]] * tau
                     let mut m: MatN<10> = [[0.0; 10]; 10];
@@ -418,7 +505,11 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     }
                 }
                 if with_phi {
-                    let v: &mut EtdVectors<T> = &mut s.etd.as_mut()[regime.index() - 1].as_mut()[j];
+                    let v: &mut EtdVectors<T> = if k > 0 {
+                        &mut self.near_etd.as_mut()[near_index * NEAR_LEVELS + j - top]
+                    } else {
+                        &mut self.etd.as_mut()[regime.index() - 1].as_mut()[j]
+                    };
                     for r in 0..NS {
                         let (c1, c2, c3) = (e[r][NA], e[r][NA + 1] / tau, e[r][NA + 2] / (tau * tau));
                         v.phi1[r] = t(c1);
@@ -430,14 +521,10 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             }
             for r in 0..NS {
                 for c in 0..NA {
-                    s.a[regime.index()][r][c] = t(sys.a[regime.index()][r][c]);
+                    self.a[regime.index()][r][c] = t(sys.a[regime.index()][r][c]);
                 }
             }
-        }
-        s.slip_sparse = [Regime::SlipSlower, Regime::SlipFaster]
-            .iter()
-            .all(|r| s.flows[r.index()].as_ref().iter().all(|f| has_slip_zeros::<T, C>(f)));
-        Ok(s)
+    }
     }
 
     /// The increment of the flow over 2^j units of `regime` from `z`.
@@ -462,7 +549,10 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     }
     /// Bytes of the dyadic tables (flows and ETDRK4 vectors).
     pub fn table_bytes(&self) -> usize {
-        core::mem::size_of::<[T::PerLevel<C::Flow<T>>; 3]>() + core::mem::size_of::<C::Etd<T>>()
+        core::mem::size_of::<[T::PerLevel<C::Flow<T>>; 3]>()
+            + core::mem::size_of::<C::Etd<T>>()
+            + core::mem::size_of::<C::NearFlows<T>>()
+            + core::mem::size_of::<C::NearEtd<T>>()
     }
     pub fn state(&self) -> [T; NS] {
         self.z
@@ -551,7 +641,8 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// The friction's falling part at `z` (Stribeck): y, exp(-y^delta), N.
     #[inline(always)]
     fn excess(&self, z: &[T; NS]) -> Excess<T> {
-        let y = self.sliding_velocity(z).abs() * self.inv_v_s;
+        let v = self.sliding_velocity(z);
+        let y = v.abs() * self.inv_v_s;
         let e = if self.delta_is_one {
             (-y).exp()
         } else if y > T::zero() {
@@ -559,7 +650,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         } else {
             T::one()
         };
-        Excess { y, e, n: self.normal_force(z) }
+        Excess { v, y, e, n: self.normal_force(z) }
     }
 
     /// Stribeck forcing q = sigma (mu(|v|) - mu_k) N from the falling part at a point.
@@ -597,26 +688,84 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
     }
 
+    /// The lowest level a chunk can take a near operator at (it reads levels j - 1 and j).
+    const NEAR_MIN_LEVEL: usize = T::DYADIC_LEVELS + 2 - NEAR_LEVELS;
+
+    /// The operator a Stribeck slip chunk of 2^j units starting at the falling part `ex`
+    /// takes: k = 0, the kinetic one, where the falling slope's rate fits the chunk
+    /// (rate x chunk <= 1/4, see `chunk_level`) or no near operator exists; otherwise a near
+    /// one, k = 1 .. NEAR_OPS, the one whose slope c_k N_0 / v_s is nearest the friction's,
+    /// N e / v_s (delta = 1), so that the forcing's residual slope |N e - c_k N_0| / v_s is at
+    /// most N_0 / (2 NEAR_OPS v_s) (for N e <= (1 + 1 / (2 NEAR_OPS)) N_0). The kinetic one is
+    /// preferred because its flows are block-sparse in slip (cheaper on the M4F). Near operators
+    /// exist on the top levels only; below, a chunk is short enough for the kinetic one.
+    #[inline(always)]
+    fn near_op(&self, ex: &Excess<T>, j: usize) -> usize {
+        let mut k = 0;
+        if self.near_on && j >= Self::NEAR_MIN_LEVEL {
+            let ne = ex.n * ex.e;
+            if self.rate_coef * ne.abs() > self.rate_limit.as_ref()[j] {
+                while k < NEAR_OPS && ne > self.near_thr[k] {
+                    k += 1;
+                }
+            }
+        }
+        k
+    }
+
+    /// The forcing of near operator k's split: q - g_k (z, 1)
+    /// = sigma (mu_s - mu_k) N (e - c_k) - c_k (mu_s - mu_k) N_0 v / v_s.
+    #[inline(always)]
+    fn q_near(&self, sigma: T, ex: &Excess<T>, k: usize) -> T {
+        sigma * (self.d_mu * (ex.e - self.near_c[k])) * ex.n - self.near_ckv[k] * ex.v
+    }
+
     /// ETDRK4 (Cox-Matthews) over 2^j units of Stribeck slip from `z`, with the falling part
-    /// `ex0` at `z`.
+    /// `ex0` at `z`: about the kinetic operator A with forcing q, or near v = 0
+    /// ([`Self::near_op`]) about A + b g_k with forcing q - g_k (z, 1). Both are z' = A z + b q;
+    /// the split decides how much of the falling slope the exponential carries exactly.
     fn chunk_from(&self, regime: Regime, j: usize, z: &[T; NS], ex0: &Excess<T>) -> [T; NS] {
+        let k = self.near_op(ex0, j);
+        if k > 0 {
+            self.etd_chunk::<true>(regime, j, z, ex0, k)
+        } else {
+            self.etd_chunk::<false>(regime, j, z, ex0, 0)
+        }
+    }
+
+    #[inline(always)]
+    fn etd_chunk<const NEAR: bool>(&self, regime: Regime, j: usize, z: &[T; NS], ex0: &Excess<T>, k: usize) -> [T; NS] {
         let rows = C::ROWS;
         let sigma = T::from_f64(regime.friction_sign());
-        let etd = self.etd.as_ref();
-        let ph = &etd[regime.index() - 1].as_ref()[j - 1].phi1;
-        let w = &etd[regime.index() - 1].as_ref()[j];
-        let q0 = self.q_of(sigma, ex0);
-        let eh = self.flow_increment(regime, j - 1, z);
+        let near_index = (k.max(1) - 1) * 2 + regime.index() - 1;
+        let top = T::DYADIC_LEVELS + 1 - NEAR_LEVELS;
+        let (ph, w) = if NEAR {
+            let etd = &self.near_etd.as_ref()[near_index * NEAR_LEVELS..(near_index + 1) * NEAR_LEVELS];
+            (&etd[j - 1 - top].phi1, &etd[j - top])
+        } else {
+            let etd = self.etd.as_ref()[regime.index() - 1].as_ref();
+            (&etd[j - 1].phi1, &etd[j])
+        };
+        let q = |ex: &Excess<T>| if NEAR { self.q_near(sigma, ex, k) } else { self.q_of(sigma, ex) };
+        let inc = |j: usize, z: &[T; NS]| {
+            if NEAR {
+                increment::<T, C>(&self.near_flows.as_ref()[near_index * NEAR_LEVELS + j - top], z)
+            } else {
+                self.flow_increment(regime, j, z)
+            }
+        };
+        let q0 = q(ex0);
+        let eh = inc(j - 1, z);
         let a: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * q0) } else { z[r] });
-        let qa = self.q_of(sigma, &self.excess(&a));
+        let qa = q(&self.excess(&a));
         let bb: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * qa) } else { z[r] });
-        let qb = self.q_of(sigma, &self.excess(&bb));
-        let ea = self.flow_increment(regime, j - 1, &a);
+        let qb = q(&self.excess(&bb));
+        let ea = inc(j - 1, &a);
         let two = T::one() + T::one();
         let qcb = two * qb - q0;
         let c: [T; NS] = core::array::from_fn(|r| if r < rows { a[r] + (ea[r] + ph[r] * qcb) } else { z[r] });
-        let qc = self.q_of(sigma, &self.excess(&c));
-        let e = self.flow_increment(regime, j, z);
+        let qc = q(&self.excess(&c));
+        let e = inc(j, z);
         let qab = qa + qb;
         core::array::from_fn(|r| {
             if r < rows {
@@ -654,11 +803,18 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                 let r0 = self.rate_limit.as_ref()[0];
                 r0 * r0 // delta < 1: infinite slope at v = 0
             };
-            let rate = self.rate_coef * shape * ex.n.abs();
+            let far = self.rate_coef * shape * ex.n.abs();
             let floor = (Self::LEVELS.saturating_sub(STRIBECK_REFINE)).max(1);
             let limits = self.rate_limit.as_ref();
-            while j > floor && rate > limits[j] {
-                j -= 1;
+            loop {
+                // with a near operator, the residual slope of its split (delta = 1: shape = e)
+                let k = self.near_op(ex, j);
+                let rate = if k > 0 { self.rate_coef * (ex.n * ex.e - self.near_cn0[k]).abs() } else { far };
+                if j > floor && rate > limits[j] {
+                    j -= 1;
+                } else {
+                    break;
+                }
             }
             j = j.max(1);
         }

@@ -147,7 +147,23 @@ impl Estimator {
     pub fn new(cfg: &EstimatorConfig) -> Result<Self, ConfigError> {
         cfg.validate()?;
         let groan = BandPass::butterworth(cfg.groan_band_hz.0, cfg.groan_band_hz.1, cfg.fs_hz)?;
-        Ok(Estimator {
+        Ok(Self::fresh(cfg, groan))
+    }
+
+    /// [`Self::new`] written into `slot` (e.g. a `static`'s memory): the estimator carries the
+    /// lockstep model's stepper (20 to 26 KB with model 2 in f32), which a Cortex-M4F's stack
+    /// should not hold while it is moved. On an error `slot` is not written.
+    pub fn new_in<'a>(slot: &'a mut core::mem::MaybeUninit<Self>, cfg: &EstimatorConfig) -> Result<&'a mut Self, ConfigError> {
+        cfg.validate()?;
+        let groan = BandPass::butterworth(cfg.groan_band_hz.0, cfg.groan_band_hz.1, cfg.fs_hz)?;
+        Ok(slot.write(Self::fresh(cfg, groan)))
+    }
+
+    /// A new estimator for `cfg` (validated) with its groan filter: written where it is used
+    /// (inlined into [`Self::new`] and [`Self::new_in`]).
+    #[inline(always)]
+    fn fresh(cfg: &EstimatorConfig, groan: BandPass<GROAN_SECTIONS>) -> Self {
+        Estimator {
             cfg: *cfg,
             contact: ContactEstimator::new(cfg.contact, cfg.fs_hz),
             last_contact: ContactSample { regime: Regime::Stick, v_r_m_s: 0.0, a_rel_m_s2: 0.0, event: None },
@@ -158,7 +174,7 @@ impl Estimator {
             model: LockstepModel::stopped(),
             model_halt_seen: false,
             sample: 0,
-        })
+        }
     }
 
     pub fn config(&self) -> &EstimatorConfig {

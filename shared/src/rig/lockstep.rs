@@ -166,8 +166,11 @@ pub struct ModelSample {
 }
 
 /// The stepper in lockstep with the samples ([`RigStepper`] unless named), or no model
-/// (stopped). The stepper is built in place ([`LockstepStepper::build_in`]): a model-2
-/// stepper's tables (10 to 17 KB in f32) never pass through the stack.
+/// (stopped). The stepper is built in its slot ([`LockstepStepper::build_in`]) and never
+/// moved. (Its value may still be assembled on the stack first: a model-2 stepper is 15 to 26 KB
+/// in f32, and the optimiser decides whether `Option::insert` builds it in place; with the
+/// `model2` stepper, `Estimator::start_model`'s frame is 16.5 KB, `arm-none-eabi-objdump -d` of
+/// bin `rig` of `tests/on-target` built `--features model2`.)
 #[derive(Clone, Debug)]
 pub struct LockstepModel<S: LockstepStepper = RigStepper> {
     stepper: Option<S>,

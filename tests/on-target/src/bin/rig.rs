@@ -27,7 +27,10 @@ static mut SLOT: MaybeUninit<RigCore> = MaybeUninit::uninit();
 #[entry]
 fn main() -> ! {
     let mut ok = true;
-    for case in &RIG_CASES {
+    // Built with `model2` the replay cases do not apply (their digests are the thesis model's)
+    // and would hold two model-2 RigCores on the stack: only the set-up's stack is measured.
+    let cases: &[_] = if cfg!(feature = "model2") { &[] } else { &RIG_CASES };
+    for case in cases {
         stack::paint();
         match rig_scenes::run(case) {
             Ok(run) => hprintln!("{}", RigReport { case: case.name, run: &run }),
@@ -53,7 +56,7 @@ fn main() -> ! {
         built
     );
     ok &= built;
-    hprintln!("done rig_cases={}", RIG_CASES.len());
+    hprintln!("done rig_cases={}", cases.len());
     debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
     #[allow(clippy::empty_loop)]
     loop {}
