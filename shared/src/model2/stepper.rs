@@ -733,6 +733,28 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
     }
 
+    /// The forcing of an ETDRK4 chunk: q, or with near operator k its residual.
+    #[inline(always)]
+    fn etd_q<const NEAR: bool>(&self, sigma: T, ex: &Excess<T>, k: usize) -> T {
+        if NEAR {
+            self.q_near(sigma, ex, k)
+        } else {
+            self.q_of(sigma, ex)
+        }
+    }
+
+    /// The flow increment over 2^j units of a chunk's operator (a near operator's tables start
+    /// at level L - NEAR_LEVELS + 1).
+    #[inline(always)]
+    fn etd_inc<const NEAR: bool>(&self, regime: Regime, j: usize, z: &[T; NS], near_index: usize) -> [T; NS] {
+        if NEAR {
+            let top = T::DYADIC_LEVELS + 1 - NEAR_LEVELS;
+            increment::<T, C>(&self.near_flows.as_ref()[near_index * NEAR_LEVELS + j - top], z)
+        } else {
+            self.flow_increment(regime, j, z)
+        }
+    }
+
     #[inline(always)]
     fn etd_chunk<const NEAR: bool>(&self, regime: Regime, j: usize, z: &[T; NS], ex0: &Excess<T>, k: usize) -> [T; NS] {
         let rows = C::ROWS;
@@ -746,26 +768,20 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let etd = self.etd.as_ref()[regime.index() - 1].as_ref();
             (&etd[j - 1].phi1, &etd[j])
         };
-        let q = |ex: &Excess<T>| if NEAR { self.q_near(sigma, ex, k) } else { self.q_of(sigma, ex) };
-        let inc = |j: usize, z: &[T; NS]| {
-            if NEAR {
-                increment::<T, C>(&self.near_flows.as_ref()[near_index * NEAR_LEVELS + j - top], z)
-            } else {
-                self.flow_increment(regime, j, z)
-            }
-        };
-        let q0 = q(ex0);
-        let eh = inc(j - 1, z);
+        // (methods, not closures: a closure here was compiled out of line on the M4F, three calls
+        // per chunk)
+        let q0 = self.etd_q::<NEAR>(sigma, ex0, k);
+        let eh = self.etd_inc::<NEAR>(regime, j - 1, z, near_index);
         let a: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * q0) } else { z[r] });
-        let qa = q(&self.excess(&a));
+        let qa = self.etd_q::<NEAR>(sigma, &self.excess(&a), k);
         let bb: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * qa) } else { z[r] });
-        let qb = q(&self.excess(&bb));
-        let ea = inc(j - 1, &a);
+        let qb = self.etd_q::<NEAR>(sigma, &self.excess(&bb), k);
+        let ea = self.etd_inc::<NEAR>(regime, j - 1, &a, near_index);
         let two = T::one() + T::one();
         let qcb = two * qb - q0;
         let c: [T; NS] = core::array::from_fn(|r| if r < rows { a[r] + (ea[r] + ph[r] * qcb) } else { z[r] });
-        let qc = q(&self.excess(&c));
-        let e = inc(j, z);
+        let qc = self.etd_q::<NEAR>(sigma, &self.excess(&c), k);
+        let e = self.etd_inc::<NEAR>(regime, j, z, near_index);
         let qab = qa + qb;
         core::array::from_fn(|r| {
             if r < rows {

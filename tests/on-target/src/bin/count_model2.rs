@@ -26,7 +26,7 @@
 //! default f32 `Real::exp`), to `libm::expf` (`expf_libm`) and to micromath's `F32Ext::exp`
 //! (`exp_micromath`).
 //!
-//! The steppers live in statics (a `Model2Stepper<f32, _>` is 13 to 20 KB: its dyadic tables of
+//! The steppers live in statics (a `Model2Stepper<f32, _>` is 15 to 26 KB: its dyadic tables of
 //! 25 levels in f32); the stack is painted at boot and its high-water mark printed after each
 //! composition. Printed (semihosting), one line each:
 //! `comp <name> stepper=<type> size=<bytes> tables=<bytes> n_sub=<n> steps=<k> transitions=<n> stack_used=<bytes> stack_size=<bytes>`
