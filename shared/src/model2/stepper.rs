@@ -524,7 +524,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     self.a[regime.index()][r][c] = t(sys.a[regime.index()][r][c]);
                 }
             }
-    }
+        }
     }
 
     /// The increment of the flow over 2^j units of `regime` from `z`.

@@ -145,18 +145,20 @@ pub struct Estimator {
 
 impl Estimator {
     pub fn new(cfg: &EstimatorConfig) -> Result<Self, ConfigError> {
-        cfg.validate()?;
-        let groan = BandPass::butterworth(cfg.groan_band_hz.0, cfg.groan_band_hz.1, cfg.fs_hz)?;
-        Ok(Self::fresh(cfg, groan))
+        Ok(Self::fresh(cfg, Self::checked_groan(cfg)?))
     }
 
     /// [`Self::new`] written into `slot` (e.g. a `static`'s memory): the estimator carries the
     /// lockstep model's stepper (20 to 26 KB with model 2 in f32), which a Cortex-M4F's stack
     /// should not hold while it is moved. On an error `slot` is not written.
     pub fn new_in<'a>(slot: &'a mut core::mem::MaybeUninit<Self>, cfg: &EstimatorConfig) -> Result<&'a mut Self, ConfigError> {
+        Ok(slot.write(Self::fresh(cfg, Self::checked_groan(cfg)?)))
+    }
+
+    /// Validates `cfg` and designs its groan band-pass.
+    fn checked_groan(cfg: &EstimatorConfig) -> Result<BandPass<GROAN_SECTIONS>, ConfigError> {
         cfg.validate()?;
-        let groan = BandPass::butterworth(cfg.groan_band_hz.0, cfg.groan_band_hz.1, cfg.fs_hz)?;
-        Ok(slot.write(Self::fresh(cfg, groan)))
+        BandPass::butterworth(cfg.groan_band_hz.0, cfg.groan_band_hz.1, cfg.fs_hz)
     }
 
     /// A new estimator for `cfg` (validated) with its groan filter: written where it is used
