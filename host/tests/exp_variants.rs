@@ -41,7 +41,7 @@ fn model_exp_wrapper_is_f32_bit_for_bit() {
 fn other_exps_change_the_run() {
     let plain = trace::<f32>(f32::to_bits);
     // the model's and libm's agree to within an ulp on most arguments: over a second of
-    // Stribeck slip they part (docs/numerics.md: 1.8e-7 apart on the period)
+    // Stribeck slip they part (docs/numerics.md, "Transcendentals": the two f32 periods 1.3e-7 apart)
     assert!(trace_with::<LibmExp>() != plain, "libm's expf gave the model's bits: is the wrapper's exp used?");
     assert!(trace_with::<MicromathExp>() != plain, "micromath's exp gave the model's bits");
 }
