@@ -7,6 +7,10 @@
 //! first substep, and at least 5 us from its end). A stepper that only tests the guards at the
 //! substep ends never sees it (the stepper before this test existed missed all of them).
 //!
+//! Each graze runs on the thesis model's `ExactStepper` and on model 2's stepper in the same
+//! model (composition `Coulomb`), both as it steps (a substep with one quiet chunk takes its
+//! short path, `short_substep`) and on its general path only.
+//!
 //! The reference is independent of the stepper's tables: the state at the crest is chosen in
 //! closed form (guard rate zero, guard value +eps), carried back to t = 0 with expm(-A t_c)
 //! in f64, and the first crossing time is found by bisection on g(expm(A t) z(0)) in f64,
@@ -15,6 +19,7 @@
 use stickslip_model::linalg::{self, Mat};
 use stickslip_model::propagator::system_matrix;
 use stickslip_model::stickslip::Guard;
+use stickslip_model::model2::{Coulomb, Model2Stepper, Observer2, Transition2};
 use stickslip_model::{Coefficients, ExactStepper, Real, Regime, Scene, State, DEFAULT_SCENE};
 
 /// Time of the crest from the start of the run [s].
@@ -143,12 +148,26 @@ impl Graze {
         assert!(max > 0.0 && (max - self.eps).abs() <= 0.05 * self.eps, "crest value {max}, built {}", self.eps);
     }
 
-    /// Runs one step at `dt` in precision T and returns the transitions' (time, from, to).
-    fn run<T: Real>(&self, dt: f64) -> (u32, Vec<(f64, Regime, Regime)>) {
+    /// Runs one step at `dt` in precision T on `stepper` and returns the transitions' (time,
+    /// from, to).
+    fn run<T: Real>(&self, dt: f64, stepper: Stepper) -> (u32, Vec<(f64, Regime, Regime)>) {
         let mut s = self.scene;
         s.dt = dt;
-        let mut st = ExactStepper::<T>::new(&s).unwrap();
         let t = T::from_f64;
+        if stepper != Stepper::Exact {
+            // model 2's stepper in the thesis model's composition (`Coulomb`), from the same state
+            let mut st = Model2Stepper::<T, Coulomb>::new(&s).unwrap();
+            let z = [t(self.z0[0]), t(self.z0[1]), t(self.z0[2]), t(self.z0[3]), T::zero(), T::zero()];
+            st.set_state(z, self.regime);
+            let mut trs = Transitions(Vec::new());
+            if stepper == Stepper::Model2 {
+                st.step_observed(&mut trs).unwrap();
+            } else {
+                st.step_observed_general(&mut trs).unwrap();
+            }
+            return (st.substeps(), trs.0);
+        }
+        let mut st = ExactStepper::<T>::new(&s).unwrap();
         st.set_state(
             State { x: t(self.z0[0]), xdot: t(self.z0[1]), phi: t(self.z0[2]), phidot: t(self.z0[3]) },
             self.regime,
@@ -156,6 +175,28 @@ impl Graze {
         st.step().unwrap();
         let n_sub = st.propagator().n_sub;
         (n_sub, st.transitions().iter().map(|tr| (tr.t, tr.from, tr.to)).collect())
+    }
+}
+
+/// The stepper a graze runs on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Stepper {
+    /// The thesis model's `ExactStepper`.
+    Exact,
+    /// Model 2's stepper (composition `Coulomb`), as it steps: a substep whose one chunk
+    /// neither fires nor crests a guard on its short path.
+    Model2,
+    /// The same on its general path only (`step_observed_general`).
+    Model2General,
+}
+
+/// Collects a model-2 stepper's transitions.
+struct Transitions(Vec<(f64, Regime, Regime)>);
+
+impl<T: Real> Observer2<T> for Transitions {
+    const DERIVATIVES: bool = false;
+    fn transition(&mut self, tr: &Transition2<T>) {
+        self.0.push((tr.t, tr.from, tr.to));
     }
 }
 
@@ -207,17 +248,23 @@ fn libm_ldexp(levels: usize) -> f64 {
 /// T-rounded initial state) within T's resolution of a crossing, and the state machine leaves
 /// the regime.
 fn assert_found<T: Real>(gr: &Graze) {
+    for stepper in [Stepper::Exact, Stepper::Model2, Stepper::Model2General] {
+        assert_found_on::<T>(gr, stepper);
+    }
+}
+
+fn assert_found_on<T: Real>(gr: &Graze, stepper: Stepper) {
     let gr = &gr.rounded::<T>();
     let tol = gr.resolution::<T>();
     for dt in DTS {
-        let (n_sub, trs) = gr.run::<T>(dt);
+        let (n_sub, trs) = gr.run::<T>(dt, stepper);
         gr.check_grazes(dt, n_sub);
         let first = trs.first().unwrap_or_else(|| {
-            panic!("{} dt {dt} (n_sub {n_sub}): crest at {T_CREST} s not found (guard +{:e} there)", T::NAME, gr.eps)
+            panic!("{} {stepper:?} dt {dt} (n_sub {n_sub}): crest at {T_CREST} s not found (guard +{:e} there)", T::NAME, gr.eps)
         });
-        assert_eq!(first.1, gr.regime, "{} dt {dt}", T::NAME);
+        assert_eq!(first.1, gr.regime, "{} {stepper:?} dt {dt}", T::NAME);
         eprintln!(
-            "{} {:?} dt {dt:e} n_sub {n_sub}: crossing at {:.12e} s, reference {:.12e} s, difference {:+.2e} (tolerance {tol:.1e})",
+            "{} {stepper:?} {:?} dt {dt:e} n_sub {n_sub}: crossing at {:.12e} s, reference {:.12e} s, difference {:+.2e} (tolerance {tol:.1e})",
             T::NAME,
             gr.regime,
             first.0,
@@ -226,7 +273,7 @@ fn assert_found<T: Real>(gr: &Graze) {
         );
         assert!(
             (first.0 - gr.t_cross).abs() <= tol,
-            "{} dt {dt}: transition at {:.15e} s, reference crossing {:.15e} s (difference {:e}, tolerance {tol:e})",
+            "{} {stepper:?} dt {dt}: transition at {:.15e} s, reference crossing {:.15e} s (difference {:e}, tolerance {tol:e})",
             T::NAME,
             first.0,
             gr.t_cross,

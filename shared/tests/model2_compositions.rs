@@ -185,3 +185,92 @@ fn stribeck_slip_near_v0_is_one_chunk_per_substep() {
         }
     }
 }
+
+/// Records every segment and transition a stepper reports, as bits.
+#[derive(Default)]
+struct Record {
+    events: Vec<(u8, u64, Vec<u64>)>,
+}
+
+impl<T: stickslip_model::Real> Observer2<T> for Record {
+    fn segment(&mut self, seg: &Segment2<T>) {
+        let mut v: Vec<u64> = seg.z0.iter().chain(&seg.z1).chain(&seg.zd0).chain(&seg.zd1).map(|x| x.to_f64().to_bits()).collect();
+        v.push(seg.t1.to_bits());
+        self.events.push((seg.regime as u8, seg.t0.to_bits(), v));
+    }
+    fn transition(&mut self, tr: &Transition2<T>) {
+        self.events.push((10 + tr.to as u8, tr.t.to_bits(), tr.z.iter().map(|x| x.to_f64().to_bits()).collect()));
+    }
+}
+
+/// Runs `scene` for `steps` steps on the short path (as `step_observed` does) and on the
+/// general path only, with an observer on each: the same states, regimes, segments and
+/// transitions, bit for bit, and the same halt. Returns the number of stick and slip steps.
+fn short_and_general_agree<T: stickslip_model::Real, C: stickslip_model::model2::Composition>(scene: &Scene, steps: usize) -> (usize, usize) {
+    let mut short = Model2Stepper::<T, C>::new(scene).unwrap();
+    let mut general = Model2Stepper::<T, C>::new(scene).unwrap();
+    let (mut rs, mut rg) = (Record::default(), Record::default());
+    let (mut stick, mut slip) = (0, 0);
+    for n in 0..steps {
+        if short.regime() == Regime::Stick {
+            stick += 1;
+        } else {
+            slip += 1;
+        }
+        let a = short.step_observed(&mut rs);
+        let b = general.step_observed_general(&mut rg);
+        assert_eq!(a, b, "step {n}: {}", C::NAME);
+        assert_eq!(short.state().map(|x| x.to_f64().to_bits()), general.state().map(|x| x.to_f64().to_bits()), "step {n}: {}", C::NAME);
+        assert_eq!(short.regime(), general.regime(), "step {n}");
+        assert_eq!(short.substeps(), general.substeps(), "step {n}");
+        assert!(rs.events == rg.events, "step {n}: {}: the observers saw different segments or transitions", C::NAME);
+        rs.events.clear();
+        rg.events.clear();
+        if a.is_err() {
+            break;
+        }
+    }
+    // and without an observer (`step`), the same states
+    let mut short = Model2Stepper::<T, C>::new(scene).unwrap();
+    let mut general = Model2Stepper::<T, C>::new(scene).unwrap();
+    for n in 0..steps {
+        let a = short.step();
+        let b = general.step_observed_general(&mut ());
+        assert_eq!(a, b, "step {n}");
+        assert_eq!(short.state().map(|x| x.to_f64().to_bits()), general.state().map(|x| x.to_f64().to_bits()), "step {n}");
+        if a.is_err() {
+            break;
+        }
+    }
+    (stick, slip)
+}
+
+/// A substep whose one chunk neither fires nor crests a guard takes a short path
+/// (`short_substep`): it must do exactly what the general path does. Every composition, f32 and
+/// f64, push and pull, 0.25 s of the rig set (both regimes, the near operators and transitions).
+#[test]
+fn the_short_substep_is_the_general_one_bit_for_bit() {
+    let steps = 6_400;
+    for (caliper, beta) in [(Caliper::Push, 0.040), (Caliper::Pull, 0.055), (Caliper::Push, 0.025)] {
+        let all = rig_scene(caliper, beta);
+        let mut strib = all;
+        strib.band = false;
+        let mut band = all;
+        band.friction = FrictionLaw::Coulomb;
+        let mut coulomb = strib;
+        coulomb.friction = FrictionLaw::Coulomb;
+        let counts = [
+            short_and_general_agree::<f32, StribeckBand>(&all, steps),
+            short_and_general_agree::<f64, StribeckBand>(&all, steps),
+            short_and_general_agree::<f32, Stribeck>(&strib, steps),
+            short_and_general_agree::<f64, Stribeck>(&strib, steps),
+            short_and_general_agree::<f32, Band>(&band, steps),
+            short_and_general_agree::<f64, Band>(&band, steps),
+            short_and_general_agree::<f32, Coulomb>(&coulomb, steps),
+        ];
+        // the runs cover both regimes
+        for (stick, slip) in counts {
+            assert!(stick > 100 && slip > 100, "{caliper:?} {beta}: {stick} stick and {slip} slip steps");
+        }
+    }
+}

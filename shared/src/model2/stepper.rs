@@ -9,7 +9,9 @@
 //!   Matthews (ETDRK4) takes the linear part exactly and q as forcing; because b is fixed, its
 //!   phi-function terms are vectors h phi_k(h A) b, computed once per dyadic level from one
 //!   10 x 10 matrix exponential (the augmented-matrix form of the phi functions). A step of
-//!   2^j units costs four flow applications and four evaluations of q.
+//!   2^j units costs two flow applications (the half chunk's, from z and from the first stage
+//!   a: the whole chunk's linear flow from z is the half flow from a less e^(hA/2) (h/2)
+//!   phi_1(hA/2) b q(z), a vector term folded into the final weights) and four evaluations of q.
 //! - **Near v = 0** the falling slope is steep: its rate |dq/dv| (1/m + 1/m_b) is
 //!   (mu_s - mu_k) N e^(-|v|/v_s) / v_s (1/m + 1/m_b) (delta = 1). Where that rate would
 //!   split the chunk with the kinetic operator (see the next item), the chunk takes a
@@ -29,6 +31,11 @@
 //!   slip). A guard that rises and falls back inside a chunk (a crest) is found from the sign
 //!   change of its derivative: the derivative's zero is lifted, and the guard is evaluated
 //!   there.
+//! - **The short path**: most substeps are one chunk with no guard firing or cresting in it.
+//!   `short_substep` takes that chunk and tests the guards on a straight path, compiled apart
+//!   for stick and for slip; only a substep that splits, fires or crests goes on to the general
+//!   loop (`substep`), from the chunk already taken. Both paths give the same bits (tests:
+//!   `the_short_substep_is_the_general_one_bit_for_bit`, and the grazing scenes on both).
 //!
 //! The stepper is generic over its [`Composition`] (band or not, Stribeck or Coulomb): a
 //! composition without the band moves 4 state entries with 4 x 5 flows, one with Coulomb
@@ -210,6 +217,16 @@ fn guard_slot(regime: Regime, which: usize) -> usize {
         Regime::SlipSlower => 2,
         Regime::SlipFaster => 3,
     }
+}
+
+/// A substep's first chunk, of 2^j units from the substep's start to z1, with the falling
+/// parts at its two ends in Stribeck slip (see `Model2Stepper::short_substep`).
+#[derive(Clone, Copy, Debug)]
+struct FirstChunk<T> {
+    ex0: Option<Excess<T>>,
+    j: usize,
+    z1: [T; NS],
+    ex1: Option<Excess<T>>,
 }
 
 /// The model-2 stepper, generic over f32 and f64 and over its [`Composition`].
@@ -462,7 +479,15 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let top = Self::LEVELS + 1 - NEAR_LEVELS;
             let kinetic = (0..=Self::LEVELS).map(|j| (0, j));
             let near = (1..=near_ops).flat_map(|k| (top..=Self::LEVELS).map(move |j| (k, j)));
+            // e^(tau A) tau phi_1(tau A) b of the previous level in the same chain (operator
+            // k): the final combination's w0 at level j carries it (see `etd_chunk`)
+            let mut half = [0.0f64; NS];
             for (k, j) in kinetic.chain(near) {
+                if j == if k == 0 { 0 } else { top } {
+                    // a chain's lowest level is never a chunk's w (a chunk of 2^j units reads
+                    // level j >= 1 here, and j - 1 for phi_1)
+                    half = [0.0; NS];
+                }
                 let a_k: [[f64; NA]; NA] = if k == 0 {
                     *a
                 } else {
@@ -513,10 +538,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     for r in 0..NS {
                         let (c1, c2, c3) = (e[r][NA], e[r][NA + 1] / tau, e[r][NA + 2] / (tau * tau));
                         v.phi1[r] = t(c1);
-                        v.w0[r] = t(c1 - 3.0 * c2 + 4.0 * c3);
+                        v.w0[r] = t(c1 - 3.0 * c2 + 4.0 * c3 - half[r]);
                         v.wab[r] = t(2.0 * c2 - 4.0 * c3);
                         v.wc[r] = t(4.0 * c3 - c2);
                     }
+                    // this level's e^(tau A) tau phi_1(tau A) b for the next (e holds
+                    // e^(tau A) - I, its column NA tau phi_1(tau A) b)
+                    half = core::array::from_fn(|r| e[r][NA] + (0..C::ROWS).map(|c| e[r][c] * e[c][NA]).sum::<f64>());
                 }
             }
             for r in 0..NS {
@@ -724,8 +752,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// `ex0` at `z`: about the kinetic operator A with forcing q, or near v = 0
     /// ([`Self::near_op`]) about A + b g_k with forcing q - g_k (z, 1). Both are z' = A z + b q;
     /// the split decides how much of the falling slope the exponential carries exactly.
+    #[inline(always)]
     fn chunk_from(&self, regime: Regime, j: usize, z: &[T; NS], ex0: &Excess<T>) -> [T; NS] {
-        let k = self.near_op(ex0, j);
+        self.chunk_with(regime, j, z, ex0, self.near_op(ex0, j))
+    }
+
+    /// [`Self::chunk_from`] with its operator k (0 kinetic, else near) already chosen.
+    fn chunk_with(&self, regime: Regime, j: usize, z: &[T; NS], ex0: &Excess<T>, k: usize) -> [T; NS] {
         if k > 0 {
             self.etd_chunk::<true>(regime, j, z, ex0, k)
         } else {
@@ -772,7 +805,8 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         // per chunk)
         let q0 = self.etd_q::<NEAR>(sigma, ex0, k);
         let eh = self.etd_inc::<NEAR>(regime, j - 1, z, near_index);
-        let a: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * q0) } else { z[r] });
+        let da: [T; NS] = core::array::from_fn(|r| if r < rows { eh[r] + ph[r] * q0 } else { T::zero() });
+        let a: [T; NS] = core::array::from_fn(|r| z[r] + da[r]);
         let qa = self.etd_q::<NEAR>(sigma, &self.excess(&a), k);
         let bb: [T; NS] = core::array::from_fn(|r| if r < rows { z[r] + (eh[r] + ph[r] * qa) } else { z[r] });
         let qb = self.etd_q::<NEAR>(sigma, &self.excess(&bb), k);
@@ -781,11 +815,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         let qcb = two * qb - q0;
         let c: [T; NS] = core::array::from_fn(|r| if r < rows { a[r] + (ea[r] + ph[r] * qcb) } else { z[r] });
         let qc = self.etd_q::<NEAR>(sigma, &self.excess(&c), k);
-        let e = self.etd_inc::<NEAR>(regime, j, z, near_index);
         let qab = qa + qb;
+        // the chunk's linear flow from z, e^(hA) z (affine), is the half flow from a less
+        // e^(hA/2) ph q0: w0 carries that term (see `fill_tables`), which saves one flow
+        // application. Summed from z, not from a, so that a's rounding stays out of z1.
         core::array::from_fn(|r| {
             if r < rows {
-                z[r] + (e[r] + w.w0[r] * q0 + w.wab[r] * qab + w.wc[r] * qc)
+                z[r] + (da[r] + ea[r] + w.w0[r] * q0 + w.wab[r] * qab + w.wc[r] * qc)
             } else {
                 z[r]
             }
@@ -803,9 +839,11 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
 
     /// The level of the next chunk with `remaining` units left in the substep: the largest
     /// power of two that fits, limited in Stribeck slip by the friction slope's rate at the
-    /// chunk's start (from its falling part `ex`).
-    fn chunk_level(&self, ex: Option<&Excess<T>>, remaining: u64) -> usize {
+    /// chunk's start (from its falling part `ex`); and the chunk's operator there
+    /// ([`Self::near_op`]; 0 outside Stribeck slip).
+    fn chunk_level(&self, ex: Option<&Excess<T>>, remaining: u64) -> (usize, usize) {
         let mut j = 63 - remaining.leading_zeros() as usize; // largest 2^j <= remaining
+        let mut k = 0;
         if let Some(ex) = ex {
             // the falling slope's rate, |dq/dv| (1/m + 1/m_b), in T (no f64 on the M4F's path)
             let y = ex.y;
@@ -824,7 +862,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let limits = self.rate_limit.as_ref();
             loop {
                 // with a near operator, the residual slope of its split (delta = 1: shape = e)
-                let k = self.near_op(ex, j);
+                k = self.near_op(ex, j);
                 let rate = if k > 0 { self.rate_coef * (ex.n * ex.e - self.near_cn0[k]).abs() } else { far };
                 if j > floor && rate > limits[j] {
                     j -= 1;
@@ -832,9 +870,10 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     break;
                 }
             }
+            // (j >= floor >= 1 unless fewer than 2 units remain, where k = 0 on either level)
             j = j.max(1);
         }
-        j
+        (j, k)
     }
 
     /// The guards of `regime` as rows (fire at row . z >= 0): stick, F_req -+ mu_s N; slip
@@ -991,7 +1030,26 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
         let mut count = 0;
         for sub in 0..self.n_sub {
-            match self.substep(sub, obs) {
+            let short = if self.regime == Regime::Stick {
+                Some(self.short_substep::<false, O>(sub, obs))
+            } else if self.armed {
+                Some(self.short_substep::<true, O>(sub, obs))
+            } else {
+                None
+            };
+            let first = if let Some(short) = short {
+                match short {
+                    Ok(None) => continue,
+                    Ok(Some(first)) => Some(first),
+                    Err(h) => {
+                        self.halted = Some(h);
+                        return Err(h);
+                    }
+                }
+            } else {
+                None
+            };
+            match self.substep(sub, obs, first) {
                 Ok(n) => count += n,
                 Err(h) => {
                     self.halted = Some(h);
@@ -1003,7 +1061,81 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         Ok(count)
     }
 
-    fn substep<O: Observer2<T>>(&mut self, sub: u32, obs: &mut O) -> Result<usize, Halt> {
+    /// [`Self::step_observed`] with every substep on the general path (`substep`), never the
+    /// short one (`short_substep`): for the test that the two agree bit for bit.
+    #[doc(hidden)]
+    pub fn step_observed_general<O: Observer2<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
+        if let Some(h) = self.halted {
+            return Err(h);
+        }
+        let mut count = 0;
+        for sub in 0..self.n_sub {
+            match self.substep(sub, obs, None) {
+                Ok(n) => count += n,
+                Err(h) => {
+                    self.halted = Some(h);
+                    return Err(h);
+                }
+            }
+        }
+        self.step += 1;
+        Ok(count)
+    }
+
+    /// The common substep on a short path: its first chunk (see [`Self::substep`]), and if
+    /// that is the whole substep and no guard of the regime fires or crests inside it, the
+    /// substep done (`Ok(None)`), exactly as `substep` would do it. Otherwise the chunk is
+    /// handed to `substep` (`Ok(Some(..))`), which goes on from it. Not for a slip whose guard
+    /// is not armed yet (`substep` handles the arming). `SLIP`: whether the regime is a slip
+    /// (compiled apart for stick and slip: each has its own short path).
+    #[inline(always)]
+    fn short_substep<const SLIP: bool, O: Observer2<T>>(&mut self, sub: u32, obs: &mut O) -> Result<Option<FirstChunk<T>>, Halt> {
+        let units = Self::UNITS;
+        let regime = self.regime;
+        let stribeck_slip = C::STRIBECK && SLIP;
+        let z = self.z;
+        let ex0 = if stribeck_slip {
+            Some(match self.head {
+                Some(ex) => ex,
+                None => self.excess(&z),
+            })
+        } else {
+            None
+        };
+        let (j, k) = self.chunk_level(ex0.as_ref(), units);
+        let mut z1 = match &ex0 {
+            Some(ex0) => self.chunk_with(regime, j, &z, ex0, k),
+            None => self.chunk(regime, j, &z),
+        };
+        let ex1 = if stribeck_slip { Some(self.excess(&z1)) } else { None };
+        let first = FirstChunk { ex0, j, z1, ex1 };
+        if j != Self::LEVELS {
+            return Ok(Some(first));
+        }
+        for which in 0..if SLIP { 1 } else { 2 } {
+            // `crossing`'s tests: the guard still holds at z1 and does not crest in the chunk
+            if !(dot::<T, C>(self.guard(regime, which), &z1) < T::zero())
+                || (self.guard_slope(regime, which, &z, ex0.as_ref()) > T::zero()
+                    && self.guard_slope(regime, which, &z1, ex1.as_ref()) < T::zero())
+            {
+                return Ok(Some(first));
+            }
+        }
+        self.anchor_stick_x(regime, &mut z1, units);
+        self.emit(obs, regime, sub, 0, units, z, z1);
+        if let Err(h) = self.check(&z1, regime, sub, units) {
+            self.head = None;
+            return Err(h);
+        }
+        self.z = z1;
+        self.head = ex1;
+        self.subs_done += 1;
+        Ok(None)
+    }
+
+    /// One substep: chunks, each tested for transitions, until the substep's end. `first`:
+    /// the first chunk, when [`Self::slip_substep`] has taken it already.
+    fn substep<O: Observer2<T>>(&mut self, sub: u32, obs: &mut O, mut first: Option<FirstChunk<T>>) -> Result<usize, Halt> {
         let units = Self::UNITS;
         let mut pos = 0u64;
         let mut z = self.z;
@@ -1015,13 +1147,19 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         let mut touched: Option<(Regime, usize)> = None;
         while pos < units {
             let stribeck_slip = Self::is_stribeck_slip(regime);
-            let ex0 = if stribeck_slip { Some(head.unwrap_or_else(|| self.excess(&z))) } else { None };
-            let j = self.chunk_level(ex0.as_ref(), units - pos);
-            let z1 = match &ex0 {
-                Some(ex0) => self.chunk_from(regime, j, &z, ex0),
-                None => self.chunk(regime, j, &z),
+            let (ex0, j, z1, ex1) = match first.take() {
+                Some(f) => (f.ex0, f.j, f.z1, f.ex1),
+                None => {
+                    let ex0 = if stribeck_slip { Some(head.unwrap_or_else(|| self.excess(&z))) } else { None };
+                    let (j, k) = self.chunk_level(ex0.as_ref(), units - pos);
+                    let z1 = match &ex0 {
+                        Some(ex0) => self.chunk_with(regime, j, &z, ex0, k),
+                        None => self.chunk(regime, j, &z),
+                    };
+                    let ex1 = if stribeck_slip { Some(self.excess(&z1)) } else { None };
+                    (ex0, j, z1, ex1)
+                }
             };
-            let ex1 = if stribeck_slip { Some(self.excess(&z1)) } else { None };
             let mut best: Option<(u64, [T; NS], usize)> = None;
             // A slip starts at v = 0 (with Stribeck friction also at v' = 0): its guard is armed
             // once v has left zero by more than round-off in the slip's own direction. Until
