@@ -1134,7 +1134,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     }
 
     /// One substep: chunks, each tested for transitions, until the substep's end. `first`:
-    /// the first chunk, when [`Self::slip_substep`] has taken it already.
+    /// the first chunk, when [`Self::short_substep`] has taken it already.
     fn substep<O: Observer2<T>>(&mut self, sub: u32, obs: &mut O, mut first: Option<FirstChunk<T>>) -> Result<usize, Halt> {
         let units = Self::UNITS;
         let mut pos = 0u64;

@@ -16,12 +16,12 @@
 //!
 //! Cost per sample (Cortex-M4F, single-precision FPU): no division and no square root; four
 //! band-pass cascades of two sections (three multiplies each), the contact update, the
-//! per-channel min/max and squares. Measured with the calibration of the six channels
-//! included, as executed instructions between two marker calls under QEMU (`netduinoplus2`,
-//! one instruction per translation block, push_center with noise, 2,600 samples): 396 in
-//! stick, 415 to 466 in slip, 771 for the sample that closes a window (the firmware issue's
-//! bound is 1,500). The lockstep model adds 200 to 230 per sample without a transition, and
-//! 4,400 to 4,900 for a step with one (the exact stepper's in-step transition search).
+//! per-channel min/max and squares. `scripts/count-instructions.sh` counts it as executed
+//! instructions under QEMU (`netduinoplus2`), with the calibration of the six channels (path
+//! A) and with the lockstep model and the sequencer as well (path B, the firmware's
+//! `RigCore::sample_words`); firmware/README.md, "Per-sample cost", holds the figures (the
+//! firmware issue's bound for path A is 1,500). A lockstep step with a transition costs
+//! several thousand more (the stepper's in-step transition search).
 
 use super::bandpass::{BandPass, SectionState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use super::calibration::Calibrated;

@@ -5,7 +5,7 @@
 //! Compiled into the Cortex-M4F program `src/bin/rig.rs` (as a module of this crate) and into
 //! the host-side test `tests/tests/on_target.rs` (through `#[path]`), so both compute the
 //! digests with the same code; it uses `core`, `stickslip_model` and the firmware's per-sample
-//! logic, `super::rig_core` (`firmware/src/rig_core.rs`, which the includer declares next to
+//! logic, `super::rig_core` (`firmware/rig-core/src/rig_core.rs`, which the includer declares next to
 //! this module), and nothing else.
 //!
 //! Two kinds of case:
