@@ -72,7 +72,7 @@ pub enum Command {
     Compare(CompareArgs),
     /// Decode the firmware's raw defmt log stream (RTT capture or defmt-semihosting output)
     /// with the firmware ELF into CSV or JSON records
-    #[command(after_help = crate::recorded::decode::DECODE_AFTER)]
+    #[command(after_help = DECODE_AFTER)]
     Decode(DecodeArgs),
 }
 
@@ -271,6 +271,31 @@ pub struct DecodeArgs {
     #[arg(long, value_name = "KIND", conflicts_with = "json")]
     pub kind: Option<String>,
 }
+
+const DECODE_AFTER: &str = "\
+The stream: the raw bytes the firmware's defmt logger sent (rzCOBS frames, each ending with
+0x00), as saved from the RTT up-channel by a debug-probe tool, or as defmt-semihosting prints
+them under QEMU (`qemu-system-arm ... -semihosting-config enable=on,target=native > log.defmt`).
+A truncated or corrupted stream decodes what can be recovered: a frame that does not decode is
+dropped and its bytes skipped, bytes after the last frame separator are an incomplete frame;
+stderr gets one line with the counts (frames decoded and dropped, bytes skipped, incomplete
+bytes). defmt has no checksum: a corrupted frame that still decodes gives a wrong record.
+
+Kinds: the records of the firmware's log (see firmware/README.md, Log records): boot, armed,
+config_error, start, state, command, event, window, overrun, stall, input, panic. Each is laid
+out as `name key={..} key={..} ...` and decodes to kind `name` with its keys as fields (an
+array `[a, b, c, d]` as a JSON array, in CSV as key_0 ... key_3); any other line: kind log
+(fields arg0, arg1, ...).
+
+CSV (default): frame,offset,timestamp_s,level,kind,message, one row per decoded frame.
+--kind KIND: only that kind, columns frame,timestamp_s and its fields (exit 2 if the stream
+has none).
+--json prints {\"records\": [{\"frame\", \"offset\", \"timestamp\", \"timestamp_s\", \"level\", \"kind\",
+\"message\", \"fields\": {...}}...], \"stream\": {\"encoding\", \"bytes\", \"frames_decoded\",
+\"frames_dropped\", \"bytes_skipped\", \"incomplete_bytes\"}}.
+
+Exit codes: 0 (also when frames were lost: the counts say so), 2 an unreadable or defmt-less
+ELF, a --kind with no record, an unreadable stream.";
 
 const ACCURACY_AFTER: &str = "\
 Steps 1e-6, 1e-5, 1/25600, 1e-4, 2.5e-4 and 1e-3 s (--quick: 1/25600, 2.5e-4, 1e-3 s); methods

@@ -400,5 +400,10 @@ pub fn compare(a: &crate::cli::CompareArgs) -> Result<String> {
 }
 
 pub fn decode(a: &crate::cli::DecodeArgs) -> Result<String> {
-    crate::recorded::decode::run(a)
+    crate::recorded::decode::run(&crate::recorded::decode::DecodeRequest {
+        elf: &a.elf,
+        input: &a.input,
+        json: a.json,
+        kind: a.kind.as_deref(),
+    })
 }

@@ -30,36 +30,10 @@ use defmt_parser::{Fragment, Type};
 use serde::Serialize;
 use serde_json::Value;
 
-use crate::cli::DecodeArgs;
 use crate::error::{HostError, Result};
 
 /// Longest frame accepted [bytes] (the firmware's longest, a `window` record, is about 140).
 pub const MAX_FRAME_BYTES: usize = 1 << 16;
-
-pub const DECODE_AFTER: &str = "\
-The stream: the raw bytes the firmware's defmt logger sent (rzCOBS frames, each ending with
-0x00), as saved from the RTT up-channel by a debug-probe tool, or as defmt-semihosting prints
-them under QEMU (`qemu-system-arm ... -semihosting-config enable=on,target=native > log.defmt`).
-A truncated or corrupted stream decodes what can be recovered: a frame that does not decode is
-dropped and its bytes skipped, bytes after the last frame separator are an incomplete frame;
-stderr gets one line with the counts (frames decoded and dropped, bytes skipped, incomplete
-bytes). defmt has no checksum: a corrupted frame that still decodes gives a wrong record.
-
-Kinds: the records of the firmware's log (see firmware/README.md, Log records): boot, armed,
-config_error, start, state, command, event, window, overrun, stall, input, panic. Each is laid
-out as `name key={..} key={..} ...` and decodes to kind `name` with its keys as fields (an
-array `[a, b, c, d]` as a JSON array, in CSV as key_0 ... key_3); any other line: kind log
-(fields arg0, arg1, ...).
-
-CSV (default): frame,offset,timestamp_s,level,kind,message, one row per decoded frame.
---kind KIND: only that kind, columns frame,timestamp_s and its fields (exit 2 if the stream
-has none).
---json prints {\"records\": [{\"frame\", \"offset\", \"timestamp\", \"timestamp_s\", \"level\", \"kind\",
-\"message\", \"fields\": {...}}...], \"stream\": {\"encoding\", \"bytes\", \"frames_decoded\",
-\"frames_dropped\", \"bytes_skipped\", \"incomplete_bytes\"}}.
-
-Exit codes: 0 (also when frames were lost: the counts say so), 2 an unreadable or defmt-less
-ELF, a --kind with no record, an unreadable stream.";
 
 /// One decoded frame.
 #[derive(Clone, Debug, Serialize)]
@@ -363,8 +337,21 @@ struct DecodeJson<'a> {
     stream: &'a StreamStats,
 }
 
+/// What `stickslip decode` is asked for.
+#[derive(Clone, Copy, Debug)]
+pub struct DecodeRequest<'a> {
+    /// The firmware ELF the stream came from (its .defmt section and symbols).
+    pub elf: &'a std::path::Path,
+    /// The raw defmt byte stream's file, `-` for standard input.
+    pub input: &'a str,
+    /// One JSON object instead of CSV.
+    pub json: bool,
+    /// CSV of one kind of record only.
+    pub kind: Option<&'a str>,
+}
+
 /// `stickslip decode`.
-pub fn run(a: &DecodeArgs) -> Result<String> {
+pub fn run(a: &DecodeRequest) -> Result<String> {
     let elf_label = a.elf.display().to_string();
     let elf = std::fs::read(&a.elf).map_err(|e| HostError::Input(format!("{elf_label}: cannot read the ELF: {e}")))?;
     let table = load_table(&elf_label, &elf)?;
@@ -372,9 +359,9 @@ pub fn run(a: &DecodeArgs) -> Result<String> {
     let (label, stats) = if a.input == "-" {
         ("<stdin>".to_string(), decode_stream(&table, std::io::stdin().lock(), |r| records.push(r)))
     } else {
-        let f = std::fs::File::open(&a.input)
+        let f = std::fs::File::open(a.input)
             .map_err(|e| HostError::Input(format!("{}: cannot open the stream: {e}", a.input)))?;
-        (a.input.clone(), decode_stream(&table, std::io::BufReader::new(f), |r| records.push(r)))
+        (a.input.to_string(), decode_stream(&table, std::io::BufReader::new(f), |r| records.push(r)))
     };
     let stats = stats.map_err(|e| HostError::Input(format!("{label}: cannot read the stream: {e}")))?;
     let out = render(a, &label, &records, &stats)?;
@@ -383,7 +370,7 @@ pub fn run(a: &DecodeArgs) -> Result<String> {
     Ok(out)
 }
 
-fn render(a: &DecodeArgs, label: &str, records: &[Record], stats: &StreamStats) -> Result<String> {
+fn render(a: &DecodeRequest, label: &str, records: &[Record], stats: &StreamStats) -> Result<String> {
     if a.json {
         let mut s = serde_json::to_string_pretty(&DecodeJson { records, stream: stats })
             .map_err(|e| HostError::Output(format!("cannot write JSON: {e}")))?;
@@ -391,7 +378,7 @@ fn render(a: &DecodeArgs, label: &str, records: &[Record], stats: &StreamStats) 
         return Ok(s);
     }
     let mut out = String::new();
-    match &a.kind {
+    match a.kind {
         None => {
             out.push_str("frame,offset,timestamp_s,level,kind,message\n");
             for r in records {
@@ -406,7 +393,7 @@ fn render(a: &DecodeArgs, label: &str, records: &[Record], stats: &StreamStats) 
             }
         }
         Some(kind) => {
-            let chosen: Vec<&Record> = records.iter().filter(|r| &r.kind == kind).collect();
+            let chosen: Vec<&Record> = records.iter().filter(|r| r.kind == kind).collect();
             if chosen.is_empty() {
                 let mut found: Vec<&str> = records.iter().map(|r| r.kind.as_str()).collect();
                 found.sort_unstable();
