@@ -39,9 +39,10 @@ fn a_composition_carries_only_its_tables() {
     let f = core::mem::size_of::<f32>();
     let flows = |rows: usize, cols: usize| 3 * 25 * rows * cols * f;
     let etd = 2 * 25 * 4 * 6 * f;
-    // Stribeck slip near v = 0: three near operators per slip regime, flows and ETDRK4 vectors
-    // on the top four levels
-    let near = |rows: usize, cols: usize| 3 * 2 * 4 * (rows * cols + 4 * 6) * f;
+    // Stribeck slip near v = 0: three near operators per slip regime, ETDRK4 vectors on the
+    // top four levels and flows on the three below the top (a chunk applies only its half
+    // chunk's flow)
+    let near = |rows: usize, cols: usize| 3 * 2 * (3 * rows * cols + 4 * 4 * 6) * f;
     let mut coulomb = Scene::case(Caliper::Pull, 0.040);
     coulomb.friction = FrictionLaw::Coulomb;
     let mut band = rig_scene(Caliper::Push, 0.040);

@@ -35,6 +35,10 @@ pub const NEAR_OPS: usize = 3;
 /// Levels the near operators are tabulated on: the top ones, L - NEAR_LEVELS + 1 ..= L (a chunk
 /// of 2^j units reads levels j - 1 and j, so chunks of the top NEAR_LEVELS - 1 levels).
 pub const NEAR_LEVELS: usize = 4;
+/// Levels the near operators' flows are tabulated on: those levels but the highest, L - NEAR_LEVELS
+/// + 1 ..= L - 1 (a chunk of 2^j units applies only the flow of level j - 1: the whole chunk's
+/// flow is folded into its ETDRK4 weights).
+pub const NEAR_FLOW_LEVELS: usize = NEAR_LEVELS - 1;
 
 /// The ETDRK4 vectors of one dyadic level: h phi_1(hA) b and the three weights of the final
 /// combination, h (phi_1 - 3 phi_2 + 4 phi_3) b, h (2 phi_2 - 4 phi_3) b, h (4 phi_3 - phi_2) b.
@@ -70,11 +74,11 @@ pub trait Composition: Copy + Debug + 'static {
     /// with Coulomb friction.
     type Etd<T: Real>: Copy + Debug + AsRef<[T::PerLevel<EtdVectors<T>>]> + AsMut<[T::PerLevel<EtdVectors<T>>]>;
     /// The slip flows of the near operators (Stribeck slip near v = 0, see
-    /// [`super::Model2Stepper`]) on the top [`NEAR_LEVELS`] levels, per operator and slip
+    /// [`super::Model2Stepper`]) on [`NEAR_FLOW_LEVELS`] levels, per operator and slip
     /// regime ([`NEAR_OPS`] x 2 with Stribeck friction, none with Coulomb friction).
-    /// Entry (k - 1) 2 NEAR_LEVELS + (slip regime - 1) NEAR_LEVELS + level offset.
+    /// Entry (k - 1) 2 NEAR_FLOW_LEVELS + (slip regime - 1) NEAR_FLOW_LEVELS + level offset.
     type NearFlows<T: Real>: Copy + Debug + AsRef<[Self::Flow<T>]> + AsMut<[Self::Flow<T>]>;
-    /// Their ETDRK4 vectors, the same entries.
+    /// Their ETDRK4 vectors on the top [`NEAR_LEVELS`] levels, laid out in the same way.
     type NearEtd<T: Real>: Copy + Debug + AsRef<[EtdVectors<T>]> + AsMut<[EtdVectors<T>]>;
     fn zero_flow<T: Real>() -> Self::Flow<T>;
     fn zero_etd<T: Real>() -> Self::Etd<T>;
@@ -117,7 +121,7 @@ macro_rules! composition {
             const NAME: &'static str = $label;
             type Flow<T: Real> = [T; $flow];
             type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; $etd];
-            type NearFlows<T: Real> = [[T; $flow]; $etd * NEAR_OPS * NEAR_LEVELS];
+            type NearFlows<T: Real> = [[T; $flow]; $etd * NEAR_OPS * NEAR_FLOW_LEVELS];
             type NearEtd<T: Real> = [EtdVectors<T>; $etd * NEAR_OPS * NEAR_LEVELS];
             fn zero_flow<T: Real>() -> [T; $flow] {
                 [T::zero(); $flow]
@@ -128,7 +132,7 @@ macro_rules! composition {
             // inlined, so that a stepper built in place (`init_in`) gets its zeros in place too
             #[inline(always)]
             fn zero_near<T: Real>() -> Self::NearFlows<T> {
-                [[T::zero(); $flow]; $etd * NEAR_OPS * NEAR_LEVELS]
+                [[T::zero(); $flow]; $etd * NEAR_OPS * NEAR_FLOW_LEVELS]
             }
             #[inline(always)]
             fn zero_near_etd<T: Real>() -> Self::NearEtd<T> {

@@ -19,8 +19,9 @@
 //!   c_k = k/3 (k = 1, 2, 3), and the forcing q - g_k z: the same equation, split so that the
 //!   exponential carries the slope c_k N_0 / v_s nearest the friction's N e / v_s and the
 //!   forcing only the residual, at most N_0 / (6 v_s). The near operators are tabulated on the
-//!   top four levels (chunks of a whole, a half and a quarter substep; 4.2 KB in f32 without
-//!   the band, 6.3 KB with it) and used where the slope's rate at v = 0 times a substep is at
+//!   top four levels (chunks of a whole, a half and a quarter substep; their flows on the three
+//!   below the top, the only ones a chunk applies; 3.7 KB in f32 without the band, 5.3 KB with
+//!   it) and used where the slope's rate at v = 0 times a substep is at
 //!   most 2 (`NEAR_RATE_H_MAX`).
 //! - **Stiff friction**: where the forcing's slope is still steep (v_s toward 0, or delta != 1),
 //!   a substep is walked in dyadic chunks short enough that the slope's rate (of the residual,
@@ -48,7 +49,7 @@
 use crate::coefficients::Coefficients;
 use crate::halt::{Halt, Limits};
 use crate::linalg::{self, MatN};
-use crate::model2::composition::{Composition, EtdVectors, NEAR_LEVELS, NEAR_OPS};
+use crate::model2::composition::{Composition, EtdVectors, NEAR_FLOW_LEVELS, NEAR_LEVELS, NEAR_OPS};
 use crate::model2::system::{row_dot, System, NA, NS, ONE};
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
@@ -237,8 +238,9 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     /// Stribeck slip: etd[slip regime - 1][level] (empty with Coulomb friction)
     etd: C::Etd<T>,
     /// Stribeck slip near v = 0: the flows and ETDRK4 vectors of the near operators
-    /// A + b g_k on the top levels, entry ((k - 1) 2 + slip regime - 1) NEAR_LEVELS + level -
-    /// (L - NEAR_LEVELS + 1) (see `near_op`).
+    /// A + b g_k on the top levels, entry ((k - 1) 2 + slip regime - 1) n + level -
+    /// (L - NEAR_LEVELS + 1), n = NEAR_FLOW_LEVELS for the flows (the top level has none) and
+    /// NEAR_LEVELS for the vectors (see `near_op`).
     near_flows: C::NearFlows<T>,
     near_etd: C::NearEtd<T>,
     /// The near operators are used: exponent delta = 1 (with another exponent the slope at
@@ -501,10 +503,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                 let a = &a_k;
                 let near_index = (k.max(1) - 1) * 2 + regime.index().max(1) - 1;
                 let tau = h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32);
-                let flow = if k > 0 {
-                    self.near_flows.as_mut()[near_index * NEAR_LEVELS + j - top].as_mut()
-                } else {
+                // (a near operator's top level has ETDRK4 vectors but no flow)
+                let flow: &mut [T] = if k == 0 {
                     self.flows[regime.index()].as_mut()[j].as_mut()
+                } else if j < Self::LEVELS {
+                    self.near_flows.as_mut()[near_index * NEAR_FLOW_LEVELS + j - top].as_mut()
+                } else {
+                    &mut []
                 };
                 let e = if with_phi {
                     // [[A, b, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]] * tau
@@ -524,10 +529,8 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     }
                     e
                 };
-                for r in 0..C::ROWS {
-                    for c in 0..C::COLS {
-                        flow[r * C::COLS + c] = t(e[r][cols[c]]);
-                    }
+                for (i, f) in flow.iter_mut().enumerate() {
+                    *f = t(e[i / C::COLS][cols[i % C::COLS]]);
                 }
                 if with_phi {
                     let v: &mut EtdVectors<T> = if k > 0 {
@@ -776,13 +779,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
     }
 
-    /// The flow increment over 2^j units of a chunk's operator (a near operator's tables start
-    /// at level L - NEAR_LEVELS + 1).
+    /// The flow increment over 2^j units of a chunk's operator (a near operator's flows are on
+    /// levels L - NEAR_LEVELS + 1 ..= L - 1).
     #[inline(always)]
     fn etd_inc<const NEAR: bool>(&self, regime: Regime, j: usize, z: &[T; NS], near_index: usize) -> [T; NS] {
         if NEAR {
             let top = T::DYADIC_LEVELS + 1 - NEAR_LEVELS;
-            increment::<T, C>(&self.near_flows.as_ref()[near_index * NEAR_LEVELS + j - top], z)
+            increment::<T, C>(&self.near_flows.as_ref()[near_index * NEAR_FLOW_LEVELS + j - top], z)
         } else {
             self.flow_increment(regime, j, z)
         }
