@@ -7,7 +7,10 @@
 //!
 //! The state is `z = [x, x', phi, phi', u, u']` with `u = x_b - V t` the band's offset from its
 //! drive point (`u = u' = 0` for good without the band; `phi = phi_0`, `phi' = 0` for good
-//! without rotation). The sliding velocity is `v = x' - V - u'`.
+//! without rotation). The sliding velocity is `v = x' - V - u'`, with friction-face kinematics
+//! (`face`) `v = x' + s w phi' - V - u'`; stick then holds the face, and its friction is solved
+//! from the three equations of motion and the constraint `v' = 0` as written (not from the
+//! model crate's scaled form).
 //!
 //! Event location:
 //! - a regime's guard `g(z)` is negative while the regime holds (stick:
@@ -26,7 +29,8 @@
 //!
 //! Transitions follow the table of docs/model.md. Entering stick sets `v = 0`: without the band
 //! `x' = V`; with the band both velocities to the momentum velocity
-//! `(m x' + m_b x_b') / (m + m_b)`.
+//! `(m x' + m_b x_b') / (m + m_b)`; with the face, the friction impulse
+//! `P = -v / (1/m + w^2/I + 1/m_b)` changes x', phi', u' by `P/m`, `s w P / I`, `-P/m_b`.
 //!
 //! Slow and allocating: a yardstick for tests, not the product.
 
@@ -80,6 +84,8 @@ struct Phys {
     mb: f64,
     kb: f64,
     cb: f64,
+    /// Friction-face kinematics (only with rotation).
+    face: bool,
 }
 
 impl Phys {
@@ -114,6 +120,7 @@ impl Phys {
             mb: sc.m_b,
             kb: sc.k_b,
             cb: sc.c_b,
+            face: sc.face && sc.rotation,
         }
     }
 
@@ -130,9 +137,34 @@ impl Phys {
         }
     }
 
-    /// Sliding velocity v = x' - V - u'.
+    /// Sliding velocity v = x' (+ s w phi') - V - u'.
     fn slip_v(&self, z: &Z) -> f64 {
-        z[1] - self.v - if self.band { z[5] } else { 0.0 }
+        self.face_rate(z) - self.v
+    }
+
+    /// The face's velocity relative to the band's drive point, x' (+ s w phi') - u' (also the
+    /// rate of v along the motion when given z').
+    fn face_rate(&self, z: &Z) -> f64 {
+        z[1] + if self.face { self.s * self.w * z[3] } else { 0.0 } - if self.band { z[5] } else { 0.0 }
+    }
+
+    /// 1/m + w^2/I (face) + 1/m_b (band): the sliding velocity's response to a friction impulse.
+    fn inv_mass_v(&self) -> f64 {
+        1.0 / self.m
+            + if self.face { self.w * self.w / self.i } else { 0.0 }
+            + if self.band { 1.0 / self.mb } else { 0.0 }
+    }
+
+    /// With the face: the stick's friction from x'' + s w phi'' - u'' = 0 and the three
+    /// equations of motion; `affine = false` drops the constant terms (for rates).
+    fn f_req_face(&self, z: &Z, affine: bool) -> f64 {
+        let c = if affine { 1.0 } else { 0.0 };
+        let px = -self.kg * z[0] - self.cx * z[1];
+        let pphi = -self.k_rot * z[2] - self.cphi * z[3] + c * self.moment_load;
+        let pu = if self.band { -self.kb * z[4] - self.cb * z[5] } else { 0.0 };
+        // (px + F)/m + s w (pphi + s w F)/I - (pu - F)/m_b = 0
+        let rhs = -px / self.m - self.s * self.w * pphi / self.i + if self.band { pu / self.mb } else { 0.0 };
+        rhs / self.inv_mass_v()
     }
 
     fn mu(&self, speed: f64) -> f64 {
@@ -162,7 +194,9 @@ impl Phys {
 
     /// The stick's required friction force.
     fn f_req(&self, z: &Z) -> f64 {
-        if self.band {
+        if self.face {
+            self.f_req_face(z, true)
+        } else if self.band {
             (self.mb * (self.kg * z[0] + self.cx * z[1]) - self.m * (self.kb * z[4] + self.cb * z[5])) / (self.m + self.mb)
         } else {
             self.kg * z[0] + self.cx * self.v
@@ -171,7 +205,9 @@ impl Phys {
 
     /// Rate of F_req along the motion zd (F_req is affine in z).
     fn f_req_rate(&self, zd: &Z) -> f64 {
-        if self.band {
+        if self.face {
+            self.f_req_face(zd, false)
+        } else if self.band {
             (self.mb * (self.kg * zd[0] + self.cx * zd[1]) - self.m * (self.kb * zd[4] + self.cb * zd[5])) / (self.m + self.mb)
         } else {
             self.kg * zd[0]
@@ -188,6 +224,11 @@ impl Phys {
     fn rhs(&self, regime: Regime, z: &Z) -> Z {
         let ff = self.friction(regime, z);
         let (xdd, udd) = match regime {
+            Regime::Stick if self.face => {
+                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
+                let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
+                (xdd, udd)
+            }
             Regime::Stick => {
                 if self.band {
                     let a = (-self.kg * z[0] - self.cx * z[1] - self.kb * z[4] - self.cb * z[5]) / (self.m + self.mb);
@@ -226,7 +267,7 @@ impl Phys {
         match regime {
             Regime::Stick => self.f_req(z).signum() * self.f_req_rate(&zd) - self.mu_s * self.normal_rate(&zd),
             _ => {
-                let vd = zd[1] - if self.band { zd[5] } else { 0.0 };
+                let vd = self.face_rate(&zd);
                 if regime == Regime::Slower {
                     vd
                 } else {
@@ -248,13 +289,15 @@ impl Phys {
         let zd = self.rhs(regime, z);
         let jerk_u = if !self.band {
             0.0
+        } else if regime == Regime::Stick && self.face {
+            (-self.kb * zd[4] - self.cb * zd[5] - self.f_req_rate(&zd)) / self.mb
         } else if regime == Regime::Stick {
             (-self.kg * zd[0] - self.cx * zd[1] - self.kb * zd[4] - self.cb * zd[5]) / (self.m + self.mb)
         } else {
             let sg = Self::sigma(regime);
             let speed = self.slip_v(z).abs();
             // |v| = -sigma v in slip
-            let speed_rate = -sg * (zd[1] - zd[5]);
+            let speed_rate = -sg * self.face_rate(&zd);
             let ff_rate =
                 sg * (self.mu(speed) * self.normal_rate(&zd) + self.normal(z) * self.mu_slope(speed) * speed_rate);
             (-self.kb * zd[4] - self.cb * zd[5] - ff_rate) / self.mb
@@ -264,7 +307,14 @@ impl Phys {
 
     /// Sets v = 0 on entering stick.
     fn project_stick(&self, z: &mut Z) {
-        if self.band {
+        if self.face {
+            let p = -self.slip_v(z) / self.inv_mass_v();
+            z[1] += p / self.m;
+            z[3] += self.s * self.w * p / self.i;
+            if self.band {
+                z[5] -= p / self.mb;
+            }
+        } else if self.band {
             let common = (self.m * z[1] + self.mb * (self.v + z[5])) / (self.m + self.mb);
             z[1] = common;
             z[5] = common - self.v;
@@ -303,7 +353,7 @@ impl Phys {
         if self.rotation {
             r = r.max(((self.k_rot + self.mu_s * self.w * self.c_n) / self.i).sqrt()).max(self.cphi / self.i);
         }
-        let inv_mass = 1.0 / self.m + if self.band { 1.0 / self.mb } else { 0.0 };
+        let inv_mass = self.inv_mass_v();
         if self.band {
             r = r.max((self.kb / self.mb).sqrt()).max(self.cb / self.mb);
         }

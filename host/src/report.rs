@@ -132,6 +132,12 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
             ),
         );
     }
+    if s.face {
+        line(
+            "kinematics",
+            "friction face: sliding velocity x' + s w phi' - band velocity; stick holds the face".into(),
+        );
+    }
     if s.c_x != 0.0 || s.c_phi != 0.0 {
         line(
             "damping",

@@ -53,6 +53,7 @@ struct SceneToml {
     m_b: Option<f64>,
     k_b: Option<f64>,
     c_b: Option<f64>,
+    face: Option<bool>,
     zeta_x: Option<f64>,
     zeta_phi: Option<f64>,
     zeta_b: Option<f64>,
@@ -70,7 +71,7 @@ pub struct ParsedScene {
 }
 
 /// Unit and meaning of each key, in file order (also used for `--help`).
-pub const KEYS: [(&str, &str); 33] = [
+pub const KEYS: [(&str, &str); 34] = [
     ("name", "scene name (reported in every output)"),
     ("description", "one line for `stickslip scenes` (optional)"),
     (
@@ -133,6 +134,11 @@ pub const KEYS: [(&str, &str); 33] = [
     ("k_b", "band drive (cylinder) stiffness k_b [N/m] (band = true)"),
     ("c_b", "band drive damping c_b [N s/m] (band = true)"),
     (
+        "face",
+        "true: friction-face kinematics, the face (w from the pivot) slides at x' + s w phi' less \
+         the band's velocity and stick holds it there; false: the thesis's pivot, x' less the band's",
+    ),
+    (
         "zeta_x",
         "instead of c_x: damping ratio of the x mode in slip, c_x = 2 zeta_x sqrt(k_g m) [-]",
     ),
@@ -193,7 +199,7 @@ pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
     }
     take!(
         m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi,
-        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, dt, duration, stats_from
+        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, dt, duration, stats_from
     );
     if let Some(f) = t.friction {
         s.friction = match f {
@@ -309,6 +315,9 @@ fn values(s: &Scene) -> Vec<(&'static str, String)> {
         v.push(("m_b", f(s.m_b)));
         v.push(("k_b", f(s.k_b)));
         v.push(("c_b", f(s.c_b)));
+    }
+    if s.face {
+        v.push(("face", "true".to_string()));
     }
     v.extend([
         ("dt", f(s.dt)),

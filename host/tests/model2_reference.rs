@@ -56,3 +56,30 @@ fn two_dof_stribeck_and_the_rig_set_match_the_reference() {
         assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
     }
 }
+
+#[test]
+fn friction_face_kinematics_match_the_reference() {
+    // the pull cases settle into a periodic cycle (comparable by period and amplitudes)
+    let mut coulomb = Scene::case(stickslip_model::Caliper::Pull, 0.040);
+    coulomb.face = true;
+    let mut damped = Scene::case(stickslip_model::Caliper::Pull, 0.055);
+    damped.face = true;
+    damped.c_x = 15.0;
+    damped.c_phi = 0.05;
+    let mut rig = builtin::find("rig_pull_center").unwrap().scene;
+    rig.face = true;
+    let mut rig_no_band = rig;
+    rig_no_band.band = false;
+    for (name, scene) in [
+        ("pull_center + face", coulomb),
+        ("pull_lead + face + damping", damped),
+        ("rig_pull_center + face", rig),
+        ("rig_pull_center + face, no band", rig_no_band),
+    ] {
+        let e64 = errors(&scene, &stepper::<f64>(&scene));
+        let e32 = errors(&scene, &stepper::<f32>(&scene));
+        println!("{name} f64 {e64:?}\n{name} f32 {e32:?}");
+        assert!(e64.iter().all(|&e| e <= 1e-5), "{name} f64 {e64:?}");
+        assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
+    }
+}

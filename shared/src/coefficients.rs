@@ -70,12 +70,19 @@ impl Coefficients {
 
     /// Quasi-static time from rest to the first slip (no damping):
     /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)); with the rotation held (N constant) the
-    /// bracket is 1. Infinite when the pad self-locks.
+    /// bracket is 1. Infinite when the pad self-locks. With friction-face kinematics the face,
+    /// not the pivot, moves at V: x + s w phi - s w phi0 = F (1/k_g + w^2/K) = V t, so t1 grows
+    /// by the factor 1 + k_g w^2 / K.
     pub fn quasi_static_first_slip(&self, scene: &Scene) -> f64 {
         let lock = if scene.rotation { 1.0 - self.s * scene.mu_s * scene.w * self.c_n / self.k_rot } else { 1.0 };
         if lock <= 0.0 {
             return f64::INFINITY;
         }
-        scene.mu_s * self.n0 / (scene.k_g * scene.v * lock)
+        let t1 = scene.mu_s * self.n0 / (scene.k_g * scene.v * lock);
+        if scene.face && scene.rotation {
+            t1 * (1.0 + scene.k_g * scene.w * scene.w / self.k_rot)
+        } else {
+            t1
+        }
     }
 }

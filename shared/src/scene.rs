@@ -97,6 +97,10 @@ pub struct Scene {
     pub k_b: f64,
     /// Band drive damping c_b [N s/m] (read only with `band`).
     pub c_b: f64,
+    /// `true`: friction-face kinematics (docs/model.md, "Model 2", option 4): the face slides
+    /// at x' + s w phi' less the band's velocity, and stick holds that sliding velocity at zero
+    /// (x and phi coupled); `false`: the thesis's pivot kinematics, x' less the band's velocity.
+    pub face: bool,
     /// Fixed step dt [s].
     pub dt: f64,
     /// Run length [s].
@@ -132,6 +136,7 @@ pub const DEFAULT_SCENE: Scene = Scene {
     m_b: 2.0,
     k_b: 1e6,
     c_b: 0.0,
+    face: false,
     dt: 1.0 / 25600.0,
     duration: 1.0,
     stats_from: 0.5,
@@ -170,10 +175,10 @@ fn check(ok: bool, field: &'static str, rule: &'static str, value: f64) -> Resul
 
 impl Scene {
     /// Whether the scene uses any option of model 2 that the thesis stepper
-    /// ([`crate::ExactStepper`]) does not carry: Stribeck friction or the band degree of
-    /// freedom. Damping is part of both steppers' exact flows.
+    /// ([`crate::ExactStepper`]) does not carry: Stribeck friction, the band degree of
+    /// freedom or friction-face kinematics. Damping is part of both steppers' exact flows.
     pub const fn uses_model2(&self) -> bool {
-        matches!(self.friction, FrictionLaw::Stribeck) || self.band
+        matches!(self.friction, FrictionLaw::Stribeck) || self.band || self.face
     }
 
     /// One of the six cases: the default pad with the given caliper and load position.

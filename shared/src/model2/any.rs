@@ -3,7 +3,9 @@
 //! [`Model2Stepper`] of one [`Composition`]; a call costs one match on the variant.
 
 use crate::halt::Halt;
-use crate::model2::composition::{Band, Composition, Coulomb, Stribeck, StribeckBand};
+use crate::model2::composition::{
+    Band, BandFace, Composition, Coulomb, CoulombFace, Stribeck, StribeckBand, StribeckBandFace, StribeckFace,
+};
 use crate::model2::stepper::{Model2Stepper, Observer2};
 use crate::model2::system::{System, NS};
 use crate::real::Real;
@@ -19,6 +21,10 @@ pub enum AnyModel2Stepper<T: Real> {
     Band(Model2Stepper<T, Band>),
     Stribeck(Model2Stepper<T, Stribeck>),
     StribeckBand(Model2Stepper<T, StribeckBand>),
+    CoulombFace(Model2Stepper<T, CoulombFace>),
+    BandFace(Model2Stepper<T, BandFace>),
+    StribeckFace(Model2Stepper<T, StribeckFace>),
+    StribeckBandFace(Model2Stepper<T, StribeckBandFace>),
 }
 
 macro_rules! each {
@@ -28,6 +34,10 @@ macro_rules! each {
             AnyModel2Stepper::Band($s) => $e,
             AnyModel2Stepper::Stribeck($s) => $e,
             AnyModel2Stepper::StribeckBand($s) => $e,
+            AnyModel2Stepper::CoulombFace($s) => $e,
+            AnyModel2Stepper::BandFace($s) => $e,
+            AnyModel2Stepper::StribeckFace($s) => $e,
+            AnyModel2Stepper::StribeckBandFace($s) => $e,
         }
     };
 }
@@ -36,11 +46,15 @@ impl<T: Real> AnyModel2Stepper<T> {
     /// The stepper of `scene`'s composition.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
         let stribeck = scene.friction == FrictionLaw::Stribeck;
-        Ok(match (stribeck, scene.band) {
-            (false, true) => AnyModel2Stepper::Band(Model2Stepper::new(scene)?),
-            (true, false) => AnyModel2Stepper::Stribeck(Model2Stepper::new(scene)?),
-            (true, true) => AnyModel2Stepper::StribeckBand(Model2Stepper::new(scene)?),
-            (false, false) => AnyModel2Stepper::Coulomb(Model2Stepper::new(scene)?),
+        Ok(match (stribeck, scene.band, scene.face) {
+            (false, true, false) => AnyModel2Stepper::Band(Model2Stepper::new(scene)?),
+            (true, false, false) => AnyModel2Stepper::Stribeck(Model2Stepper::new(scene)?),
+            (true, true, false) => AnyModel2Stepper::StribeckBand(Model2Stepper::new(scene)?),
+            (false, false, false) => AnyModel2Stepper::Coulomb(Model2Stepper::new(scene)?),
+            (false, true, true) => AnyModel2Stepper::BandFace(Model2Stepper::new(scene)?),
+            (true, false, true) => AnyModel2Stepper::StribeckFace(Model2Stepper::new(scene)?),
+            (true, true, true) => AnyModel2Stepper::StribeckBandFace(Model2Stepper::new(scene)?),
+            (false, false, true) => AnyModel2Stepper::CoulombFace(Model2Stepper::new(scene)?),
         })
     }
     /// The composition's name.

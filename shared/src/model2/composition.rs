@@ -14,6 +14,10 @@
 //! | [`Stribeck`] (no band) | 4 (x, x', phi, phi') | 4 x 5 | 2 slip regimes (+ near) |
 //! | [`StribeckBand`] | 6 | 6 x 7 | 2 slip regimes (+ near) |
 //!
+//! Each has a friction-face twin ([`CoulombFace`], [`BandFace`], [`StribeckFace`],
+//! [`StribeckBandFace`]) with the same tables: face kinematics changes rows and the stick flows'
+//! entries, not their sizes.
+//!
 //! With Stribeck friction each slip regime also has near operators: flows and ETDRK4 vectors
 //! about part of the falling slope at v = 0 (A + b g_k, k = 1 .. [`NEAR_OPS`]), on the top
 //! [`NEAR_LEVELS`] levels only (`Model2Stepper` documents why).
@@ -22,7 +26,7 @@
 //! with or without damping runs on [`crate::ExactStepper`] ([`Coulomb`] is that model in
 //! model 2's matrices: a cross-check of them, not a production path). [`super::AnyModel2Stepper`] picks
 //! the composition from a scene at run time (the host); the firmware names its composition.
-//! Part 2 (face kinematics, the floating pad) adds constants here.
+//! Part 2 adds face kinematics here ([`Composition::FACE`]).
 
 use core::fmt::Debug;
 
@@ -62,6 +66,11 @@ pub trait Composition: Copy + Debug + 'static {
     const BAND: bool;
     /// Stribeck friction (ETDRK4 in slip); Coulomb otherwise.
     const STRIBECK: bool;
+    /// Friction-face kinematics: the sliding velocity carries s w phi', stick holds the face
+    /// (x and phi coupled). The tables' sizes are those of the same composition without it;
+    /// what it changes is in the rows, the stick flows and three small functions of the
+    /// stepper (the sliding velocity, the entry to stick, the stick anchor).
+    const FACE: bool;
     /// Name in reports.
     const NAME: &'static str;
     /// State entries a flow moves: 6 with the band, 4 without (u = u' = 0 for good).
@@ -102,6 +111,13 @@ pub trait Composition: Copy + Debug + 'static {
                 value: if scene.band { 1.0 } else { 0.0 },
             });
         }
+        if scene.face != Self::FACE {
+            return Err(SceneError {
+                field: "face",
+                rule: "is not what this model-2 stepper was compiled for",
+                value: if scene.face { 1.0 } else { 0.0 },
+            });
+        }
         Ok(())
     }
 }
@@ -110,7 +126,7 @@ pub trait Composition: Copy + Debug + 'static {
 /// entries per level: 4 x 5 without the band, 6 x 7 with it; ETDRK4 tables for the two slip
 /// regimes with Stribeck friction, none with Coulomb).
 macro_rules! composition {
-    ($(#[$doc:meta])* $name:ident, band: $band:expr, stribeck: $stribeck:expr, $label:expr, flow: $flow:expr, etd: $etd:expr) => {
+    ($(#[$doc:meta])* $name:ident, band: $band:expr, stribeck: $stribeck:expr, face: $face:expr, $label:expr, flow: $flow:expr, etd: $etd:expr) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug)]
         pub struct $name;
@@ -118,6 +134,7 @@ macro_rules! composition {
         impl Composition for $name {
             const BAND: bool = $band;
             const STRIBECK: bool = $stribeck;
+            const FACE: bool = $face;
             const NAME: &'static str = $label;
             type Flow<T: Real> = [T; $flow];
             type Etd<T: Real> = [T::PerLevel<EtdVectors<T>>; $etd];
@@ -146,17 +163,33 @@ macro_rules! composition {
 
 composition!(
     /// Coulomb friction, no band: the thesis model in model 2's matrices.
-    Coulomb, band: false, stribeck: false, "coulomb", flow: 20, etd: 0
+    Coulomb, band: false, stribeck: false, face: false, "coulomb", flow: 20, etd: 0
 );
 composition!(
     /// Coulomb friction and the band.
-    Band, band: true, stribeck: false, "band", flow: 42, etd: 0
+    Band, band: true, stribeck: false, face: false, "band", flow: 42, etd: 0
 );
 composition!(
     /// Stribeck friction, no band.
-    Stribeck, band: false, stribeck: true, "stribeck", flow: 20, etd: 2
+    Stribeck, band: false, stribeck: true, face: false, "stribeck", flow: 20, etd: 2
 );
 composition!(
     /// Stribeck friction and the band.
-    StribeckBand, band: true, stribeck: true, "stribeck+band", flow: 42, etd: 2
+    StribeckBand, band: true, stribeck: true, face: false, "stribeck+band", flow: 42, etd: 2
+);
+composition!(
+    /// Coulomb friction, friction-face kinematics, no band.
+    CoulombFace, band: false, stribeck: false, face: true, "coulomb+face", flow: 20, etd: 0
+);
+composition!(
+    /// Coulomb friction, the band, friction-face kinematics.
+    BandFace, band: true, stribeck: false, face: true, "band+face", flow: 42, etd: 0
+);
+composition!(
+    /// Stribeck friction, friction-face kinematics, no band.
+    StribeckFace, band: false, stribeck: true, face: true, "stribeck+face", flow: 20, etd: 2
+);
+composition!(
+    /// Stribeck friction, the band, friction-face kinematics.
+    StribeckBandFace, band: true, stribeck: true, face: true, "stribeck+band+face", flow: 42, etd: 2
 );

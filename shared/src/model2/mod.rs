@@ -1,8 +1,8 @@
-//! Model 2, part 1 (docs/model.md, "Model 2"): Stribeck friction, the band as a degree of
-//! freedom, damping on every degree of freedom, on top of the thesis model.
+//! Model 2 (docs/model.md, "Model 2"): Stribeck friction, the band as a degree of freedom,
+//! damping on every degree of freedom, friction-face kinematics, on top of the thesis model.
 //!
 //! - [`system`]: the equations as matrices and rows (state x, x', phi, phi', u, u').
-//! - [`composition`]: which options a stepper is compiled for (band; Stribeck or Coulomb).
+//! - [`composition`]: which options a stepper is compiled for (band; Stribeck or Coulomb; face).
 //! - [`stepper`]: the fixed-step stepper (exact flows for the linear regimes, ETDRK4 for
 //!   Stribeck slip, in-step transitions and crests), generic over its composition.
 //! - [`any`]: the stepper of the composition a scene asks for, chosen at run time (host).
@@ -18,7 +18,7 @@ pub mod stepper;
 pub mod system;
 
 pub use any::AnyModel2Stepper;
-pub use composition::{Band, Composition, Coulomb, Stribeck, StribeckBand};
+pub use composition::{Band, BandFace, Composition, Coulomb, CoulombFace, Stribeck, StribeckBand, StribeckBandFace, StribeckFace};
 pub use stats::{Stats2, Stats2Observer};
 pub use stepper::{Model2Stepper, Observer2, Segment2, Transition2};
 pub use system::{System, NA, NS};

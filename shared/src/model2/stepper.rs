@@ -287,7 +287,8 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     step: u64,
     halted: Option<Halt>,
     transitions: u64,
-    /// Stick without the band: x = anchor_x + V (t - t_anchor), recomputed after each chunk so
+    /// Stick without the band: x = anchor_x + V (t - t_anchor) (with the face: x + s w phi =
+    /// ...), recomputed after each chunk so
     /// that a long stick in f32 does not accumulate x += V h round-off. t - t_anchor is counted
     /// in T from whole substeps and units (no f64 on the M4F's path): the anchor's substep
     /// (global index) and its unit in that substep.
@@ -377,7 +378,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
         // the falling slope at v = 0 with N = N_0, (mu_s - mu_k) N_0 / v_s [N s/m], and its rate
         let near_kv = sys.d_mu * co.n0 / scene.v_s;
-        let near_rate = near_kv * (1.0 / scene.m + if scene.band { 1.0 / scene.m_b } else { 0.0 });
+        let near_rate = near_kv * sys.inv_mass_v;
         let near_on = C::STRIBECK && scene.stribeck_exponent == 1.0 && near_rate * h_sub <= NEAR_RATE_H_MAX;
         let near_c: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(k as f64 / NEAR_OPS as f64));
         let near_cn0: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(co.n0 * k as f64 / NEAR_OPS as f64));
@@ -444,14 +445,15 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             }),
             armed: false,
             v_round: t(libm::ldexp(scene.v, 8 - Self::LEVELS as i32)),
-            rate_coef: t(sys.d_mu * scene.stribeck_exponent / scene.v_s
-                * (1.0 / scene.m + if scene.band { 1.0 / scene.m_b } else { 0.0 })),
+            rate_coef: t(sys.d_mu * scene.stribeck_exponent / scene.v_s * sys.inv_mass_v),
             rate_limit: T::per_level(T::zero()),
             slip_sparse: false,
         });
         for (j, r) in s.rate_limit.as_mut().iter_mut().enumerate() {
             *r = t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)));
         }
+        // the stick anchor of the start (x = 0; with the face x + s w phi_0)
+        s.anchor_x = s.face_position(&s.z);
         s.fill_tables(scene, &co);
         s.slip_sparse = [Regime::SlipSlower, Regime::SlipFaster]
             .iter()
@@ -629,18 +631,25 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let mut z = self.z;
             self.enter_stick(&mut z);
             self.z = z;
-            self.anchor_x = z[0];
+            self.anchor_x = self.face_position(&z);
             self.anchor_sub = self.subs_done;
             self.anchor_unit = T::zero();
         }
         self.halted = None;
     }
 
-    /// Sliding velocity v = x' - V - u' [m/s].
+    /// Sliding velocity v = x' (+ s w phi' with the face) - V - u' [m/s].
     #[inline(always)]
     pub fn sliding_velocity(&self, z: &[T; NS]) -> T {
-        // r_v = [0, 1, 0, 0, 0, -1 (band), -V]: the same value as its row product
-        if C::BAND {
+        // r_v = [0, 1, 0, s w (face), 0, -1 (band), -V]: the same value as its row product
+        if C::FACE {
+            let pad = z[1] + self.r_v[3] * z[3];
+            if C::BAND {
+                (pad - z[5]) + self.r_v[ONE]
+            } else {
+                pad + self.r_v[ONE]
+            }
+        } else if C::BAND {
             (z[1] - z[5]) + self.r_v[ONE]
         } else {
             z[1] + self.r_v[ONE]
@@ -979,9 +988,26 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     }
 
     /// Sets the sliding velocity to zero on entry to stick: x' = V without the band; with it,
-    /// pad and band take their common momentum velocity.
+    /// pad and band take their common momentum velocity. With the face: the friction impulse
+    /// p that stops the face, -v / (r_v . b), moves phi' (and u') by b p, and x' then takes
+    /// the constraint's value exactly, x' = V + u' - s w phi' (with w = 0 and no band this is
+    /// x' = V, as without the face).
     fn enter_stick(&self, z: &mut [T; NS]) {
-        if C::BAND {
+        if C::FACE {
+            let s_w = self.r_v[3];
+            let mut inv_mass = self.b[1] + s_w * self.b[3];
+            if C::BAND {
+                inv_mass = inv_mass - self.b[5];
+            }
+            let p = -self.sliding_velocity(z) / inv_mass;
+            z[3] = z[3] + self.b[3] * p;
+            if C::BAND {
+                z[5] = z[5] + self.b[5] * p;
+                z[1] = (self.v + z[5]) - s_w * z[3];
+            } else {
+                z[1] = self.v - s_w * z[3];
+            }
+        } else if C::BAND {
             let xb = self.v + z[5];
             let common = (self.m * z[1] + self.m_b * xb) / (self.m + self.m_b);
             z[1] = common;
@@ -1212,7 +1238,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let mut zn = ze;
             if next == Regime::Stick {
                 self.enter_stick(&mut zn);
-                self.anchor_x = zn[0];
+                self.anchor_x = self.face_position(&zn);
                 self.anchor_sub = self.subs_done;
                 self.anchor_unit = units_t(at);
             }
@@ -1243,7 +1269,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     }
 
     /// In stick without the band, x from its anchor (see `anchor_x`) at `unit` of the current
-    /// substep.
+    /// substep. With the face it is the face's position x + s w phi that moves at V.
     #[inline(always)]
     fn anchor_stick_x(&self, regime: Regime, z: &mut [T; NS], unit: u64) {
         if regime == Regime::Stick && !C::BAND {
@@ -1251,6 +1277,19 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let d = if d > u32::MAX as u64 { u32::MAX } else { d as u32 };
             let elapsed = T::from_u32(d) * self.h_t + (units_t::<T>(unit) - self.anchor_unit) * self.hu_t;
             z[0] = self.anchor_x + self.v * elapsed;
+            if C::FACE {
+                z[0] = z[0] - self.r_v[3] * z[2];
+            }
+        }
+    }
+
+    /// The coordinate stick moves at V without the band: x, or with the face x + s w phi.
+    #[inline(always)]
+    fn face_position(&self, z: &[T; NS]) -> T {
+        if C::FACE {
+            z[0] + self.r_v[3] * z[2]
+        } else {
+            z[0]
         }
     }
 

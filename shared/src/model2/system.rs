@@ -1,4 +1,4 @@
-//! The equations of model 2, part 1, as matrices (docs/model.md, "Model 2, part 1").
+//! The equations of model 2 as matrices (docs/model.md, "Model 2").
 //!
 //! State z = [x, x', phi, phi', u, u'] with u = x_b - V t (the band's offset from its drive
 //! point), augmented with a constant 1 (index [`ONE`]). Every regime's Coulomb part is linear,
@@ -35,7 +35,7 @@ pub struct System {
     pub a: [Mat7; 3],
     /// Direction of a unit friction force on the pad, per unit of force [1/kg, 1/(kg m)].
     pub b: [f64; NA],
-    /// Sliding velocity v = x' - V - u' [m/s] (face term: part 2).
+    /// Sliding velocity v = x' (+ s w phi' with the face) - V - u' [m/s].
     pub r_v: [f64; NA],
     /// Normal force N [N]: c_N phi, or N_0 without rotation.
     pub r_n: [f64; NA],
@@ -44,6 +44,14 @@ pub struct System {
     pub stribeck: bool,
     pub band: bool,
     pub rotation: bool,
+    /// Friction-face kinematics (with rotation: without it phi' = 0 and the face is the pivot).
+    pub face: bool,
+    /// s w [m]: the friction's moment arm about the pivot, and with `face` the face velocity's
+    /// phi' coefficient.
+    pub s_w: f64,
+    /// Inverse effective mass of the sliding velocity, dv/dt per newton of friction on the pad,
+    /// r_v . b = 1/m (+ (s w)^2 / I with the face, + 1/m_b with the band) [1/kg].
+    pub inv_mass_v: f64,
     /// mu_s - mu_k.
     pub d_mu: f64,
     pub mu_s: f64,
@@ -67,11 +75,16 @@ impl System {
         } else {
             r_n[ONE] = co.n0;
         }
+        let face = scene.face;
         let mut r_v = [0.0; NA];
         r_v[1] = 1.0;
         r_v[ONE] = -scene.v;
         if band {
             r_v[5] = -1.0;
+        }
+        if face && rot {
+            // the face, w from the pivot line, moves at x' + s w phi'
+            r_v[3] = s_w;
         }
         // the pad's and the band's restoring rows (no friction)
         let mut pad_x = [0.0; NA]; // m x'' without friction
@@ -91,7 +104,22 @@ impl System {
         // stick: F_req and the common acceleration
         let mut r_freq = [0.0; NA];
         let mut stick_acc = [0.0; NA]; // x'' (= u'' with the band)
-        if band {
+        // face kinematics: the stick constraint x'' + s w phi'' = u'' (band) or 0 with the
+        // friction F on the pad, m x'' = P_x + F, I phi'' = P_phi + s w F, m_b u'' = P_u - F:
+        //   F = (-P_x - (m s w / I) P_phi + (m / m_b) P_u) / (1 + m (s w)^2 / I + m / m_b)
+        // (the band's terms only with the band). Scaled by m, so that w = 0 without the band
+        // gives F = -P_x exactly.
+        let s_w_face = if face && rot { s_w } else { 0.0 };
+        if face {
+            let den = 1.0 + m * s_w_face * s_w_face / i + if band { m / scene.m_b } else { 0.0 };
+            for c in 0..NA {
+                let mut num = -pad_x[c] - m * s_w_face / i * rot_row[c];
+                if band {
+                    num += m / scene.m_b * band_u[c];
+                }
+                r_freq[c] = num / den;
+            }
+        } else if band {
             let mt = m + scene.m_b;
             for c in 0..NA {
                 stick_acc[c] = (pad_x[c] + band_u[c]) / mt;
@@ -113,6 +141,17 @@ impl System {
                 ar[4][5] = 1.0;
             }
             match regime {
+                Regime::Stick if face => {
+                    for c in 0..NA {
+                        ar[1][c] = (pad_x[c] + r_freq[c]) / m;
+                        if rot {
+                            ar[3][c] = (rot_row[c] + s_w * r_freq[c]) / i;
+                        }
+                        if band {
+                            ar[5][c] = (band_u[c] - r_freq[c]) / scene.m_b;
+                        }
+                    }
+                }
                 Regime::Stick => {
                     if band {
                         ar[1] = stick_acc;
@@ -156,6 +195,9 @@ impl System {
             stribeck: scene.friction == FrictionLaw::Stribeck,
             band,
             rotation: rot,
+            face,
+            s_w,
+            inv_mass_v: (0..NA).map(|c| r_v[c] * b[c]).sum(),
             d_mu: scene.mu_s - scene.mu_k,
             mu_s: scene.mu_s,
             mu_k: scene.mu_k,
@@ -186,6 +228,17 @@ impl System {
                     let k = co.k_rot - co.s * scene.w * sigma * mu * co.c_n;
                     rate = rate.max(quad_max_root(scene.inertia, scene.c_phi, k));
                 }
+            }
+        }
+        if self.face && self.rotation {
+            // stick holds the face: x = x_face - s w phi, one rotational mode about the face,
+            // (I + m w^2) phi'' = -(K + k_g w^2) phi - (c_phi + c_x w^2) phi' + ...
+            let w2 = scene.w * scene.w;
+            let face_rate =
+                quad_max_root(scene.inertia + scene.m * w2, scene.c_phi + scene.c_x * w2, co.k_rot + scene.k_g * w2);
+            rate = rate.max(face_rate);
+            if self.band {
+                rate = rate.max(face_rate + quad_max_root(scene.m_b, scene.c_b, scene.k_b));
             }
         }
         if self.band {
