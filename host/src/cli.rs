@@ -13,7 +13,8 @@ Scene files are TOML: the keys are `name`, `description` (optional) and the mode
 fields caliper (\"push\"/\"pull\"), m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v,
 mu_s, mu_k, c_x, c_phi, rotation, dt, duration, stats_from, all in SI units; model 2 adds
 friction (\"coulomb\"/\"stribeck\"), v_s, stribeck_exponent, band (true/false), m_b, k_b, c_b,
-face (true/false: friction-face kinematics) and damping ratios zeta_x, zeta_phi, zeta_b instead of c_x, c_phi, c_b. Keys left out take the
+face (true/false: friction-face kinematics), k_pivot (inf: the hinge; finite: the pad translates
+normal to the band too), c_y, and damping ratios zeta_x, zeta_phi, zeta_b instead of c_x, c_phi, c_b. Keys left out take the
 default pad's value (the built-in push_center, the thesis model); unknown keys are an error.
 Start from `stickslip scenes show push_center > my.toml` (or rig_push_center for model 2),
 which lists every key with its unit.

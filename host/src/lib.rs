@@ -18,4 +18,5 @@ pub mod run;
 pub mod scene_file;
 pub mod scene_source;
 pub mod series;
+pub mod sliding;
 pub mod stability;

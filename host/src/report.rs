@@ -132,6 +132,15 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
             ),
         );
     }
+    if s.floating() {
+        line(
+            "pad support",
+            format!(
+                "not hinged: pivot spring k_pivot = {} N/m normal to the band, c_y = {} N s/m (the pad translates in y)",
+                s.k_pivot, s.c_y
+            ),
+        );
+    }
     if s.face {
         line(
             "kinematics",

@@ -54,6 +54,8 @@ struct SceneToml {
     k_b: Option<f64>,
     c_b: Option<f64>,
     face: Option<bool>,
+    k_pivot: Option<f64>,
+    c_y: Option<f64>,
     zeta_x: Option<f64>,
     zeta_phi: Option<f64>,
     zeta_b: Option<f64>,
@@ -71,7 +73,7 @@ pub struct ParsedScene {
 }
 
 /// Unit and meaning of each key, in file order (also used for `--help`).
-pub const KEYS: [(&str, &str); 34] = [
+pub const KEYS: [(&str, &str); 36] = [
     ("name", "scene name (reported in every output)"),
     ("description", "one line for `stickslip scenes` (optional)"),
     (
@@ -139,6 +141,12 @@ pub const KEYS: [(&str, &str); 34] = [
          the band's velocity and stick holds it there; false: the thesis's pivot, x' less the band's",
     ),
     (
+        "k_pivot",
+        "pivot stiffness normal to the band k_pivot [N/m]: inf (the default) is the thesis's hinge; \
+         finite, the pad also translates normal to the band (y); 0, a floating pad (needs face = true)",
+    ),
+    ("c_y", "viscous damping on the pad's normal translation y c_y [N s/m] (finite k_pivot)"),
+    (
         "zeta_x",
         "instead of c_x: damping ratio of the x mode in slip, c_x = 2 zeta_x sqrt(k_g m) [-]",
     ),
@@ -199,7 +207,7 @@ pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
     }
     take!(
         m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi,
-        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, dt, duration, stats_from
+        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, k_pivot, c_y, dt, duration, stats_from
     );
     if let Some(f) = t.friction {
         s.friction = match f {
@@ -318,6 +326,10 @@ fn values(s: &Scene) -> Vec<(&'static str, String)> {
     }
     if s.face {
         v.push(("face", "true".to_string()));
+    }
+    if s.floating() {
+        v.push(("k_pivot", f(s.k_pivot)));
+        v.push(("c_y", f(s.c_y)));
     }
     v.extend([
         ("dt", f(s.dt)),

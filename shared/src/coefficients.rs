@@ -72,8 +72,28 @@ impl Coefficients {
     /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)); with the rotation held (N constant) the
     /// bracket is 1. Infinite when the pad self-locks. With friction-face kinematics the face,
     /// not the pivot, moves at V: x + s w phi - s w phi0 = F (1/k_g + w^2/K) = V t, so t1 grows
-    /// by the factor 1 + k_g w^2 / K.
+    /// by the factor 1 + k_g w^2 / K. A pad that is not hinged (finite k_pivot, face kinematics)
+    /// solves its static (y, phi) balance instead.
     pub fn quasi_static_first_slip(&self, scene: &Scene) -> f64 {
+        if scene.floating() && scene.rotation {
+            // the floating pad, statically: (k_L + k_T + k_pivot) y + c_N phi = F_N and
+            // c_N y + K phi = F_N a_N + s w F, so d phi/dF = s w k_y / D, dN/dF = s w c_N k_pivot / D
+            // (D = k_y K - c_N^2): N stays F_N-borne as the friction builds, exactly with k_pivot = 0
+            let k_s = scene.k_l + scene.k_t;
+            let k_y = k_s + scene.k_pivot;
+            let d = k_y * self.k_rot - self.c_n * self.c_n;
+            let s_w = self.s * scene.w;
+            let n0 = (k_s * (scene.f_n * self.k_rot - self.c_n * scene.f_n * self.a_n)
+                + self.c_n * (k_y * scene.f_n * self.a_n - self.c_n * scene.f_n))
+                / d;
+            let dn_df = s_w * self.c_n * scene.k_pivot / d;
+            let lock = 1.0 - scene.mu_s * dn_df;
+            if lock <= 0.0 {
+                return f64::INFINITY;
+            }
+            let f1 = scene.mu_s * n0 / lock;
+            return f1 * (1.0 / scene.k_g + s_w * s_w * k_y / d) / scene.v;
+        }
         let lock = if scene.rotation { 1.0 - self.s * scene.mu_s * scene.w * self.c_n / self.k_rot } else { 1.0 };
         if lock <= 0.0 {
             return f64::INFINITY;

@@ -68,7 +68,9 @@ impl<T: Real> Limits<T> {
             ],
             rotation: scene.rotation,
             // a rounding-level negative phi with no load is not a lift-off
-            phi_floor: T::from_f64(-(1e-6 * libm::fabs(co.phi0) + 1e-12)),
+            // (the floating pad's phi may go negative in contact: its steppers check each
+            // contact spring's compression instead)
+            phi_floor: T::from_f64(if scene.floating() { -PHI_LIMIT } else { -(1e-6 * libm::fabs(co.phi0) + 1e-12) }),
             x_limit: T::from_f64(X_LIMIT),
             xdot_limit: T::from_f64(XDOT_LIMIT),
             phi_limit: T::from_f64(PHI_LIMIT),

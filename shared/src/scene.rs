@@ -101,6 +101,14 @@ pub struct Scene {
     /// at x' + s w phi' less the band's velocity, and stick holds that sliding velocity at zero
     /// (x and phi coupled); `false`: the thesis's pivot kinematics, x' less the band's velocity.
     pub face: bool,
+    /// Stiffness of the pivot normal to the band, k_pivot [N/m] (docs/model.md, "Model 2",
+    /// option 5): infinite (the default) is the thesis's hinge; finite, the pad also translates
+    /// normal to the band (y), carried by the contact springs and held at the pivot through
+    /// k_pivot; 0 is a floating pad. A finite k_pivot needs `face` and the rotation.
+    pub k_pivot: f64,
+    /// Viscous damping on the pad's normal translation y, c_y [N s/m] (read only with a finite
+    /// `k_pivot`).
+    pub c_y: f64,
     /// Fixed step dt [s].
     pub dt: f64,
     /// Run length [s].
@@ -137,6 +145,8 @@ pub const DEFAULT_SCENE: Scene = Scene {
     k_b: 1e6,
     c_b: 0.0,
     face: false,
+    k_pivot: f64::INFINITY,
+    c_y: 0.0,
     dt: 1.0 / 25600.0,
     duration: 1.0,
     stats_from: 0.5,
@@ -176,9 +186,14 @@ fn check(ok: bool, field: &'static str, rule: &'static str, value: f64) -> Resul
 impl Scene {
     /// Whether the scene uses any option of model 2 that the thesis stepper
     /// ([`crate::ExactStepper`]) does not carry: Stribeck friction, the band degree of
-    /// freedom or friction-face kinematics. Damping is part of both steppers' exact flows.
+    /// freedom, friction-face kinematics or the floating pad. Damping is part of both steppers' exact flows.
     pub const fn uses_model2(&self) -> bool {
-        matches!(self.friction, FrictionLaw::Stribeck) || self.band || self.face
+        matches!(self.friction, FrictionLaw::Stribeck) || self.band || self.face || self.floating()
+    }
+
+    /// Whether the pad is not hinged: a finite pivot stiffness k_pivot (the floating pad).
+    pub const fn floating(&self) -> bool {
+        self.k_pivot.is_finite()
     }
 
     /// One of the six cases: the default pad with the given caliper and load position.
@@ -275,6 +290,24 @@ impl Scene {
                 "stribeck_exponent",
                 "Stribeck exponent must satisfy 0 < delta <= 8",
                 self.stribeck_exponent,
+            )?;
+        }
+        check(!self.k_pivot.is_nan() && self.k_pivot >= 0.0, "k_pivot", "pivot stiffness must be >= 0 N/m (inf: the hinge)", self.k_pivot)?;
+        if self.floating() {
+            check(self.c_y.is_finite() && self.c_y >= 0.0, "c_y", "damping must be a finite number >= 0 N s/m", self.c_y)?;
+            check(self.rotation, "k_pivot", "a pad that is not hinged needs the rotation (rotation = true)", self.k_pivot)?;
+            check(
+                self.face,
+                "k_pivot",
+                "a pad that is not hinged needs friction-face kinematics (face = true): with the pivot's, the friction moment does work nothing dissipates",
+                self.k_pivot,
+            )?;
+            check(self.k_l > 0.0 && self.k_t > 0.0, "k_l", "a pad that is not hinged needs both contact springs > 0 N/m", self.k_l)?;
+            check(
+                self.inertia > self.m * self.l * self.l,
+                "inertia",
+                "a pad that is not hinged needs I (about the pivot) > m l^2: its inertia about the centre of gravity, l from the pivot, must be > 0",
+                self.inertia,
             )?;
         }
         if self.band {

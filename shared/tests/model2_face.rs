@@ -10,12 +10,12 @@
 //!   segment). It checks the derivation: with pivot kinematics the friction moment s w F does
 //!   work that no sliding dissipates, and the same balance does not close.
 
-use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2};
+use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, NS, Y};
 use stickslip_model::rig_set::rig_scene;
 use stickslip_model::{Caliper, FrictionLaw, Regime, Scene};
 
 /// The states of a run, every step.
-fn states<T: stickslip_model::Real>(scene: &Scene, steps: u64) -> Vec<[f64; 6]> {
+fn states<T: stickslip_model::Real>(scene: &Scene, steps: u64) -> Vec<[f64; NS]> {
     let mut s = AnyModel2Stepper::<T>::new(scene).unwrap();
     (0..steps)
         .map(|_| {
@@ -55,9 +55,9 @@ fn scenes_w0() -> Vec<(&'static str, Scene)> {
 }
 
 /// Largest |a - b| over the run, relative to the largest |b| per state entry.
-fn deviation(a: &[[f64; 6]], b: &[[f64; 6]]) -> f64 {
+fn deviation(a: &[[f64; NS]], b: &[[f64; NS]]) -> f64 {
     let mut dev = 0.0f64;
-    for c in 0..6 {
+    for c in 0..NS {
         let scale = b.iter().map(|z| z[c].abs()).fold(0.0, f64::max);
         if scale == 0.0 {
             continue;
@@ -131,6 +131,16 @@ struct Physics {
     c_b: f64,
     /// The face's velocity in the friction power (true: x' + s w phi'; false: x').
     face: bool,
+    /// The floating pad: y, the pivot's translation normal to the band, with the centre of
+    /// gravity l from the pivot, the springs' k_L + k_T and c_N = k_L d_L + k_T d_T, the load
+    /// F_N, the pivot spring and the damping on y.
+    floating: bool,
+    l: f64,
+    k_s: f64,
+    c_n: f64,
+    f_n: f64,
+    k_pivot: f64,
+    c_y: f64,
 }
 
 impl Physics {
@@ -154,12 +164,19 @@ impl Physics {
             k_b: sc.k_b,
             c_b: sc.c_b,
             face: sc.face,
+            floating: sc.k_pivot.is_finite(),
+            l: sc.l,
+            k_s: sc.k_l + sc.k_t,
+            c_n: sc.k_l * d_l + sc.k_t * d_t,
+            f_n: sc.f_n,
+            k_pivot: sc.k_pivot,
+            c_y: sc.c_y,
         }
     }
 
     /// Stored energy [J]: kinetic and spring energy of pad and band, less the load's work
     /// F_N a_N phi (a constant force on the lever a_N).
-    fn energy(&self, z: &[f64; 6]) -> f64 {
+    fn energy(&self, z: &[f64; NS]) -> f64 {
         let mut e = 0.5 * self.m * z[1] * z[1]
             + 0.5 * self.i * z[3] * z[3]
             + 0.5 * self.k_g * z[0] * z[0]
@@ -169,12 +186,20 @@ impl Physics {
             let xb_dot = self.v + z[5];
             e += 0.5 * self.m_b * xb_dot * xb_dot + 0.5 * self.k_b * z[4] * z[4];
         }
+        if self.floating {
+            // the centre of gravity moves normal to the band at y' + l phi' (I is about the
+            // pivot); the springs' energy 1/2 k (y + d phi)^2 summed; the load at y + a_N phi
+            let (y, yd) = (z[Y], z[Y + 1]);
+            e += self.m * self.l * yd * z[3] + 0.5 * self.m * yd * yd + self.c_n * y * z[2]
+                + 0.5 * (self.k_s + self.k_pivot) * y * y
+                - self.f_n * y;
+        }
         e
     }
 
     /// (drive power, friction dissipation, damping dissipation) [W] at z with z'. The friction
     /// on the pad F follows from the pad's x equation, F = m x'' + k_g x + c_x x'.
-    fn powers(&self, z: &[f64; 6], zd: &[f64; 6]) -> [f64; 3] {
+    fn powers(&self, z: &[f64; NS], zd: &[f64; NS]) -> [f64; 3] {
         let f = self.m * zd[1] + self.k_g * z[0] + self.c_x * z[1];
         let band_v = if self.band { self.v + z[5] } else { self.v };
         let drive = if self.band {
@@ -187,6 +212,9 @@ impl Physics {
         let mut damping = self.c_x * z[1] * z[1] + self.c_phi * z[3] * z[3];
         if self.band {
             damping += self.c_b * z[5] * z[5];
+        }
+        if self.floating {
+            damping += self.c_y * z[Y + 1] * z[Y + 1];
         }
         [drive, friction, damping]
     }
@@ -207,7 +235,7 @@ struct Balance<'a> {
 }
 
 /// A segment's recording (the stepper is borrowed while it runs, so segments are replayed).
-struct Segments(Vec<(Regime, f64, f64, [f64; 6], [f64; 6])>);
+struct Segments(Vec<(Regime, f64, f64, [f64; NS], [f64; NS])>);
 
 impl Observer2<f64> for Segments {
     const DERIVATIVES: bool = false;
@@ -217,16 +245,16 @@ impl Observer2<f64> for Segments {
 }
 
 impl Balance<'_> {
-    fn add(&mut self, regime: Regime, t0: f64, t1: f64, z0: [f64; 6], z1: [f64; 6]) {
+    fn add(&mut self, regime: Regime, t0: f64, t1: f64, z0: [f64; NS], z1: [f64; NS]) {
         const PIECES: usize = 32;
         let h = (t1 - t0) / PIECES as f64;
-        let f = |z: &[f64; 6]| -> ([f64; 6], [f64; 3]) {
+        let f = |z: &[f64; NS]| -> ([f64; NS], [f64; 3]) {
             let zd = self.stepper.derivative(regime, z);
             (zd, self.phys.powers(z, &zd))
         };
         let mut z = z0;
         let mut w = [0.0; 3];
-        let axpy = |z: &[f64; 6], d: &[f64; 6], a: f64| -> [f64; 6] {
+        let axpy = |z: &[f64; NS], d: &[f64; NS], a: f64| -> [f64; NS] {
             core::array::from_fn(|r| z[r] + a * d[r])
         };
         for _ in 0..PIECES {
@@ -234,7 +262,7 @@ impl Balance<'_> {
             let (k2, p2) = f(&axpy(&z, &k1, h / 2.0));
             let (k3, p3) = f(&axpy(&z, &k2, h / 2.0));
             let (k4, p4) = f(&axpy(&z, &k3, h));
-            for r in 0..6 {
+            for r in 0..NS {
                 z[r] += h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r]);
             }
             for c in 0..3 {
@@ -245,8 +273,8 @@ impl Balance<'_> {
             self.work[c] += w[c];
         }
         self.stored += self.phys.energy(&z1) - self.phys.energy(&z0);
-        let scale = [1e-3, 0.1, 1e-3, 10.0, 1e-3, 0.1];
-        for r in 0..6 {
+        let scale = [1e-3, 0.1, 1e-3, 10.0, 1e-3, 0.1, 1e-3, 0.1];
+        for r in 0..NS {
             self.end_error = self.end_error.max((z[r] - z1[r]).abs() / scale[r]);
         }
     }
@@ -423,4 +451,93 @@ fn stick_holds_the_face_and_pad_x_moves_in_stick() {
         core::mem::size_of::<Model2Stepper<f32, StribeckBandFace>>(),
         core::mem::size_of::<Model2Stepper<f32, StribeckBand>>()
     );
+}
+
+/// The floating pad (finite k_pivot; docs/model.md, "Model 2, part 2"): the same balance, with
+/// the pad's normal translation y in the energy (the mass matrix's coupling m l y' phi', the
+/// springs' 1/2 k (y + d phi)^2, the load's F_N (y + a_N phi)) and c_y in the dissipation.
+#[test]
+fn the_energy_balance_closes_on_the_floating_pad() {
+    for caliper in [Caliper::Push, Caliper::Pull] {
+        for beta in [0.025, 0.055] {
+            let mut coulomb = Scene::case(caliper, beta);
+            coulomb.c_x = 10.0;
+            coulomb.c_phi = 0.03;
+            coulomb.c_y = 20.0;
+            let mut rig = rig_scene(caliper, beta);
+            rig.c_y = 20.0;
+            rig.dt /= 8.0; // ETDRK4's truncation below the bound, as above
+            for (name, base) in [("coulomb", coulomb), ("stribeck+band", rig)] {
+                for k_pivot in [0.0, 1e6] {
+                    let mut s = base;
+                    s.face = true;
+                    s.k_pivot = k_pivot;
+                    s.duration = 0.2;
+                    s.stats_from = 0.1;
+                    let (res, drive, end, transitions) = energy_residual(&s);
+                    eprintln!(
+                        "floating {name} {caliper:?} beta {beta} k_pivot {k_pivot:e}: residual {res:.2e} (drive work {drive:.4e} J, {transitions} transitions, RK4 end error {end:.1e})"
+                    );
+                    assert!(transitions >= 6, "{name}: no stick-slip to balance ({transitions} transitions)");
+                    assert!(res <= 1e-9, "{name} {caliper:?} {beta} {k_pivot}: energy balance off by {res:e}");
+                }
+            }
+        }
+    }
+}
+
+/// Transition times of a run.
+struct Times(Vec<f64>);
+
+impl Observer2<f64> for Times {
+    const DERIVATIVES: bool = false;
+    fn transition(&mut self, tr: &stickslip_model::model2::Transition2<f64>) {
+        self.0.push(tr.t);
+    }
+}
+
+fn transition_times(scene: &Scene) -> Vec<f64> {
+    let mut st = AnyModel2Stepper::<f64>::new(scene).unwrap();
+    let mut times = Times(Vec::new());
+    for _ in 0..(scene.duration / scene.dt).round() as u64 {
+        st.step_observed(&mut times).unwrap();
+    }
+    times.0
+}
+
+/// k_pivot -> infinity tends to the hinged pad (with the same face kinematics), at a fixed
+/// damping ratio of the pivot's mode (0.1 of critical: undamped, a force step rings in the
+/// stiff mode with a velocity that falls only as 1/sqrt(k_pivot), as the band's drive does).
+/// Stated rate: the times of the first transitions (three stick-slip cycles of a damped pull
+/// case, 0.1 s) approach the hinged run's in proportion to 1 / k_pivot, the pivot's static
+/// give under the hinge reaction; per decade from 1e7 to 1e10 N/m they must come 8x closer,
+/// and y's largest value must fall 8x too.
+#[test]
+fn a_stiff_pivot_tends_to_the_hinge() {
+    let mut hinged = Scene::case(Caliper::Pull, 0.040);
+    hinged.face = true;
+    hinged.c_x = 10.0;
+    hinged.c_phi = 0.03;
+    hinged.duration = 0.1;
+    hinged.stats_from = 0.05;
+    let reference = transition_times(&hinged);
+    assert!(reference.len() >= 6, "{reference:?}");
+    let (mut devs, mut ys) = (Vec::new(), Vec::new());
+    for k_pivot in [1e7, 1e8, 1e9, 1e10] {
+        let mut s = hinged;
+        s.k_pivot = k_pivot;
+        s.c_y = 2.0 * 0.1 * (k_pivot * s.m).sqrt();
+        let times = transition_times(&s);
+        assert_eq!(times.len(), reference.len(), "k_pivot {k_pivot:e}: another number of transitions");
+        let dev = times.iter().zip(&reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let steps = (s.duration / s.dt).round() as u64;
+        let y_max = states::<f64>(&s, steps).iter().map(|z| z[Y].abs()).fold(0.0, f64::max);
+        eprintln!("k_pivot {k_pivot:e}: transition times within {dev:.3e} s of the hinge's, |y| <= {y_max:.3e} m");
+        devs.push(dev);
+        ys.push(y_max);
+    }
+    for k in 1..devs.len() {
+        assert!(devs[k] < devs[k - 1] / 8.0, "transition times do not approach as 1/k_pivot: {devs:?}");
+        assert!(ys[k] < ys[k - 1] / 8.0, "y does not fall as 1/k_pivot: {ys:?}");
+    }
 }

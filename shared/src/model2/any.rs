@@ -4,7 +4,8 @@
 
 use crate::halt::Halt;
 use crate::model2::composition::{
-    Band, BandFace, Composition, Coulomb, CoulombFace, Stribeck, StribeckBand, StribeckBandFace, StribeckFace,
+    Band, BandFace, Composition, Coulomb, CoulombFace, FloatFace, Stribeck, StribeckBand, StribeckBandFace,
+    StribeckFace, StribeckFloatFace,
 };
 use crate::model2::stepper::{Model2Stepper, Observer2};
 use crate::model2::system::{System, NS};
@@ -25,6 +26,8 @@ pub enum AnyModel2Stepper<T: Real> {
     BandFace(Model2Stepper<T, BandFace>),
     StribeckFace(Model2Stepper<T, StribeckFace>),
     StribeckBandFace(Model2Stepper<T, StribeckBandFace>),
+    FloatFace(Model2Stepper<T, FloatFace>),
+    StribeckFloatFace(Model2Stepper<T, StribeckFloatFace>),
 }
 
 macro_rules! each {
@@ -38,6 +41,8 @@ macro_rules! each {
             AnyModel2Stepper::BandFace($s) => $e,
             AnyModel2Stepper::StribeckFace($s) => $e,
             AnyModel2Stepper::StribeckBandFace($s) => $e,
+            AnyModel2Stepper::FloatFace($s) => $e,
+            AnyModel2Stepper::StribeckFloatFace($s) => $e,
         }
     };
 }
@@ -46,6 +51,13 @@ impl<T: Real> AnyModel2Stepper<T> {
     /// The stepper of `scene`'s composition.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
         let stribeck = scene.friction == FrictionLaw::Stribeck;
+        if scene.floating() {
+            return Ok(if stribeck {
+                AnyModel2Stepper::StribeckFloatFace(Model2Stepper::new(scene)?)
+            } else {
+                AnyModel2Stepper::FloatFace(Model2Stepper::new(scene)?)
+            });
+        }
         Ok(match (stribeck, scene.band, scene.face) {
             (false, true, false) => AnyModel2Stepper::Band(Model2Stepper::new(scene)?),
             (true, false, false) => AnyModel2Stepper::Stribeck(Model2Stepper::new(scene)?),

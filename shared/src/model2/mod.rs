@@ -18,7 +18,10 @@ pub mod stepper;
 pub mod system;
 
 pub use any::AnyModel2Stepper;
-pub use composition::{Band, BandFace, Composition, Coulomb, CoulombFace, Stribeck, StribeckBand, StribeckBandFace, StribeckFace};
+pub use composition::{
+    Band, BandFace, Composition, Coulomb, CoulombFace, FloatFace, Stribeck, StribeckBand, StribeckBandFace, StribeckFace,
+    StribeckFloatFace,
+};
 pub use stats::{Stats2, Stats2Observer};
 pub use stepper::{Model2Stepper, Observer2, Segment2, Transition2};
-pub use system::{System, NA, NS};
+pub use system::{System, NA, NS, Y};

@@ -50,7 +50,7 @@ use crate::coefficients::Coefficients;
 use crate::halt::{Halt, Limits};
 use crate::linalg::{self, MatN};
 use crate::model2::composition::{Composition, EtdVectors, NEAR_FLOW_LEVELS, NEAR_LEVELS, NEAR_OPS};
-use crate::model2::system::{row_dot, System, NA, NS, ONE};
+use crate::model2::system::{row_dot, row_dot_all, System, NA, NS, ONE, Y};
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
@@ -68,6 +68,9 @@ const MAX_TRANSITIONS_PER_SUBSTEP: u32 = 64;
 /// |u| beyond this is taken as divergence [m]; |u'| beyond this [m/s].
 const U_LIMIT: f64 = 1.0;
 const UDOT_LIMIT: f64 = 1e3;
+/// |y| beyond this is taken as divergence [m]; |y'| beyond this [m/s] (the floating pad).
+const Y_LIMIT: f64 = 0.1;
+const YDOT_LIMIT: f64 = 1e3;
 
 /// z(t + h) - z(t) = F (z, 1) for a flow F of composition `C` (rows and columns of the
 /// entries it moves; without the band, u and u' stay 0 and are not touched).
@@ -75,9 +78,22 @@ const UDOT_LIMIT: f64 = 1e3;
 fn increment<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
     let f = f.as_ref();
     let mut out = [T::zero(); NS];
-    if C::BAND {
+    if C::FLOAT {
         for (r, o) in out.iter_mut().enumerate() {
-            let row = &f[r * NA..r * NA + NA];
+            let row = &f[r * 9..r * 9 + 9];
+            *o = row[0] * z[0]
+                + row[1] * z[1]
+                + row[2] * z[2]
+                + row[3] * z[3]
+                + row[4] * z[4]
+                + row[5] * z[5]
+                + row[6] * z[6]
+                + row[7] * z[7]
+                + row[8];
+        }
+    } else if C::BAND {
+        for (r, o) in out.iter_mut().take(6).enumerate() {
+            let row = &f[r * 7..r * 7 + 7];
             *o = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[4] * z[4] + row[5] * z[5] + row[6];
         }
     } else {
@@ -119,6 +135,10 @@ fn increment_slip<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; N
 
 /// Whether a slip flow has the zeros [`increment_slip`] skips (exactly).
 fn has_slip_zeros<T: Real, C: Composition>(f: &C::Flow<T>) -> bool {
+    if C::FLOAT {
+        // y couples to everything through N (and to phi through the mass matrix)
+        return false;
+    }
     let f = f.as_ref();
     let n = C::COLS;
     let zero = |r: usize, c: usize| f[r * n + c] == T::zero();
@@ -142,7 +162,9 @@ fn has_slip_zeros<T: Real, C: Composition>(f: &C::Flow<T>) -> bool {
 /// [`row_dot`]: the left-out entries are 0).
 #[inline(always)]
 fn dot<T: Real, C: Composition>(r: &[T; NA], z: &[T; NS]) -> T {
-    if C::BAND {
+    if C::FLOAT {
+        row_dot_all(r, z)
+    } else if C::BAND {
         row_dot(r, z)
     } else {
         r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[ONE]
@@ -313,6 +335,9 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     v_round: T,
     /// Every slip flow has slip's block zeros ([`increment_slip`] applies).
     slip_sparse: bool,
+    /// The floating pad's contact and range checks: d_L, d_T [m], the springs' round-off
+    /// floors [m], |y| and |y'| limits [m, m/s] (unread without the floating pad).
+    float_limits: [T; 6],
 }
 
 impl<T: Real, C: Composition> Model2Stepper<T, C> {
@@ -352,7 +377,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         let h_sub = scene.dt / n_sub as f64;
         let t = T::from_f64;
         let tv = |r: &[f64; NA]| -> [T; NA] { core::array::from_fn(|i| t(r[i])) };
-        let z = [T::zero(), t(scene.v), t(co.phi0), T::zero(), T::zero(), T::zero()];
+        let z = [T::zero(), t(scene.v), t(sys.phi0), T::zero(), T::zero(), T::zero(), t(sys.y0), T::zero()];
         // the guards' rows in f64 and their rates row . A, row . b
         let mut guard_rate = [[T::zero(); NA]; 4];
         let mut guard_rate_b = [T::zero(); 4];
@@ -377,12 +402,12 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             }
         }
         // the falling slope at v = 0 with N = N_0, (mu_s - mu_k) N_0 / v_s [N s/m], and its rate
-        let near_kv = sys.d_mu * co.n0 / scene.v_s;
+        let near_kv = sys.d_mu * sys.n0 / scene.v_s;
         let near_rate = near_kv * sys.inv_mass_v;
         let near_on = C::STRIBECK && scene.stribeck_exponent == 1.0 && near_rate * h_sub <= NEAR_RATE_H_MAX;
         let near_c: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(k as f64 / NEAR_OPS as f64));
-        let near_cn0: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(co.n0 * k as f64 / NEAR_OPS as f64));
-        let near_thr: [T; NEAR_OPS] = core::array::from_fn(|k| t(co.n0 * (k as f64 + 0.5) / NEAR_OPS as f64));
+        let near_cn0: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(sys.n0 * k as f64 / NEAR_OPS as f64));
+        let near_thr: [T; NEAR_OPS] = core::array::from_fn(|k| t(sys.n0 * (k as f64 + 0.5) / NEAR_OPS as f64));
         let near_ckv: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(k as f64 / NEAR_OPS as f64 * near_kv));
         let s = slot.insert(Model2Stepper {
             flows: [T::per_level(C::zero_flow()); 3],
@@ -448,6 +473,11 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             rate_coef: t(sys.d_mu * scene.stribeck_exponent / scene.v_s * sys.inv_mass_v),
             rate_limit: T::per_level(T::zero()),
             slip_sparse: false,
+            float_limits: {
+                // a rounding-level negative compression is not a lift-off (as phi_floor)
+                let floor = |d: f64| -(1e-6 * libm::fabs(sys.y0 + d * sys.phi0) + 1e-12);
+                [t(sys.d_l), t(sys.d_t), t(floor(sys.d_l)), t(floor(sys.d_t)), t(Y_LIMIT), t(YDOT_LIMIT)]
+            },
         });
         for (j, r) in s.rate_limit.as_mut().iter_mut().enumerate() {
             *r = t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)));
@@ -455,7 +485,8 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         // the stick anchor of the start (x = 0; with the face x + s w phi_0)
         s.anchor_x = s.face_position(&s.z);
         s.fill_tables(scene, &co);
-        s.slip_sparse = [Regime::SlipSlower, Regime::SlipFaster]
+        s.slip_sparse = !C::FLOAT
+            && [Regime::SlipSlower, Regime::SlipFaster]
             .iter()
             .all(|r| s.flows[r.index()].as_ref().iter().all(|f| has_slip_zeros::<T, C>(f)));
         Ok(s)
@@ -471,7 +502,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         let h_sub = self.h_sub;
         let t = T::from_f64;
         // the flow's columns: the moved entries, then the constant 1
-        let cols: [usize; NA] = if C::BAND { [0, 1, 2, 3, 4, 5, ONE] } else { [0, 1, 2, 3, ONE, ONE, ONE] };
+        let cols: [usize; NA] = if C::FLOAT {
+            [0, 1, 2, 3, 4, 5, 6, 7, ONE]
+        } else if C::BAND {
+            [0, 1, 2, 3, 4, 5, ONE, ONE, ONE]
+        } else {
+            [0, 1, 2, 3, ONE, ONE, ONE, ONE, ONE]
+        };
         let sys = &self.sys;
         for regime in Regime::ALL {
             let a = &sys.a[regime.index()];
@@ -515,7 +552,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                 };
                 let e = if with_phi {
                     // [[A, b, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]] * tau
-                    let mut m: MatN<10> = [[0.0; 10]; 10];
+                    let mut m: MatN<{ NA + 3 }> = [[0.0; NA + 3]; NA + 3];
                     for r in 0..NA {
                         m[r][..NA].copy_from_slice(&a[r]);
                         m[r][NA] = sys.b[r];
@@ -524,10 +561,10 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     m[NA + 1][NA + 2] = 1.0;
                     linalg::expm_minus_identity(&linalg::scale(&m, tau))
                 } else {
-                    let e7 = linalg::expm_minus_identity(&linalg::scale(a, tau));
-                    let mut e: MatN<10> = [[0.0; 10]; 10];
+                    let e9 = linalg::expm_minus_identity(&linalg::scale(a, tau));
+                    let mut e: MatN<{ NA + 3 }> = [[0.0; NA + 3]; NA + 3];
                     for r in 0..NA {
-                        e[r][..NA].copy_from_slice(&e7[r]);
+                        e[r][..NA].copy_from_slice(&e9[r]);
                     }
                     e
                 };
@@ -535,12 +572,12 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     *f = t(e[i / C::COLS][cols[i % C::COLS]]);
                 }
                 if with_phi {
-                    let v: &mut EtdVectors<T> = if k > 0 {
+                    let v: &mut EtdVectors<C::Row<T>> = if k > 0 {
                         &mut self.near_etd.as_mut()[near_index * NEAR_LEVELS + j - top]
                     } else {
                         &mut self.etd.as_mut()[regime.index() - 1].as_mut()[j]
                     };
-                    for r in 0..NS {
+                    for r in 0..C::ROWS {
                         let (c1, c2, c3) = (e[r][NA], e[r][NA + 1] / tau, e[r][NA + 2] / (tau * tau));
                         v.phi1[r] = t(c1);
                         v.w0[r] = t(c1 - 3.0 * c2 + 4.0 * c3 - half[r]);
@@ -619,9 +656,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// velocity is set to zero as on entry to stick. Without the band, u and u' are set to 0.
     pub fn set_state(&mut self, z: [T; NS], regime: Regime) {
         self.z = z;
-        if !C::BAND {
+        if !C::BAND || !self.sys.band {
             self.z[4] = T::zero();
             self.z[5] = T::zero();
+        }
+        if !C::FLOAT {
+            self.z[Y] = T::zero();
+            self.z[Y + 1] = T::zero();
         }
         self.regime = regime;
         self.head = None;
@@ -659,7 +700,12 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// without).
     #[inline(always)]
     pub fn normal_force(&self, z: &[T; NS]) -> T {
-        self.r_n[2] * z[2] + self.r_n[ONE]
+        if C::FLOAT {
+            // N = (k_L + k_T) y + c_N phi
+            self.r_n[2] * z[2] + self.r_n[Y] * z[Y]
+        } else {
+            self.r_n[2] * z[2] + self.r_n[ONE]
+        }
     }
     /// Friction force on the pad [N] in `regime` at `z`.
     pub fn friction_force(&self, regime: Regime, z: &[T; NS]) -> T {
@@ -1001,6 +1047,9 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             }
             let p = -self.sliding_velocity(z) / inv_mass;
             z[3] = z[3] + self.b[3] * p;
+            if C::FLOAT {
+                z[Y + 1] = z[Y + 1] + self.b[Y + 1] * p;
+            }
             if C::BAND {
                 z[5] = z[5] + self.b[5] * p;
                 z[1] = (self.v + z[5]) - s_w * z[3];
@@ -1272,7 +1321,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// substep. With the face it is the face's position x + s w phi that moves at V.
     #[inline(always)]
     fn anchor_stick_x(&self, regime: Regime, z: &mut [T; NS], unit: u64) {
-        if regime == Regime::Stick && !C::BAND {
+        if regime == Regime::Stick && (!C::BAND || (C::FLOAT && !self.sys.band)) {
             let d = self.subs_done - self.anchor_sub;
             let d = if d > u32::MAX as u64 { u32::MAX } else { d as u32 };
             let elapsed = T::from_u32(d) * self.h_t + (units_t::<T>(unit) - self.anchor_unit) * self.hu_t;
@@ -1299,10 +1348,21 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     fn check(&self, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
         let pad = [z[0], z[1], z[2], z[3]];
         let band_ok = !C::BAND || ((z[4].abs() <= self.u_limit) & (z[5].abs() <= self.udot_limit));
-        if self.limits.in_range(&pad) & band_ok {
+        if self.limits.in_range(&pad) & band_ok & self.float_ok(z) {
             return Ok(());
         }
         self.check_failed(z, regime, sub, unit)
+    }
+
+    /// The floating pad: both contact springs compressed (y + d phi >= 0, to round-off), y and
+    /// y' in range. Always true for a hinged pad.
+    #[inline(always)]
+    fn float_ok(&self, z: &[T; NS]) -> bool {
+        if !C::FLOAT {
+            return true;
+        }
+        let [d_l, d_t, floor_l, floor_t, y_limit, ydot_limit] = self.float_limits;
+        (z[Y] + d_l * z[2] >= floor_l) & (z[Y] + d_t * z[2] >= floor_t) & (z[Y].abs() <= y_limit) & (z[Y + 1].abs() <= ydot_limit)
     }
 
     #[cold]
@@ -1310,6 +1370,21 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     fn check_failed(&self, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
         let pad = [z[0], z[1], z[2], z[3]];
         self.limits.check(&pad, regime, || self.time_at(sub, unit))?;
+        if C::FLOAT && !self.float_ok(z) {
+            let t = self.time_at(sub, unit);
+            if !(z[Y].is_finite() && z[Y + 1].is_finite()) {
+                return Err(Halt::NonFinite { t });
+            }
+            let [d_l, d_t, floor_l, floor_t, _, _] = self.float_limits;
+            let (y, phi) = (z[Y].to_f64(), z[2].to_f64());
+            if !(z[Y] + d_l * z[2] >= floor_l) {
+                return Err(Halt::ContactLoss { t, n: self.sys.k_l * (y + self.sys.d_l * phi) });
+            }
+            if !(z[Y] + d_t * z[2] >= floor_t) {
+                return Err(Halt::ContactLoss { t, n: self.sys.k_t * (y + self.sys.d_t * phi) });
+            }
+            return Err(Halt::Diverged { t, regime, stiffness_margin: self.limits.margins[regime.index()] });
+        }
         if C::BAND && (!(z[4].abs() <= self.u_limit) || !(z[5].abs() <= self.udot_limit)) {
             let t = self.time_at(sub, unit);
             if !(z[4].is_finite() && z[5].is_finite()) {

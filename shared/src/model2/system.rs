@@ -1,7 +1,8 @@
 //! The equations of model 2 as matrices (docs/model.md, "Model 2").
 //!
-//! State z = [x, x', phi, phi', u, u'] with u = x_b - V t (the band's offset from its drive
-//! point), augmented with a constant 1 (index [`ONE`]). Every regime's Coulomb part is linear,
+//! State z = [x, x', phi, phi', u, u', y, y'] with u = x_b - V t (the band's offset from its
+//! drive point) and y the pivot's translation normal to the band (the floating pad, part 2),
+//! augmented with a constant 1 (index [`ONE`]). Every regime's Coulomb part is linear,
 //! z' = A z; Stribeck friction adds a scalar forcing along one fixed direction,
 //!
 //! ```text
@@ -19,20 +20,23 @@ use crate::linalg::MatN;
 use crate::scene::{FrictionLaw, Scene};
 use crate::stickslip::Regime;
 
-/// State size: x, x', phi, phi', u, u'.
-pub const NS: usize = 6;
+/// State size: x, x', phi, phi', u, u', y, y'.
+pub const NS: usize = 8;
 /// Augmented size (the constant 1 last).
-pub const NA: usize = 7;
+pub const NA: usize = 9;
 /// Index of the constant 1 in the augmented state.
-pub const ONE: usize = 6;
+pub const ONE: usize = 8;
+/// Index of y, the floating pad's pivot translation normal to the band [m] (positive toward
+/// the band: compressing the contact springs); y' is `Y + 1`.
+pub const Y: usize = 6;
 /// An augmented matrix of model 2 (f64, set-up only).
-pub type Mat7 = MatN<NA>;
+pub type Mat9 = MatN<NA>;
 
 /// The regimes' matrices and rows, in f64.
 #[derive(Clone, Copy, Debug)]
 pub struct System {
     /// A of stick, slip slower, slip faster (slip: the kinetic part sigma mu_k N).
-    pub a: [Mat7; 3],
+    pub a: [Mat9; 3],
     /// Direction of a unit friction force on the pad, per unit of force [1/kg, 1/(kg m)].
     pub b: [f64; NA],
     /// Sliding velocity v = x' (+ s w phi' with the face) - V - u' [m/s].
@@ -61,10 +65,27 @@ pub struct System {
     pub v: f64,
     pub m: f64,
     pub m_b: f64,
+    /// The floating pad (finite k_pivot): y and y' move.
+    pub floating: bool,
+    /// The start: phi_0 [rad] and y_0 [m] (y_0 = 0 with the hinge), the static state under
+    /// the load with no friction.
+    pub phi0: f64,
+    pub y0: f64,
+    /// The normal force at the start, N_0 [N].
+    pub n0: f64,
+    /// Contact spring compressions y + d phi: the lever arms d_L, d_T [m] and stiffnesses
+    /// k_L, k_T [N/m] (the floating pad's per-spring contact check).
+    pub d_l: f64,
+    pub d_t: f64,
+    pub k_l: f64,
+    pub k_t: f64,
 }
 
 impl System {
     pub fn of(scene: &Scene, co: &Coefficients) -> System {
+        if scene.floating() {
+            return Self::floating(scene, co);
+        }
         let band = scene.band;
         let rot = scene.rotation;
         let (m, i) = (scene.m, scene.inertia);
@@ -206,7 +227,162 @@ impl System {
             v: scene.v,
             m,
             m_b: scene.m_b,
+            floating: false,
+            phi0: co.phi0,
+            y0: 0.0,
+            n0: co.n0,
+            d_l: co.d_l,
+            d_t: co.d_t,
+            k_l: scene.k_l,
+            k_t: scene.k_t,
         }
+    }
+
+    /// The floating pad (docs/model.md, "Model 2, part 2"): generalized coordinates x, phi, u
+    /// (with the band) and y, the pivot's translation normal to the band. The reference point is
+    /// the pivot (the supported edge at mid-thickness), so that y = 0 is the thesis's hinge; the
+    /// centre of gravity lies l from it along the pad, which couples y and phi in the mass
+    /// matrix:
+    ///
+    /// ```text
+    /// m x''                 = -k_g x - c_x x'                              + F
+    /// I phi'' + m l y''     = F_N a_N - K phi - c_N y - c_phi phi'         + s w F
+    /// m l phi'' + m y''     = F_N - (k_L + k_T + k_pivot) y - c_N phi - c_y y'
+    /// m_b u''               = -k_b u - c_b u'                              - F   (band)
+    /// N = (k_L + k_T) y + c_N phi = k_L (y + d_L phi) + k_T (y + d_T phi)
+    /// ```
+    ///
+    /// with the friction F at the face, whose velocity is x' + s w phi' (face kinematics).
+    /// Stick holds x'' + s w phi'' - u'' = 0, which gives F_req as a linear row of z.
+    #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
+    fn floating(scene: &Scene, co: &Coefficients) -> System {
+        let band = scene.band;
+        let (m, i) = (scene.m, scene.inertia);
+        let s_w = co.s * scene.w;
+        let k_s = scene.k_l + scene.k_t;
+        let k_y = k_s + scene.k_pivot;
+        let ml = m * scene.l;
+        // inverse of the (phi, y) mass block [[I, m l], [m l, m]]
+        let det = i * m - ml * ml;
+        let (inv_pp, inv_py, inv_yy) = (m / det, -ml / det, i / det);
+        // generalized forces without friction, as rows of (z, 1)
+        let mut q_x = [0.0; NA];
+        q_x[0] = -scene.k_g;
+        q_x[1] = -scene.c_x;
+        let mut q_phi = [0.0; NA];
+        q_phi[2] = -co.k_rot;
+        q_phi[3] = -scene.c_phi;
+        q_phi[Y] = -co.c_n;
+        q_phi[ONE] = scene.f_n * co.a_n;
+        let mut q_y = [0.0; NA];
+        q_y[2] = -co.c_n;
+        q_y[Y] = -k_y;
+        q_y[Y + 1] = -scene.c_y;
+        q_y[ONE] = scene.f_n;
+        let mut q_u = [0.0; NA];
+        if band {
+            q_u[4] = -scene.k_b;
+            q_u[5] = -scene.c_b;
+        }
+        // accelerations without friction
+        let acc_x: [f64; NA] = core::array::from_fn(|c| q_x[c] / m);
+        let acc_phi: [f64; NA] = core::array::from_fn(|c| inv_pp * q_phi[c] + inv_py * q_y[c]);
+        let acc_y: [f64; NA] = core::array::from_fn(|c| inv_py * q_phi[c] + inv_yy * q_y[c]);
+        let acc_u: [f64; NA] = core::array::from_fn(|c| if band { q_u[c] / scene.m_b } else { 0.0 });
+        // a unit friction force: generalized force (1, s w, -1, 0) on (x, phi, u, y)
+        let mut b = [0.0; NA];
+        b[1] = 1.0 / m;
+        b[3] = inv_pp * s_w;
+        b[Y + 1] = inv_py * s_w;
+        if band {
+            b[5] = -1.0 / scene.m_b;
+        }
+        let mut r_v = [0.0; NA];
+        r_v[1] = 1.0;
+        r_v[3] = s_w;
+        if band {
+            r_v[5] = -1.0;
+        }
+        r_v[ONE] = -scene.v;
+        let mut r_n = [0.0; NA];
+        r_n[2] = co.c_n;
+        r_n[Y] = k_s;
+        let inv_mass_v: f64 = (0..NA).map(|c| r_v[c] * b[c]).sum();
+        // stick: x'' + s w phi'' - u'' = 0 with the friction F_req
+        let r_freq: [f64; NA] = core::array::from_fn(|c| -(acc_x[c] + s_w * acc_phi[c] - acc_u[c]) / inv_mass_v);
+        let mut a = [[[0.0; NA]; NA]; 3];
+        for regime in Regime::ALL {
+            let f: [f64; NA] = match regime {
+                Regime::Stick => r_freq,
+                _ => core::array::from_fn(|c| regime.friction_sign() * scene.mu_k * r_n[c]),
+            };
+            let ar = &mut a[regime.index()];
+            ar[0][1] = 1.0;
+            ar[2][3] = 1.0;
+            ar[Y][Y + 1] = 1.0;
+            if band {
+                ar[4][5] = 1.0;
+            }
+            for c in 0..NA {
+                ar[1][c] = acc_x[c] + b[1] * f[c];
+                ar[3][c] = acc_phi[c] + b[3] * f[c];
+                ar[Y + 1][c] = acc_y[c] + b[Y + 1] * f[c];
+                if band {
+                    ar[5][c] = acc_u[c] + b[5] * f[c];
+                }
+            }
+        }
+        // the start: static under the load, no friction (x = 0)
+        let det_k = k_y * co.k_rot - co.c_n * co.c_n;
+        let y0 = (scene.f_n * co.k_rot - co.c_n * scene.f_n * co.a_n) / det_k;
+        let phi0 = (k_y * scene.f_n * co.a_n - co.c_n * scene.f_n) / det_k;
+        System {
+            a,
+            b,
+            r_v,
+            r_n,
+            r_freq,
+            stribeck: scene.friction == FrictionLaw::Stribeck,
+            band,
+            rotation: true,
+            face: true,
+            s_w,
+            inv_mass_v,
+            d_mu: scene.mu_s - scene.mu_k,
+            mu_s: scene.mu_s,
+            mu_k: scene.mu_k,
+            v_s: scene.v_s,
+            delta: scene.stribeck_exponent,
+            v: scene.v,
+            m,
+            m_b: scene.m_b,
+            floating: true,
+            phi0,
+            y0,
+            n0: k_s * y0 + co.c_n * phi0,
+            d_l: co.d_l,
+            d_t: co.d_t,
+            k_l: scene.k_l,
+            k_t: scene.k_t,
+        }
+    }
+
+    /// The floating pad's (phi, y) modes with friction sigma mu N acting in the moment:
+    /// det(K_f - lambda M) = 0 with M = [[I, m l], [m l, m]] and the friction-coupled,
+    /// non-symmetric stiffness K_f = [[K - s w sigma mu c_N, c_N - s w sigma mu (k_L + k_T)],
+    /// [c_N, k_L + k_T + k_pivot]]: lambda = omega^2 as (a, b, c) of a lambda^2 + b lambda + c.
+    /// A negative discriminant b^2 - 4 a c is flutter (the two modes merged).
+    pub fn floating_mode_quadratic(scene: &Scene, co: &Coefficients, sigma_mu: f64) -> (f64, f64, f64) {
+        let s_w = co.s * scene.w;
+        let k_s = scene.k_l + scene.k_t;
+        let (m11, m12, m21, m22) = (scene.inertia, scene.m * scene.l, scene.m * scene.l, scene.m);
+        let k11 = co.k_rot - s_w * sigma_mu * co.c_n;
+        let k12 = co.c_n - s_w * sigma_mu * k_s;
+        let (k21, k22) = (co.c_n, k_s + scene.k_pivot);
+        let a = m11 * m22 - m12 * m21;
+        let b = -(k11 * m22 + k22 * m11 - k12 * m21 - k21 * m12);
+        let c = k11 * k22 - k12 * k21;
+        (a, b, c)
     }
 
     /// Largest |eigenvalue| of the regimes' linear parts [1/s] (from the 2 x 2 blocks of each
@@ -222,6 +398,27 @@ impl System {
             }
         }
         let mut rate = quad_max_root(scene.m, scene.c_x, scene.k_g);
+        if self.floating {
+            // the (phi, y) modes with the friction's coupling (|omega^2| of the larger root; a
+            // complex pair: its modulus), and the damping rates over the smaller inertia
+            for sigma_mu in [scene.mu_s, -scene.mu_s, scene.mu_k, -scene.mu_k, 0.0] {
+                let (a, b, c) = Self::floating_mode_quadratic(scene, co, sigma_mu);
+                let disc = b * b - 4.0 * a * c;
+                let lam = if disc < 0.0 {
+                    libm::sqrt(libm::fabs(c / a))
+                } else {
+                    libm::fabs((-b - libm::sqrt(disc)) / (2.0 * a)).max(libm::fabs((-b + libm::sqrt(disc)) / (2.0 * a)))
+                };
+                rate = rate.max(libm::sqrt(lam));
+            }
+            let i_g = scene.inertia - scene.m * scene.l * scene.l;
+            rate = rate.max(scene.c_y / scene.m).max(scene.c_phi / i_g);
+            if self.band {
+                // the band's mode, and its coupling through the friction (bounded by the sum)
+                rate += quad_max_root(scene.m_b, scene.c_b, scene.k_b);
+            }
+            return rate;
+        }
         if self.rotation {
             for sigma in [1.0, -1.0, 0.0] {
                 for mu in [scene.mu_s, scene.mu_k] {
@@ -257,5 +454,11 @@ impl System {
 /// Dot product of a row with an augmented state (z, 1).
 #[inline(always)]
 pub fn row_dot<T: crate::Real>(r: &[T; NA], z: &[T; NS]) -> T {
-    r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4] * z[4] + r[5] * z[5] + r[6]
+    r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4] * z[4] + r[5] * z[5] + r[ONE]
+}
+
+/// [`row_dot`] over every entry, y and y' included (the floating pad).
+#[inline(always)]
+pub fn row_dot_all<T: crate::Real>(r: &[T; NA], z: &[T; NS]) -> T {
+    r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4] * z[4] + r[5] * z[5] + r[6] * z[6] + r[7] * z[7] + r[ONE]
 }

@@ -43,6 +43,11 @@ pub trait Motion<T: Real> {
     fn regime(&self) -> Regime;
     /// (pad x'' [m/s^2], pad phi'' [rad/s^2], band x_b'' [m/s^2]) at the current state.
     fn accelerations(&self) -> (T, T, T);
+    /// The pivot's acceleration normal to the band y'' [m/s^2], toward the band, for a pad that
+    /// is not hinged (`None`: the hinge, y'' = 0).
+    fn normal_acceleration(&self) -> Option<T> {
+        None
+    }
     /// Times [s] of the stick-to-slip transitions of the last step.
     fn slip_onsets(&self) -> &[f64];
 }
@@ -142,6 +147,13 @@ impl<T: Real> Motion<T> for Model2Motion<T> {
         let d = self.stepper.derivative(self.stepper.regime(), &self.stepper.state());
         (d[1], d[3], d[5])
     }
+    fn normal_acceleration(&self) -> Option<T> {
+        if self.stepper.system().floating {
+            Some(self.stepper.derivative(self.stepper.regime(), &self.stepper.state())[crate::model2::Y + 1])
+        } else {
+            None
+        }
+    }
     fn slip_onsets(&self) -> &[f64] {
         &self.onsets.t[..self.onsets.n]
     }
@@ -161,6 +173,7 @@ impl<T: Real> Motion<T> for Model2Motion<T> {
 /// ```
 ///
 /// and, with y positive toward the band (the sense of the normal load), reads y'' = r phi''
+/// (plus the pivot's own y'' for a pad that is not hinged, [`Motion::normal_acceleration`])
 /// (the centripetal term r phi'^2 along the pad is neglected, and not sensed in y). So the sign
 /// is the same for both calipers; what the caliper changes is which edge is the pivot: the
 /// sensor near the pivot sees a small signal. An accelerometer mounted with its base on the
@@ -298,6 +311,8 @@ pub struct SensorModel<T: Real, M: Motion<T> = ThesisMotion<T>> {
     motion: M,
     arm_trail: T,
     arm_lead: T,
+    /// +1 or -1: the y accelerometers' reading of a motion toward the band.
+    y_polarity: T,
     pressure: [T; PRESSURE_CHANNELS],
     accel_sigma: T,
     pressure_sigma: T,
@@ -367,6 +382,7 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
             motion,
             arm_trail: t(arm_trail),
             arm_lead: t(arm_lead),
+            y_polarity: t(cfg.geometry.y_polarity),
             pressure,
             accel_sigma: t(n.accel_rms_m_s2),
             pressure_sigma: t(n.pressure_rms_bar),
@@ -398,6 +414,11 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
         accel[PAD_X] = xdd;
         accel[PAD_TRAIL] = self.arm_trail * phidd;
         accel[PAD_LEAD] = self.arm_lead * phidd;
+        if let Some(ydd) = self.motion.normal_acceleration() {
+            // a pad that is not hinged: the pivot's own y'' adds to every point's
+            accel[PAD_TRAIL] = accel[PAD_TRAIL] + self.y_polarity * ydd;
+            accel[PAD_LEAD] = accel[PAD_LEAD] + self.y_polarity * ydd;
+        }
         self.truth = Truth { accel_m_s2: accel, pressure_bar: self.pressure, regime: Some(regime) };
 
         let k = &self.to_counts;
