@@ -377,7 +377,11 @@ const SIMULATE_AFTER: &str = "\
 The summary gives the peak-to-peak values of x [m], x' [m/s], phi [rad] and phi' [rad/s] over the
 statistics window [stats_from, duration] (exact extremes of the continuous motion), the stick
 fraction, the stick-slip frequency [Hz] with their cycle-to-cycle spread, the transitions, the
-first slip time and the outcome.
+first slip time and the outcome; for a model-2 scene also the linear stability of steady
+sliding at the band speed (the model's own linearisation: stable, neutral, or the growth rate
+[1/s] and frequency of the fastest-growing mode), and for a pad that is not hinged (finite
+k_pivot) the kinetic friction at which steady Coulomb sliding turns unstable by mode coupling
+(flutter).
 
 --json prints one object with the keys name, caliper, beta [m], x_pp [m], xdot_pp [m/s],
 phi_pp [rad], phidot_pp [rad/s], stick_fraction [-], stick_slip_hz [Hz], precision, dt [s],
@@ -386,8 +390,10 @@ duration [s], steps, stats_from [s] (window start used: the nearest step boundar
 first_slip_s [s], transitions (whole run), slip_onsets (window), cycles (complete cycles in the
 window, onset to onset), period_mean_s [s] and period_sd_s [s] (their period: mean and sample
 standard deviation; stick_slip_hz = 1 / period_mean_s), cycle_stick_fraction_mean [-] and
-cycle_stick_fraction_sd [-] (stick fraction of each complete cycle). A value that does not exist
-(statistics of a run that halted before the window, a spread of fewer than two cycles) is null.
+cycle_stick_fraction_sd [-] (stick fraction of each complete cycle), and for a model-2 scene
+linear: {stable, max_growth_rate [1/s], unstable_hz [Hz], invalid (why steady sliding does not
+exist, or null), flutter_mu_k (finite k_pivot only)}. A value that does not exist (statistics of
+a run that halted before the window, a spread of fewer than two cycles) is null.
 
 --csv FILE writes one row per completed step, the state at the end of the step:
 t_s,x_m,xdot_m_per_s,phi_rad,phidot_rad_per_s,n_N,f_f_N,regime (regime: stick, slip_slower,
@@ -464,6 +470,8 @@ pub struct CasesArgs {
 pub enum CaseSet {
     Thesis,
     Rig,
+    /// The rig set with friction-face kinematics and the floating pad (model 2, part 2)
+    RigFloat,
 }
 
 #[derive(Debug, Args)]

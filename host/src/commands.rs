@@ -77,6 +77,7 @@ pub fn cases(a: &CasesArgs) -> Result<String> {
     let set = match a.set {
         crate::cli::CaseSet::Thesis => builtin::cases(),
         crate::cli::CaseSet::Rig => builtin::rig_cases(),
+        crate::cli::CaseSet::RigFloat => builtin::rig_float_cases(),
     };
     let scenes = set
         .into_iter()

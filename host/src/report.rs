@@ -277,7 +277,46 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
             None => format!("none{qs}"),
         },
     );
+    if s.uses_model2() {
+        let lin = crate::sliding::sliding_stability(s);
+        line("steady sliding", sliding_line(&lin));
+        if s.floating() {
+            let threshold = crate::sliding::instability_threshold_mu(s, 0.0, 2.0, 1e-6);
+            line(
+                "mode coupling",
+                match threshold {
+                    Some(mu) => format!(
+                        "steady Coulomb sliding of this pad turns unstable (flutter) at mu_k = {mu:.4} (the model's linearisation; this scene: mu = {:.4} at V)",
+                        crate::sliding::friction_at(s, s.v).0
+                    ),
+                    None => "no flutter threshold for mu_k in [0, 2]".into(),
+                },
+            );
+        }
+    }
     out
+}
+
+/// The linear stability of steady sliding as one line of the summary.
+pub fn sliding_line(lin: &crate::sliding::SlidingStability) -> String {
+    if let Some(why) = &lin.invalid {
+        return format!("does not exist ({why})");
+    }
+    let mode = |hz: f64| if hz == 0.0 { "a non-oscillating mode".to_string() } else { format!("the {} Hz mode", sig4(hz)) };
+    match lin.unstable_mode() {
+        Some(m) => format!(
+            "unstable: a perturbation grows at {} 1/s in {} (the model's linearisation)",
+            sig4(m.growth_rate),
+            mode(m.frequency_hz)
+        ),
+        None if lin.max_growth_rate() >= 0.0 => {
+            "neutral: the slowest modes neither grow nor decay (undamped; the model's linearisation)".into()
+        }
+        None => format!(
+            "stable: the slowest mode decays at {} 1/s (the model's linearisation)",
+            sig4(-lin.max_growth_rate())
+        ),
+    }
 }
 
 /// The keys shared by `simulate --json` and each case of `cases --json`.
@@ -347,6 +386,40 @@ pub struct SimulateJson {
     pub period_sd_s: Option<f64>,
     pub cycle_stick_fraction_mean: Option<f64>,
     pub cycle_stick_fraction_sd: Option<f64>,
+    /// Model-2 scenes: the linear stability of steady sliding (`stickslip::sliding`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub linear: Option<LinearJson>,
+}
+
+/// The linear stability of steady sliding in JSON.
+#[derive(Serialize)]
+pub struct LinearJson {
+    pub stable: bool,
+    /// Largest real part of the linearisation's eigenvalues [1/s].
+    pub max_growth_rate: f64,
+    /// Frequency of the fastest-growing mode [Hz] (null when stable).
+    pub unstable_hz: Option<f64>,
+    /// Why steady sliding does not exist, if it does not (contact loss).
+    pub invalid: Option<String>,
+    /// The floating pad: the kinetic friction at which steady Coulomb sliding turns unstable.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flutter_mu_k: Option<f64>,
+}
+
+impl LinearJson {
+    pub fn of(s: &stickslip_model::Scene) -> Option<LinearJson> {
+        if !s.uses_model2() {
+            return None;
+        }
+        let lin = crate::sliding::sliding_stability(s);
+        Some(LinearJson {
+            stable: lin.stable(),
+            max_growth_rate: lin.max_growth_rate(),
+            unstable_hz: lin.unstable_mode().map(|m| m.frequency_hz),
+            invalid: lin.invalid.clone(),
+            flutter_mu_k: if s.floating() { crate::sliding::instability_threshold_mu(s, 0.0, 2.0, 1e-6) } else { None },
+        })
+    }
 }
 
 impl SimulateJson {
@@ -369,6 +442,7 @@ impl SimulateJson {
             period_sd_s: r.cycles.period.sd(),
             cycle_stick_fraction_mean: r.cycles.stick_fraction.mean(),
             cycle_stick_fraction_sd: r.cycles.stick_fraction.sd(),
+            linear: LinearJson::of(&ns.scene),
         }
     }
 }

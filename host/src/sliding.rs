@@ -83,7 +83,7 @@ fn active(scene: &Scene) -> Vec<usize> {
 }
 
 /// mu(V) and mu'(V) of the scene's friction law at sliding speed `speed` [m/s].
-fn friction_at(scene: &Scene, speed: f64) -> (f64, f64) {
+pub fn friction_at(scene: &Scene, speed: f64) -> (f64, f64) {
     match scene.friction {
         FrictionLaw::Coulomb => (scene.mu_k, 0.0),
         FrictionLaw::Stribeck => {

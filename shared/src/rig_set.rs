@@ -32,3 +32,19 @@ pub fn rig_scene(caliper: Caliper, beta: f64) -> Scene {
     s.c_phi = 2.0 * RIG_ZETA * libm::sqrt(Coefficients::of(&s).k_rot * s.inertia);
     s
 }
+
+/// Rig set, part 2: the pivot's stiffness normal to the band [N/m]: 0, a floating pad (the
+/// rig's pad rests on the band, pressed by the actuator; the guide holds it along x only).
+pub const RIG_K_PIVOT: f64 = 0.0;
+
+/// The rig set with model 2's part 2 (docs/model.md, "Model 2, part 2"): friction-face
+/// kinematics and the floating pad, the bounce damped like the other degrees of freedom
+/// (c_y = 2 RIG_ZETA sqrt((k_L + k_T) m)). A set of its own beside [`rig_scene`]: the firmware's
+/// `model2` build keeps part 1's composition.
+pub fn rig_float_scene(caliper: Caliper, beta: f64) -> Scene {
+    let mut s = rig_scene(caliper, beta);
+    s.face = true;
+    s.k_pivot = RIG_K_PIVOT;
+    s.c_y = 2.0 * RIG_ZETA * libm::sqrt((s.k_l + s.k_t) * s.m);
+    s
+}
