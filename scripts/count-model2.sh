@@ -106,7 +106,7 @@ for d in model libm micromath; do
             }
             printf "trace: %d instructions in all; %d windows; window 0 (marker glue) = %d, subtracted below\n", total, nw, base
             printf "%-22s %6s %6s %6s %6s %6s %6s\n", "class", "n", "min", "median", "p90", "mean", "max"
-            split("thesis damping band stribeck all", comps, " ")
+            split("thesis damping band stribeck all face float", comps, " ")
             split("stick slip transition", kinds, " ")
             line = "instructions model2_f32_step exp=" exp_name
             for (c = 1; c in comps; c++) for (q = 1; q in kinds; q++) order[++no] = comps[c] "_" kinds[q]
@@ -125,7 +125,7 @@ for d in model libm micromath; do
                 if (k !~ /transition$/) line = line " " k "=" med[k]
             }
             print line " (medians)"
-            need = "thesis_stick thesis_slip damping_stick damping_slip band_stick band_slip stribeck_stick stribeck_slip all_stick all_slip"
+            need = "thesis_stick thesis_slip damping_stick damping_slip band_stick band_slip stribeck_stick stribeck_slip all_stick all_slip face_stick face_slip float_stick float_slip"
             split(need, nd, " ")
             for (j = 1; j in nd; j++) if (n[nd[j]] == 0) { printf "count-model2: no %s step was measured\n", nd[j] > "/dev/stderr"; exit 2 }
             wmed = med["stribeck_slip"] > med["all_slip"] ? med["stribeck_slip"] : med["all_slip"]

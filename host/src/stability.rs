@@ -72,6 +72,19 @@ pub const MODEL2_SWEEPS: [Sweep; 4] = [
     Sweep { key: "m_b", unit: "kg", values: &[1e-3, 1e-2, 1.0, 1e2, 1e3], apply: |s, v| s.m_b = v },
 ];
 
+/// Part 2's extremes, around the rig set's push_center with the face and the floating pad
+/// (`rig_float_push_center`): the pivot from floating to the hinge's stiffness, and the contact
+/// springs (both) from soft to 1e10 N/m, which the floating pad rides on.
+pub const FLOAT_SWEEPS: [Sweep; 2] = [
+    Sweep { key: "k_pivot", unit: "N/m", values: &[0.0, 1e4, 1e6, 1e8, 1e10], apply: |s, v| s.k_pivot = v },
+    Sweep {
+        key: "float_contact_stiffness",
+        unit: "N/m",
+        values: &[1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10],
+        apply: set_contact,
+    },
+];
+
 /// The method name of the model-2 rows.
 pub const MODEL2_METHOD: &str = "model2";
 
@@ -95,6 +108,8 @@ pub struct Row {
     pub v_s: Option<f64>,
     pub k_b: Option<f64>,
     pub m_b: Option<f64>,
+    /// Floating-pad rows only (null elsewhere, and for the hinge): the pivot's stiffness [N/m].
+    pub k_pivot: Option<f64>,
     /// Fastest mode of the scene times dt [rad].
     pub omega_dt: f64,
     /// The method's stability limit on omega dt for an undamped oscillator; null: none.
@@ -228,6 +243,7 @@ pub fn run(opts: &Options) -> Result<Report> {
                         v_s: None,
                         k_b: None,
                         m_b: None,
+                        k_pivot: None,
                         omega_dt,
                         omega_dt_limit: kind.omega_dt_limit(),
                         outcome: outcome.into(),
@@ -267,11 +283,12 @@ fn run_model2<T: Real>(scene: &Scene) -> Result<(Option<Halt>, bool)> {
 /// an f32 run that halts where f64 does not is `method_unstable`, and so is any f64 halt that
 /// is not a model finding.
 fn model2_rows(duration: f64) -> Result<Vec<Row>> {
-    let mut base = builtin::find("rig_push_center").expect("built-in").scene;
+    let mut rows = Vec::new();
+    for (base_name, sweeps) in [("rig_push_center", &MODEL2_SWEEPS[..]), ("rig_float_push_center", &FLOAT_SWEEPS[..])] {
+    let mut base = builtin::find(base_name).expect("built-in").scene;
     base.duration = duration;
     base.stats_from = duration / 2.0;
-    let mut rows = Vec::new();
-    for sweep in &MODEL2_SWEEPS {
+    for sweep in sweeps {
         for &value in sweep.values {
             let mut scene = base;
             (sweep.apply)(&mut scene, value);
@@ -284,9 +301,8 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
                 Some(_) => Verdict::Other,
                 None => Verdict::Bounded,
             };
-            let rate = AnyModel2Stepper::<f64>::new(&scene)
-                .map(|m| m.system().linear_rate(&scene, &co))
-                .map_err(|e| HostError::Input(e.to_string()))?;
+            scene.validate().map_err(|e| HostError::Input(e.to_string()))?;
+            let rate = stickslip_model::model2::System::of(&scene, &co).linear_rate(&scene, &co);
             for precision in ["f64", "f32"] {
                 let (halt, slipped) = if precision == "f64" { (h64, slipped64) } else { run_model2::<f32>(&scene)? };
                 let (outcome, detail) = classify(halt, slipped, model);
@@ -306,6 +322,7 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
                     v_s: Some(scene.v_s),
                     k_b: Some(scene.k_b),
                     m_b: Some(scene.m_b),
+                    k_pivot: scene.floating().then_some(scene.k_pivot),
                     omega_dt: rate * scene.dt,
                     omega_dt_limit: None,
                     outcome: outcome.into(),
@@ -315,6 +332,7 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
                 });
             }
         }
+    }
     }
     Ok(rows)
 }
@@ -328,6 +346,7 @@ pub fn all_finite(rep: &Report) -> bool {
             .chain(r.v_s.iter())
             .chain(r.k_b.iter())
             .chain(r.m_b.iter())
+            .chain(r.k_pivot.iter())
             .chain(r.omega_dt_limit.iter())
             .all(|v| v.is_finite())
     })
@@ -369,7 +388,13 @@ pub fn markdown(rep: &Report) -> String {
          The model-2 stepper (exact flows, ETDRK4 in Stribeck slip) is the only method that carries them; f64 \
          decides the model's own findings, and f32 is checked against it.\n\n",
     );
-    for sweep in &MODEL2_SWEEPS {
+    for (i, sweep) in MODEL2_SWEEPS.iter().chain(&FLOAT_SWEEPS).enumerate() {
+        if i == MODEL2_SWEEPS.len() {
+            out.push_str(
+                "# Model 2, part 2: around rig_float_push_center (the face, the floating pad, k_pivot = 0)\n\n\
+                 The guide friction mu_g is not in the model (docs/model.md), so it has no sweep.\n\n",
+            );
+        }
         sweep_header(&mut out, sweep);
         for precision in ["f64", "f32"] {
             out.push_str(&format!("| {MODEL2_METHOD} | {precision} |"));
@@ -403,7 +428,8 @@ fn sweep_header(out: &mut String, sweep: &Sweep) {
 /// The swept value of a row.
 pub fn value_of(r: &Row, key: &str) -> f64 {
     match key {
-        "contact_stiffness" => r.contact_stiffness,
+        "contact_stiffness" | "float_contact_stiffness" => r.contact_stiffness,
+        "k_pivot" => r.k_pivot.unwrap_or(f64::NAN),
         "k_g" => r.k_g,
         "mu_s" => r.mu_s,
         "v" => r.v,

@@ -157,7 +157,7 @@ impl Graze {
         if stepper != Stepper::Exact {
             // model 2's stepper in the thesis model's composition (`Coulomb`), from the same state
             let mut st = Model2Stepper::<T, Coulomb>::new(&s).unwrap();
-            let z = [t(self.z0[0]), t(self.z0[1]), t(self.z0[2]), t(self.z0[3]), T::zero(), T::zero()];
+            let z = [t(self.z0[0]), t(self.z0[1]), t(self.z0[2]), t(self.z0[3]), T::zero(), T::zero(), T::zero(), T::zero()];
             st.set_state(z, self.regime);
             let mut trs = Transitions(Vec::new());
             if stepper == Stepper::Model2 {

@@ -8,7 +8,7 @@ use crate::model2::composition::{
     StribeckFace, StribeckFloatFace,
 };
 use crate::model2::stepper::{Model2Stepper, Observer2};
-use crate::model2::system::{System, NS};
+use crate::model2::system::NS;
 use crate::real::Real;
 use crate::scene::{FrictionLaw, Scene, SceneError};
 use crate::stickslip::Regime;
@@ -100,8 +100,9 @@ impl<T: Real> AnyModel2Stepper<T> {
     pub fn substeps(&self) -> u32 {
         each!(self, s => s.substeps())
     }
-    pub fn system(&self) -> &System {
-        each!(self, s => s.system())
+    /// Whether the stepper carries the floating pad (y, y').
+    pub fn floating(&self) -> bool {
+        each!(self, s => s.floating())
     }
     pub fn set_state(&mut self, z: [T; NS], regime: Regime) {
         each!(self, s => s.set_state(z, regime))

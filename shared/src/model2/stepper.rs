@@ -294,7 +294,11 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     v: T,
     m: T,
     m_b: T,
-    sys: System,
+    /// The scene has the band (a floating composition carries the band's rows either way).
+    scene_band: bool,
+    /// The floating pad's contact springs: k_L [N/m], d_L [m], k_T [N/m], d_T [m] (contact-loss
+    /// reports; unread without the floating pad).
+    springs: [f64; 4],
     limits: Limits<T>,
     u_limit: T,
     udot_limit: T,
@@ -434,7 +438,8 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             v: t(scene.v),
             m: t(scene.m),
             m_b: t(scene.m_b),
-            sys,
+            scene_band: sys.band,
+            springs: [sys.k_l, sys.d_l, sys.k_t, sys.d_t],
             limits: Limits::new(scene, &co),
             u_limit: t(U_LIMIT),
             udot_limit: t(UDOT_LIMIT),
@@ -484,7 +489,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
         // the stick anchor of the start (x = 0; with the face x + s w phi_0)
         s.anchor_x = s.face_position(&s.z);
-        s.fill_tables(scene, &co);
+        s.fill_tables(scene, &co, &sys);
         s.slip_sparse = !C::FLOAT
             && [Regime::SlipSlower, Regime::SlipFaster]
             .iter()
@@ -498,7 +503,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// through a copy on the stack).
     #[inline(never)]
     #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
-    fn fill_tables(&mut self, scene: &Scene, co: &Coefficients) {
+    fn fill_tables(&mut self, scene: &Scene, co: &Coefficients, sys: &System) {
         let h_sub = self.h_sub;
         let t = T::from_f64;
         // the flow's columns: the moved entries, then the constant 1
@@ -509,7 +514,6 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         } else {
             [0, 1, 2, 3, ONE, ONE, ONE, ONE, ONE]
         };
-        let sys = &self.sys;
         for regime in Regime::ALL {
             let a = &sys.a[regime.index()];
             let with_phi = C::STRIBECK && regime != Regime::Stick;
@@ -647,16 +651,16 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     pub fn substeps(&self) -> u32 {
         self.n_sub
     }
-    /// The equations in f64.
-    pub fn system(&self) -> &System {
-        &self.sys
+    /// Whether this stepper carries the floating pad (y, y').
+    pub fn floating(&self) -> bool {
+        C::FLOAT
     }
 
     /// Replaces the state and regime (e.g. to start from steady sliding). In stick the sliding
     /// velocity is set to zero as on entry to stick. Without the band, u and u' are set to 0.
     pub fn set_state(&mut self, z: [T; NS], regime: Regime) {
         self.z = z;
-        if !C::BAND || !self.sys.band {
+        if !C::BAND || !self.scene_band {
             self.z[4] = T::zero();
             self.z[5] = T::zero();
         }
@@ -1321,7 +1325,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// substep. With the face it is the face's position x + s w phi that moves at V.
     #[inline(always)]
     fn anchor_stick_x(&self, regime: Regime, z: &mut [T; NS], unit: u64) {
-        if regime == Regime::Stick && (!C::BAND || (C::FLOAT && !self.sys.band)) {
+        if regime == Regime::Stick && (!C::BAND || (C::FLOAT && !self.scene_band)) {
             let d = self.subs_done - self.anchor_sub;
             let d = if d > u32::MAX as u64 { u32::MAX } else { d as u32 };
             let elapsed = T::from_u32(d) * self.h_t + (units_t::<T>(unit) - self.anchor_unit) * self.hu_t;
@@ -1378,10 +1382,10 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let [d_l, d_t, floor_l, floor_t, _, _] = self.float_limits;
             let (y, phi) = (z[Y].to_f64(), z[2].to_f64());
             if !(z[Y] + d_l * z[2] >= floor_l) {
-                return Err(Halt::ContactLoss { t, n: self.sys.k_l * (y + self.sys.d_l * phi) });
+                return Err(Halt::ContactLoss { t, n: self.springs[0] * (y + self.springs[1] * phi) });
             }
             if !(z[Y] + d_t * z[2] >= floor_t) {
-                return Err(Halt::ContactLoss { t, n: self.sys.k_t * (y + self.sys.d_t * phi) });
+                return Err(Halt::ContactLoss { t, n: self.springs[2] * (y + self.springs[3] * phi) });
             }
             return Err(Halt::Diverged { t, regime, stiffness_margin: self.limits.margins[regime.index()] });
         }

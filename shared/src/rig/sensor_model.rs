@@ -148,7 +148,7 @@ impl<T: Real> Motion<T> for Model2Motion<T> {
         (d[1], d[3], d[5])
     }
     fn normal_acceleration(&self) -> Option<T> {
-        if self.stepper.system().floating {
+        if self.stepper.floating() {
             Some(self.stepper.derivative(self.stepper.regime(), &self.stepper.state())[crate::model2::Y + 1])
         } else {
             None

@@ -14,7 +14,10 @@
 //!   critical in c_b);
 //! - `stribeck`: `Model2Stepper<f32, Stribeck>`, Stribeck friction v_s = 0.002 m/s
 //!   (delta = 1), no band;
-//! - `all`: `Model2Stepper<f32, StribeckBand>`, Stribeck + band + damping.
+//! - `all`: `Model2Stepper<f32, StribeckBand>`, Stribeck + band + damping;
+//! - `face`: `Model2Stepper<f32, StribeckBandFace>`, `all` with friction-face kinematics;
+//! - `float`: `Model2Stepper<f32, StribeckFloatFace>`, `face` with the floating pad
+//!   (k_pivot = 0, c_y at 2 % of critical on k_L + k_T): every option of model 2.
 //!
 //! Each composition is its own compile-time specialised stepper (model2::composition), as the
 //! firmware would build it.
@@ -26,8 +29,8 @@
 //! default f32 `Real::exp`), to `libm::expf` (`expf_libm`) and to micromath's `F32Ext::exp`
 //! (`exp_micromath`).
 //!
-//! The steppers live in statics (a `Model2Stepper<f32, _>` is 15 to 26 KB: its dyadic tables of
-//! 25 levels in f32); the stack is painted at boot and its high-water mark printed after each
+//! The steppers live in a static arena, one at a time (a `Model2Stepper<f32, _>` is 14 to 38 KB:
+//! its dyadic tables of 25 levels in f32); the stack is painted at boot and its high-water mark printed after each
 //! composition. Printed (semihosting), one line each:
 //! `comp <name> stepper=<type> size=<bytes> tables=<bytes> n_sub=<n> steps=<k> transitions=<n> stack_used=<bytes> stack_size=<bytes>`
 //!
@@ -44,7 +47,7 @@ use core::ptr::addr_of_mut;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
-use stickslip_model::model2::{Band, Composition, Model2Stepper, Stribeck, StribeckBand};
+use stickslip_model::model2::{Band, Composition, Model2Stepper, Stribeck, StribeckBand, StribeckBandFace, StribeckFloatFace};
 use stickslip_model::{Coefficients, ExactStepper, FrictionLaw, Halt, Regime, Scene, SceneError};
 use stickslip_on_target::{scenes, stack};
 
@@ -125,6 +128,12 @@ class_markers!(
     count_class_expf_libm = 17,
     count_class_exp_micromath = 18,
     count_class_expf_model = 19,
+    count_class_face_stick = 20,
+    count_class_face_slip = 21,
+    count_class_face_transition = 22,
+    count_class_float_stick = 23,
+    count_class_float_slip = 24,
+    count_class_float_transition = 25,
 );
 
 /// The three class markers of one composition: stick, slip, transition.
@@ -248,10 +257,28 @@ fn stribeck(mut s: Scene) -> Scene {
 /// The static homes of the steppers (one composition at a time), as `Result`s so that `new`
 /// can build its value in the static itself rather than on the stack and then move it there.
 static mut EXACT: MaybeUninit<Result<ExactStepper<f32>, SceneError>> = MaybeUninit::uninit();
-/// `Model2Stepper::init_in` fills its tables in the static (one per composition).
-static mut BAND: Option<Model2Stepper<f32, Band>> = None;
-static mut STRIBECK: Option<Model2Stepper<f32, Stribeck>> = None;
-static mut ALL: Option<Model2Stepper<f32, StribeckBand>> = None;
+/// `Model2Stepper::init_in` fills its tables in place: one static arena that each composition
+/// takes in turn (five steppers of 14 to 38 KB would not fit the F405's 128 KB side by side).
+const ARENA_BYTES: usize = 40 * 1024;
+#[repr(C, align(8))]
+struct Arena([u8; ARENA_BYTES]);
+static mut ARENA: MaybeUninit<Arena> = MaybeUninit::uninit();
+
+/// The arena as an empty slot for a stepper of composition `C` (the previous one is over:
+/// steppers hold no resources, nothing to drop).
+fn slot<C: Composition>() -> &'static mut Option<Model2Stepper<f32, C>> {
+    const {
+        assert!(core::mem::size_of::<Option<Model2Stepper<f32, C>>>() <= ARENA_BYTES);
+        assert!(core::mem::align_of::<Option<Model2Stepper<f32, C>>>() <= 8);
+    }
+    let p = addr_of_mut!(ARENA).cast::<Option<Model2Stepper<f32, C>>>();
+    // SAFETY: the arena is large and aligned enough (checked above); single-threaded program,
+    // and the slot of the previous composition is no longer referenced when the next is taken.
+    unsafe {
+        p.write(None);
+        &mut *p
+    }
+}
 
 fn run_exact(name: &str, scene: &Scene, classes: &Classes) {
     stack::paint();
@@ -311,25 +338,41 @@ fn main() -> ! {
         &damped(thesis),
         &[count_class_damping_stick, count_class_damping_slip, count_class_damping_transition],
     );
-    // SAFETY: each static is referenced once, here; single-threaded program.
-    let (band, strib, all) = unsafe { (&mut *addr_of_mut!(BAND), &mut *addr_of_mut!(STRIBECK), &mut *addr_of_mut!(ALL)) };
     run_model2(
         "band",
-        band,
+        slot::<Band>(),
         &banded(thesis),
         &[count_class_band_stick, count_class_band_slip, count_class_band_transition],
     );
     run_model2(
         "stribeck",
-        strib,
+        slot::<Stribeck>(),
         &stribeck(thesis),
         &[count_class_stribeck_stick, count_class_stribeck_slip, count_class_stribeck_transition],
     );
     run_model2(
         "all",
-        all,
+        slot::<StribeckBand>(),
         &damped(banded(stribeck(thesis))),
         &[count_class_all_stick, count_class_all_slip, count_class_all_transition],
+    );
+    let all_on = damped(banded(stribeck(thesis)));
+    let mut with_face = all_on;
+    with_face.face = true;
+    let mut floating = with_face;
+    floating.k_pivot = 0.0;
+    floating.c_y = 0.02 * 2.0 * libm::sqrt((floating.k_l + floating.k_t) * floating.m);
+    run_model2(
+        "face",
+        slot::<StribeckBandFace>(),
+        &with_face,
+        &[count_class_face_stick, count_class_face_slip, count_class_face_transition],
+    );
+    run_model2(
+        "float",
+        slot::<StribeckFloatFace>(),
+        &floating,
+        &[count_class_float_stick, count_class_float_slip, count_class_float_transition],
     );
 
     // The exponentials, one call per window (the call's glue is inside the window: the three
