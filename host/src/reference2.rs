@@ -36,10 +36,11 @@
 
 use crate::reference::Tolerances;
 use ode_solvers::dop853::Dop853;
-use ode_solvers::{OutputType, System, Vector6};
+use ode_solvers::{OutputType, SVector, System};
 use stickslip_model::{Caliper, FrictionLaw, Scene};
 
-type Z = Vector6<f64>;
+/// [x, x', phi, phi', u, u', y, y'] (y: the floating pad's pivot normal to the band).
+type Z = SVector<f64, 8>;
 
 /// Guards of slip phases are armed once `v` has been beyond `ARM * V` (see the module doc).
 const ARM: f64 = 1e-9;
@@ -86,6 +87,15 @@ struct Phys {
     cb: f64,
     /// Friction-face kinematics (only with rotation).
     face: bool,
+    /// The floating pad (finite k_pivot): the pivot translates by y normal to the band, the
+    /// centre of gravity l from it (mass matrix [[I, m l], [m l, m]] in (phi, y)).
+    floating: bool,
+    k_pivot: f64,
+    c_y: f64,
+    l: f64,
+    k_s: f64,
+    f_n: f64,
+    y0: f64,
 }
 
 impl Phys {
@@ -112,7 +122,13 @@ impl Phys {
             mu_s: sc.mu_s,
             mu_k: sc.mu_k,
             rotation: sc.rotation,
-            phi0: sc.f_n * a_n / k_rot,
+            phi0: if sc.floating() {
+                let k_y = sc.k_l + sc.k_t + sc.k_pivot;
+                let c_n = sc.k_l * d_l + sc.k_t * d_t;
+                (k_y * sc.f_n * a_n - c_n * sc.f_n) / (k_y * k_rot - c_n * c_n)
+            } else {
+                sc.f_n * a_n / k_rot
+            },
             stribeck: sc.friction == FrictionLaw::Stribeck,
             v_s: sc.v_s,
             delta: sc.stribeck_exponent,
@@ -121,20 +137,75 @@ impl Phys {
             kb: sc.k_b,
             cb: sc.c_b,
             face: sc.face && sc.rotation,
+            floating: sc.floating(),
+            k_pivot: sc.k_pivot,
+            c_y: sc.c_y,
+            l: sc.l,
+            k_s: sc.k_l + sc.k_t,
+            f_n: sc.f_n,
+            y0: if sc.floating() {
+                let k_y = sc.k_l + sc.k_t + sc.k_pivot;
+                let c_n = sc.k_l * d_l + sc.k_t * d_t;
+                (sc.f_n * k_rot - c_n * sc.f_n * a_n) / (k_y * k_rot - c_n * c_n)
+            } else {
+                0.0
+            },
         }
     }
 
     fn normal(&self, z: &Z) -> f64 {
+        if self.floating {
+            return self.k_s * z[6] + self.c_n * z[2];
+        }
         self.c_n * if self.rotation { z[2] } else { self.phi0 }
     }
 
     /// Rate of N along the motion.
     fn normal_rate(&self, zd: &Z) -> f64 {
-        if self.rotation {
+        if self.floating {
+            self.k_s * zd[6] + self.c_n * zd[2]
+        } else if self.rotation {
             self.c_n * zd[2]
         } else {
             0.0
         }
+    }
+
+    /// The floating pad's (phi, y) mass block: its determinant I m - (m l)^2.
+    fn det_float(&self) -> f64 {
+        self.i * self.m - (self.m * self.l) * (self.m * self.l)
+    }
+
+    /// The floating pad: (phi'', y'') from the generalized forces on phi (with the friction's
+    /// moment) and on y, by the inverse of [[I, m l], [m l, m]].
+    fn float_acc(&self, q_phi: f64, q_y: f64) -> (f64, f64) {
+        let det = self.det_float();
+        let ml = self.m * self.l;
+        ((self.m * q_phi - ml * q_y) / det, (self.i * q_y - ml * q_phi) / det)
+    }
+
+    /// The floating pad's generalized forces without friction on phi and y (`c = 0`: without
+    /// the constant terms, for rates).
+    fn float_forces(&self, z: &Z, c: f64) -> (f64, f64) {
+        let q_phi = c * self.moment_load - self.k_rot * z[2] - self.c_n * z[6] - self.cphi * z[3];
+        let q_y = c * self.f_n - (self.k_s + self.k_pivot) * z[6] - self.c_n * z[2] - self.c_y * z[7];
+        (q_phi, q_y)
+    }
+
+    /// The floating pad's stick friction: x'' + s w phi'' - u'' = 0 with the equations of
+    /// motion, solved for F (linear in F).
+    fn f_req_float(&self, z: &Z, affine: bool) -> f64 {
+        let c = if affine { 1.0 } else { 0.0 };
+        let q_x = -self.kg * z[0] - self.cx * z[1];
+        let (q_phi, q_y) = self.float_forces(z, c);
+        let q_u = if self.band { -self.kb * z[4] - self.cb * z[5] } else { 0.0 };
+        let sw = self.s * self.w;
+        // constraint residual at F = 0 and its slope in F
+        let (phi0, _) = self.float_acc(q_phi, q_y);
+        let (phi1, _) = self.float_acc(sw, 0.0);
+        let r0 = q_x / self.m + sw * phi0 - if self.band { q_u / self.mb } else { 0.0 };
+        let r1 = 1.0 / self.m + sw * phi1 + if self.band { 1.0 / self.mb } else { 0.0 };
+        -r0 / r1
     }
 
     /// Sliding velocity v = x' (+ s w phi') - V - u'.
@@ -150,6 +221,10 @@ impl Phys {
 
     /// 1/m + w^2/I (face) + 1/m_b (band): the sliding velocity's response to a friction impulse.
     fn inv_mass_v(&self) -> f64 {
+        if self.floating {
+            let (phi1, _) = self.float_acc(self.s * self.w, 0.0);
+            return 1.0 / self.m + self.s * self.w * phi1 + if self.band { 1.0 / self.mb } else { 0.0 };
+        }
         1.0 / self.m
             + if self.face { self.w * self.w / self.i } else { 0.0 }
             + if self.band { 1.0 / self.mb } else { 0.0 }
@@ -194,7 +269,9 @@ impl Phys {
 
     /// The stick's required friction force.
     fn f_req(&self, z: &Z) -> f64 {
-        if self.face {
+        if self.floating {
+            self.f_req_float(z, true)
+        } else if self.face {
             self.f_req_face(z, true)
         } else if self.band {
             (self.mb * (self.kg * z[0] + self.cx * z[1]) - self.m * (self.kb * z[4] + self.cb * z[5])) / (self.m + self.mb)
@@ -205,7 +282,9 @@ impl Phys {
 
     /// Rate of F_req along the motion zd (F_req is affine in z).
     fn f_req_rate(&self, zd: &Z) -> f64 {
-        if self.face {
+        if self.floating {
+            self.f_req_float(zd, false)
+        } else if self.face {
             self.f_req_face(zd, false)
         } else if self.band {
             (self.mb * (self.kg * zd[0] + self.cx * zd[1]) - self.m * (self.kb * zd[4] + self.cb * zd[5])) / (self.m + self.mb)
@@ -243,13 +322,18 @@ impl Phys {
                 (xdd, udd)
             }
         };
+        let ud = if self.band { z[5] } else { 0.0 };
+        if self.floating {
+            let (q_phi, q_y) = self.float_forces(z, 1.0);
+            let (phidd, ydd) = self.float_acc(q_phi + self.s * self.w * ff, q_y);
+            return Z::from_column_slice(&[z[1], xdd, z[3], phidd, ud, udd, z[7], ydd]);
+        }
         let (phid, phidd) = if self.rotation {
             (z[3], (-self.k_rot * z[2] - self.cphi * z[3] + self.moment_load + self.s * self.w * ff) / self.i)
         } else {
             (0.0, 0.0)
         };
-        let ud = if self.band { z[5] } else { 0.0 };
-        Z::new(z[1], xdd, phid, phidd, ud, udd)
+        Z::from_column_slice(&[z[1], xdd, phid, phidd, ud, udd, 0.0, 0.0])
     }
 
     /// The regime holds while the guard is negative.
@@ -307,7 +391,16 @@ impl Phys {
 
     /// Sets v = 0 on entering stick.
     fn project_stick(&self, z: &mut Z) {
-        if self.face {
+        if self.floating {
+            let p = -self.slip_v(z) / self.inv_mass_v();
+            let (dphi, dy) = self.float_acc(self.s * self.w * p, 0.0);
+            z[1] += p / self.m;
+            z[3] += dphi;
+            z[7] += dy;
+            if self.band {
+                z[5] -= p / self.mb;
+            }
+        } else if self.face {
             let p = -self.slip_v(z) / self.inv_mass_v();
             z[1] += p / self.m;
             z[3] += self.s * self.w * p / self.i;
@@ -354,6 +447,15 @@ impl Phys {
             r = r.max(((self.k_rot + self.mu_s * self.w * self.c_n) / self.i).sqrt()).max(self.cphi / self.i);
         }
         let inv_mass = self.inv_mass_v();
+        if self.floating {
+            // the (phi, y) block's stiffest direction over its lightest inertia
+            let det = self.det_float();
+            r = r
+                .max(((self.k_s + self.k_pivot) * self.i / det).sqrt())
+                .max(((self.k_rot + self.mu_s * self.w * self.c_n) * self.m / det).sqrt())
+                .max(self.c_y * self.i / det)
+                .max(self.cphi * self.m / det);
+        }
         if self.band {
             r = r.max((self.kb / self.mb).sqrt()).max(self.cb / self.mb);
         }
@@ -453,7 +555,7 @@ pub struct Transition {
     pub t: f64,
     pub from: Regime,
     pub to: Regime,
-    pub state: [f64; 6],
+    pub state: [f64; 8],
 }
 
 /// Window statistics of a run. Quantities are indexed [x, x', phi, phi', x_b', u''] (x_b' =
@@ -478,19 +580,19 @@ impl Stats2 {
     }
 }
 
-/// Where a run starts: the state `[x, x', phi, phi', u, u']` at t = 0 and its regime.
+/// Where a run starts: the state `[x, x', phi, phi', u, u', y, y']` at t = 0 and its regime.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Start {
-    pub state: [f64; 6],
+    pub state: [f64; 8],
     pub regime: Regime,
 }
 
 impl Start {
     /// The default initial state of docs/model.md: stick, x = 0, x' = V, phi = F_N a_N / K,
-    /// phi' = 0, u = u' = 0.
+    /// phi' = 0, u = u' = 0 (the floating pad: (y, phi) static under the load, y' = 0).
     pub fn default_of(scene: &Scene) -> Start {
         let p = Phys::of(scene);
-        Start { state: [0.0, p.v, p.phi0, 0.0, 0.0, 0.0], regime: Regime::Stick }
+        Start { state: [0.0, p.v, p.phi0, 0.0, 0.0, 0.0, p.y0, 0.0], regime: Regime::Stick }
     }
 }
 
@@ -502,7 +604,7 @@ pub struct Run2 {
     pub start: Start,
     pub transitions: Vec<Transition>,
     /// The state at `duration`, and its regime.
-    pub final_state: [f64; 6],
+    pub final_state: [f64; 8],
     pub final_regime: Regime,
     pub duration: f64,
     /// DOP853 steps accepted on the main path (not counting bisections).
@@ -512,8 +614,8 @@ pub struct Run2 {
     h_max: f64,
 }
 
-fn arr(z: &Z) -> [f64; 6] {
-    [z[0], z[1], z[2], z[3], z[4], z[5]]
+fn arr(z: &Z) -> [f64; 8] {
+    [z[0], z[1], z[2], z[3], z[4], z[5], z[6], z[7]]
 }
 
 /// Runs `scene` from the default initial state to `scene.duration` at the default (tight)
@@ -542,6 +644,10 @@ pub fn simulate_from(scene: &Scene, start: Start, tol: Tolerances) -> Result<Run
     if !p.band {
         z[4] = 0.0;
         z[5] = 0.0;
+    }
+    if !p.floating {
+        z[6] = 0.0;
+        z[7] = 0.0;
     }
     let mut regime = start.regime;
     if regime == Regime::Stick {
@@ -744,18 +850,18 @@ impl Run2 {
         self.transitions.iter().take_while(|tr| tr.t <= t).last().map_or(self.start.regime, |tr| tr.to)
     }
 
-    /// The states `[x, x', phi, phi', u, u']` at the given times (each in [0, duration]; any
+    /// The states `[x, x', phi, phi', u, u', y, y']` at the given times (each in [0, duration]; any
     /// order). At a transition's time the state is the one the new regime starts from. Each
     /// state is integrated from the previous requested time in the same segment (or the
     /// segment's start), at the run's tolerances.
-    pub fn sample(&self, times: &[f64]) -> Result<Vec<[f64; 6]>, String> {
+    pub fn sample(&self, times: &[f64]) -> Result<Vec<[f64; 8]>, String> {
         if let Some(t) = times.iter().find(|t| !(**t >= 0.0 && **t <= self.duration)) {
             return Err(format!("reference2: sample time {t} s not inside [0, {}] s", self.duration));
         }
         let mut order: Vec<usize> = (0..times.len()).collect();
         order.sort_by(|a, b| times[*a].total_cmp(&times[*b]));
         let segs = self.segments();
-        let mut out = vec![[0.0; 6]; times.len()];
+        let mut out = vec![[0.0; 8]; times.len()];
         let mut si = 0;
         let (mut t, mut z) = (segs[0].0, segs[0].1);
         for idx in order {

@@ -83,3 +83,25 @@ fn friction_face_kinematics_match_the_reference() {
         assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
     }
 }
+
+#[test]
+fn the_floating_pad_matches_the_reference() {
+    // the reference's own floating pad: the (phi, y) mass block inverted where it is used, the
+    // stick friction solved from the constraint's residual, the impulse through the mass block
+    let mut coulomb = Scene::case(stickslip_model::Caliper::Pull, 0.040);
+    coulomb.face = true;
+    coulomb.k_pivot = 0.0;
+    coulomb.c_x = 15.0;
+    coulomb.c_phi = 0.05;
+    coulomb.c_y = 30.0;
+    let mut stiff = coulomb;
+    stiff.k_pivot = 1e6;
+    let rig = builtin::find("rig_float_pull_center").unwrap().scene;
+    for (name, scene) in [("pull_center floating, damped", coulomb), ("pull_center, k_pivot 1e6", stiff), ("rig_float_pull_center", rig)] {
+        let e64 = errors(&scene, &stepper::<f64>(&scene));
+        let e32 = errors(&scene, &stepper::<f32>(&scene));
+        println!("{name} f64 {e64:?}\n{name} f32 {e32:?}");
+        assert!(e64.iter().all(|&e| e <= 1e-5), "{name} f64 {e64:?}");
+        assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
+    }
+}

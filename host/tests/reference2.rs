@@ -81,7 +81,7 @@ fn sliding_growth(frac: f64) -> (f64, f64) {
     let mu = |w: f64| s.mu_k + (s.mu_s - s.mu_k) * (-w / s.v_s).exp();
     let x_eq = mu(s.v) * n / s.k_g;
     let eps = 1e-6;
-    let start = Start { state: [x_eq + eps, 0.0, 0.0, 0.0, 0.0, 0.0], regime: Regime::Slower };
+    let start = Start { state: [x_eq + eps, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], regime: Regime::Slower };
     let run = reference2::simulate_from(&s, start, Tolerances::default()).expect("run");
     assert!(run.transitions.is_empty(), "steady sliding must not stick: {:?}", run.transitions.first());
     let h = 1e-3;
@@ -307,7 +307,7 @@ fn stribeck_slip_is_not_ended_by_round_off_at_its_start() {
     let n = Scene::ORACLE_N0;
     // just below breakaway (x'' > 0 for a moment) and v = +1e-13 m/s: v crests at about
     // +1e-13 m/s within ~2e-8 s, then falls as the spring's force grows
-    let start = Start { state: [s.mu_s * n / s.k_g - 1e-9, s.v + 1e-13, 0.0, 0.0, 0.0, 0.0], regime: Regime::Slower };
+    let start = Start { state: [s.mu_s * n / s.k_g - 1e-9, s.v + 1e-13, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], regime: Regime::Slower };
     let run = reference2::simulate_from(&s, start, Tolerances::default()).expect("run");
     let first = run.transitions.first().expect("the slip ends");
     eprintln!("slip from v = +1e-13 m/s: first transition {:?} -> {:?} at {:.6} s", first.from, first.to, first.t);

@@ -489,7 +489,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         }
         // the stick anchor of the start (x = 0; with the face x + s w phi_0)
         s.anchor_x = s.face_position(&s.z);
-        s.fill_tables(scene, &co, &sys);
+        s.fill_tables(scene, &sys);
         s.slip_sparse = !C::FLOAT
             && [Regime::SlipSlower, Regime::SlipFaster]
             .iter()
@@ -503,7 +503,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// through a copy on the stack).
     #[inline(never)]
     #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
-    fn fill_tables(&mut self, scene: &Scene, co: &Coefficients, sys: &System) {
+    fn fill_tables(&mut self, scene: &Scene, sys: &System) {
         let h_sub = self.h_sub;
         let t = T::from_f64;
         // the flow's columns: the moved entries, then the constant 1
@@ -539,7 +539,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     let sigma = regime.friction_sign();
                     let c_k = k as f64 / NEAR_OPS as f64;
                     let g: [f64; NA] = core::array::from_fn(|c| {
-                        c_k * sigma * sys.d_mu * (sys.r_n[c] + sigma * co.n0 / scene.v_s * sys.r_v[c])
+                        c_k * sigma * sys.d_mu * (sys.r_n[c] + sigma * sys.n0 / scene.v_s * sys.r_v[c])
                     });
                     core::array::from_fn(|r| core::array::from_fn(|c| a[r][c] + sys.b[r] * g[c]))
                 };
