@@ -66,8 +66,9 @@ const EXP_POINTS: u32 = 200_000;
 /// The model-2 stepper's method name in the rows.
 pub const MODEL2_METHOD: &str = "model2";
 /// Model-2 scenes of the report: the 1-DOF Stribeck oracle, a 2-DOF Stribeck case (pull_center
-/// with v_s = 2 mm/s) and a rig-set case; all periodic.
-pub const MODEL2_SCENES: [&str; 3] = ["oracle_stribeck", "pull_center_stribeck", "rig_pull_center"];
+/// with v_s = 2 mm/s), a rig-set case and the rig set's floating-pad case (part 2: the face, a
+/// floating pad); all periodic.
+pub const MODEL2_SCENES: [&str; 4] = ["oracle_stribeck", "pull_center_stribeck", "rig_pull_center", "rig_float_pull_center"];
 
 fn model2_scene(name: &str) -> Scene {
     if name == "pull_center_stribeck" {

@@ -6,12 +6,14 @@
 //!
 //! Model 2: 1000 steps of each composition's specialised stepper (`model2_1000_steps/<composition>/<T>`)
 //! on pull_center with that composition's options of the rig set (docs/numerics.md,
-//! "Compositions"), continuing from run to run (stick, slip and transitions at their rate).
+//! "Compositions"), continuing from run to run (stick, slip and transitions at their rate);
+//! part 2's `stribeck+band+face` (the same scene with the face) and `stribeck+float+face`
+//! (rig_float_pull_center).
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use std::hint::black_box;
 use stickslip_model::methods::{AnyMethod, Method, MethodKind};
-use stickslip_model::model2::{Band, Composition, Model2Stepper, Stribeck, StribeckBand};
+use stickslip_model::model2::{Band, Composition, Model2Stepper, Stribeck, StribeckBand, StribeckBandFace, StribeckFloatFace};
 use stickslip_model::rig_set::rig_scene;
 use stickslip_model::{Caliper, ExactStepper, FrictionLaw, Real, Scene};
 
@@ -20,6 +22,11 @@ fn model2<T: Real, C: Composition>(c: &mut Criterion) {
     scene.band = C::BAND;
     if !C::STRIBECK {
         scene.friction = FrictionLaw::Coulomb;
+    }
+    // part 2: the face, and the floating pad as in the rig set with part 2 (rig_float_scene)
+    scene.face = C::FACE;
+    if C::FLOAT {
+        scene = stickslip_model::rig_set::rig_float_scene(Caliper::Pull, 0.040);
     }
     let id = format!("model2_1000_steps/{}/{}", C::NAME, T::NAME);
     let mut st = Model2Stepper::<T, C>::new(&scene).unwrap();
@@ -66,6 +73,8 @@ fn for_each_model2<T: Real>(c: &mut Criterion) {
     model2::<T, Band>(c);
     model2::<T, Stribeck>(c);
     model2::<T, StribeckBand>(c);
+    model2::<T, StribeckBandFace>(c);
+    model2::<T, StribeckFloatFace>(c);
 }
 
 fn benches(c: &mut Criterion) {
