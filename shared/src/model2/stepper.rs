@@ -368,8 +368,9 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         scene.validate()?;
         C::matches(scene)?;
         let co = Coefficients::of(scene);
-        let sys = System::of(scene, &co);
-        let rate = sys.linear_rate(scene, &co);
+        // (compile-time choice: a hinged composition's build has no floating-pad set-up)
+        let sys = if C::FLOAT { System::floating_pad(scene, &co) } else { System::hinged(scene, &co) };
+        let rate = if C::FLOAT { sys.floating_rate(scene, &co) } else { sys.hinged_rate(scene, &co) };
         let mut n_sub = libm::ceil(scene.dt * rate / 0.25);
         if !(n_sub >= 1.0) {
             n_sub = 1.0;

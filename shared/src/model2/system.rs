@@ -82,10 +82,19 @@ pub struct System {
 }
 
 impl System {
+    /// The equations of `scene`: [`Self::floating_pad`] for a finite k_pivot, else
+    /// [`Self::hinged`]. (A stepper compiled for one kind calls that one directly, so the
+    /// other's set-up code is not in its build.)
     pub fn of(scene: &Scene, co: &Coefficients) -> System {
         if scene.floating() {
-            return Self::floating(scene, co);
+            Self::floating_pad(scene, co)
+        } else {
+            Self::hinged(scene, co)
         }
+    }
+
+    /// The hinged pad (the thesis's pivot, y = 0 for good): part 1 and the face.
+    pub fn hinged(scene: &Scene, co: &Coefficients) -> System {
         let band = scene.band;
         let rot = scene.rotation;
         let (m, i) = (scene.m, scene.inertia);
@@ -255,7 +264,7 @@ impl System {
     /// with the friction F at the face, whose velocity is x' + s w phi' (face kinematics).
     /// Stick holds x'' + s w phi'' - u'' = 0, which gives F_req as a linear row of z.
     #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
-    fn floating(scene: &Scene, co: &Coefficients) -> System {
+    pub fn floating_pad(scene: &Scene, co: &Coefficients) -> System {
         let band = scene.band;
         let (m, i) = (scene.m, scene.inertia);
         let s_w = co.s * scene.w;
@@ -388,17 +397,17 @@ impl System {
     /// Largest |eigenvalue| of the regimes' linear parts [1/s] (from the 2 x 2 blocks of each
     /// degree of freedom and of the stuck pad-band pair; an upper estimate, not a bound).
     pub fn linear_rate(&self, scene: &Scene, co: &Coefficients) -> f64 {
-        fn quad_max_root(a: f64, b: f64, c: f64) -> f64 {
-            let disc = b * b - 4.0 * a * c;
-            if disc < 0.0 {
-                libm::sqrt(libm::fabs(c / a))
-            } else {
-                let r = libm::sqrt(disc);
-                libm::fabs((-b - r) / (2.0 * a)).max(libm::fabs((-b + r) / (2.0 * a)))
-            }
-        }
-        let mut rate = quad_max_root(scene.m, scene.c_x, scene.k_g);
         if self.floating {
+            self.floating_rate(scene, co)
+        } else {
+            self.hinged_rate(scene, co)
+        }
+    }
+
+    /// [`Self::linear_rate`] of the floating pad.
+    pub fn floating_rate(&self, scene: &Scene, co: &Coefficients) -> f64 {
+        let mut rate = quad_max_root(scene.m, scene.c_x, scene.k_g);
+        {
             // the (phi, y) modes with the friction's coupling (|omega^2| of the larger root; a
             // complex pair: its modulus), and the damping rates over the smaller inertia
             for sigma_mu in [scene.mu_s, -scene.mu_s, scene.mu_k, -scene.mu_k, 0.0] {
@@ -417,8 +426,13 @@ impl System {
                 // the band's mode, and its coupling through the friction (bounded by the sum)
                 rate += quad_max_root(scene.m_b, scene.c_b, scene.k_b);
             }
-            return rate;
+            rate
         }
+    }
+
+    /// [`Self::linear_rate`] of the hinged pad.
+    pub fn hinged_rate(&self, scene: &Scene, co: &Coefficients) -> f64 {
+        let mut rate = quad_max_root(scene.m, scene.c_x, scene.k_g);
         if self.rotation {
             for sigma in [1.0, -1.0, 0.0] {
                 for mu in [scene.mu_s, scene.mu_k] {
@@ -448,6 +462,18 @@ impl System {
             );
         }
         rate
+    }
+}
+
+/// The largest |root| of a x^2 + b x + c (a mode's rate for m, c, k), or sqrt(|c / a|) for a
+/// complex pair.
+fn quad_max_root(a: f64, b: f64, c: f64) -> f64 {
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        libm::sqrt(libm::fabs(c / a))
+    } else {
+        let r = libm::sqrt(disc);
+        libm::fabs((-b - r) / (2.0 * a)).max(libm::fabs((-b + r) / (2.0 * a)))
     }
 }
 
