@@ -32,6 +32,15 @@ fn errors(scene: &Scene, s: &Stats2) -> [f64; 4] {
     ]
 }
 
+/// The stepper's errors against the reference, within 1e-5 in f64 and 1e-4 in f32.
+fn assert_matches(name: &str, scene: &Scene) {
+    let e64 = errors(scene, &stepper::<f64>(scene));
+    let e32 = errors(scene, &stepper::<f32>(scene));
+    println!("{name} f64 {e64:?}\n{name} f32 {e32:?}");
+    assert!(e64.iter().all(|&e| e <= 1e-5), "{name} f64 {e64:?}");
+    assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
+}
+
 #[test]
 fn the_stribeck_oracle_matches_the_reference() {
     let scene = builtin::find("oracle_stribeck").unwrap().scene;
@@ -49,11 +58,7 @@ fn two_dof_stribeck_and_the_rig_set_match_the_reference() {
     stribeck.v_s = 0.002;
     let rig = builtin::find("rig_pull_center").unwrap().scene;
     for (name, scene) in [("pull_center + Stribeck", stribeck), ("rig_pull_center", rig)] {
-        let e64 = errors(&scene, &stepper::<f64>(&scene));
-        let e32 = errors(&scene, &stepper::<f32>(&scene));
-        println!("{name} f64 {e64:?}\n{name} f32 {e32:?}");
-        assert!(e64.iter().all(|&e| e <= 1e-5), "{name} f64 {e64:?}");
-        assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
+        assert_matches(name, &scene);
     }
 }
 
@@ -76,11 +81,7 @@ fn friction_face_kinematics_match_the_reference() {
         ("rig_pull_center + face", rig),
         ("rig_pull_center + face, no band", rig_no_band),
     ] {
-        let e64 = errors(&scene, &stepper::<f64>(&scene));
-        let e32 = errors(&scene, &stepper::<f32>(&scene));
-        println!("{name} f64 {e64:?}\n{name} f32 {e32:?}");
-        assert!(e64.iter().all(|&e| e <= 1e-5), "{name} f64 {e64:?}");
-        assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
+        assert_matches(name, &scene);
     }
 }
 
@@ -98,10 +99,6 @@ fn the_floating_pad_matches_the_reference() {
     stiff.k_pivot = 1e6;
     let rig = builtin::find("rig_float_pull_center").unwrap().scene;
     for (name, scene) in [("pull_center floating, damped", coulomb), ("pull_center, k_pivot 1e6", stiff), ("rig_float_pull_center", rig)] {
-        let e64 = errors(&scene, &stepper::<f64>(&scene));
-        let e32 = errors(&scene, &stepper::<f32>(&scene));
-        println!("{name} f64 {e64:?}\n{name} f32 {e32:?}");
-        assert!(e64.iter().all(|&e| e <= 1e-5), "{name} f64 {e64:?}");
-        assert!(e32.iter().all(|&e| e <= 1e-4), "{name} f32 {e32:?}");
+        assert_matches(name, &scene);
     }
 }

@@ -68,6 +68,16 @@ impl Coefficients {
         m
     }
 
+    /// The floating pad's rest under the load without friction, (y_0 [m], phi_0 [rad]):
+    /// (k_L + k_T + k_pivot) y + c_N phi = F_N and c_N y + K phi = F_N a_N.
+    pub fn floating_rest(&self, scene: &Scene) -> (f64, f64) {
+        let k_y = scene.k_l + scene.k_t + scene.k_pivot;
+        let d = k_y * self.k_rot - self.c_n * self.c_n;
+        let y0 = (scene.f_n * self.k_rot - self.c_n * scene.f_n * self.a_n) / d;
+        let phi0 = (k_y * scene.f_n * self.a_n - self.c_n * scene.f_n) / d;
+        (y0, phi0)
+    }
+
     /// Quasi-static time from rest to the first slip (no damping):
     /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)); with the rotation held (N constant) the
     /// bracket is 1. Infinite when the pad self-locks. With friction-face kinematics the face,
@@ -83,9 +93,8 @@ impl Coefficients {
             let k_y = k_s + scene.k_pivot;
             let d = k_y * self.k_rot - self.c_n * self.c_n;
             let s_w = self.s * scene.w;
-            let n0 = (k_s * (scene.f_n * self.k_rot - self.c_n * scene.f_n * self.a_n)
-                + self.c_n * (k_y * scene.f_n * self.a_n - self.c_n * scene.f_n))
-                / d;
+            let (y0, phi0) = self.floating_rest(scene);
+            let n0 = k_s * y0 + self.c_n * phi0;
             let dn_df = s_w * self.c_n * scene.k_pivot / d;
             let lock = 1.0 - scene.mu_s * dn_df;
             if lock <= 0.0 {

@@ -25,26 +25,26 @@ fn states<T: stickslip_model::Real>(scene: &Scene, steps: u64) -> Vec<[f64; NS]>
         .collect()
 }
 
+/// The four part-1 compositions on one case: Coulomb (damped when `damped`), band (Coulomb),
+/// Stribeck without the band, and the rig set (Stribeck and band).
+fn compositions(caliper: Caliper, beta: f64, damped: bool) -> [(&'static str, Scene); 4] {
+    let mut coulomb = Scene::case(caliper, beta);
+    if damped {
+        coulomb.c_x = 10.0;
+        coulomb.c_phi = 0.03;
+    }
+    let mut band = rig_scene(caliper, beta);
+    band.friction = FrictionLaw::Coulomb;
+    let mut stribeck = rig_scene(caliper, beta);
+    stribeck.band = false;
+    [("coulomb", coulomb), ("band", band), ("stribeck", stribeck), ("stribeck+band", rig_scene(caliper, beta))]
+}
+
 fn scenes_w0() -> Vec<(&'static str, Scene)> {
     let mut out = Vec::new();
     for (caliper, beta) in [(Caliper::Push, 0.040), (Caliper::Pull, 0.055)] {
         // undamped push (the same bits), damped pull
-        let mut coulomb = Scene::case(caliper, beta);
-        if caliper == Caliper::Pull {
-            coulomb.c_x = 10.0;
-            coulomb.c_phi = 0.03;
-        }
-        let mut band = rig_scene(caliper, beta);
-        band.friction = FrictionLaw::Coulomb;
-        let mut stribeck = rig_scene(caliper, beta);
-        stribeck.band = false;
-        let rig = rig_scene(caliper, beta);
-        for (name, mut s) in [
-            ("coulomb", coulomb),
-            ("band", band),
-            ("stribeck", stribeck),
-            ("stribeck+band", rig),
-        ] {
+        for (name, mut s) in compositions(caliper, beta, caliper == Caliper::Pull) {
             s.w = 0.0;
             s.duration = 0.3;
             s.stats_from = 0.1;
@@ -313,20 +313,7 @@ fn face_scenes() -> Vec<(String, Scene)> {
     let mut out = Vec::new();
     for caliper in [Caliper::Push, Caliper::Pull] {
         for beta in [0.025, 0.055] {
-            let mut coulomb = Scene::case(caliper, beta);
-            coulomb.c_x = 10.0;
-            coulomb.c_phi = 0.03;
-            let mut band = rig_scene(caliper, beta);
-            band.friction = FrictionLaw::Coulomb;
-            let mut stribeck = rig_scene(caliper, beta);
-            stribeck.band = false;
-            let rig = rig_scene(caliper, beta);
-            for (name, mut s) in [
-                ("coulomb", coulomb),
-                ("band", band),
-                ("stribeck", stribeck),
-                ("stribeck+band", rig),
-            ] {
+            for (name, mut s) in compositions(caliper, beta, true) {
                 s.face = true;
                 s.duration = 0.2;
                 s.stats_from = 0.1;

@@ -342,9 +342,7 @@ impl System {
             }
         }
         // the start: static under the load, no friction (x = 0)
-        let det_k = k_y * co.k_rot - co.c_n * co.c_n;
-        let y0 = (scene.f_n * co.k_rot - co.c_n * scene.f_n * co.a_n) / det_k;
-        let phi0 = (k_y * scene.f_n * co.a_n - co.c_n * scene.f_n) / det_k;
+        let (y0, phi0) = co.floating_rest(scene);
         System {
             a,
             b,
