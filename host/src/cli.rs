@@ -71,6 +71,11 @@ pub enum Command {
     /// same analysis, per channel side by side, with the ratios measured / model
     #[command(after_help = COMPARE_AFTER)]
     Compare(CompareArgs),
+    /// Regime map: sweep one or two scene keys; per cell the linear stability of steady sliding,
+    /// a run from perturbed steady sliding and one from rest, each classified (steady sliding,
+    /// stick-slip, ...); in parallel on every core, shardable (`map merge` joins the shards)
+    #[command(after_help = MAP_AFTER)]
+    Map(MapArgs),
     /// Decode the firmware's raw defmt log stream (RTT capture or defmt-semihosting output)
     /// with the firmware ELF into CSV or JSON records
     #[command(after_help = DECODE_AFTER)]
@@ -373,6 +378,35 @@ pub struct StabilityArgs {
     pub check: bool,
 }
 
+const MAP_AFTER: &str = "\
+Each cell is SCENE with the swept values (a damping ratio zeta_x, zeta_phi, zeta_b is set after
+the other keys, with the cell's stiffness). Per cell:
+- linear: steady sliding at the band speed linearised with the model's own matrices (the
+  falling friction slope as negative damping, the floating pad's friction-coupled stiffness);
+  eigenvalues by nalgebra: stable (every mode decays or is neutral), the largest growth rate
+  [1/s], the unstable mode's frequency [Hz]; or no steady sliding (sprag, contact_loss);
+- from_sliding: a run from steady sliding with a velocity kick (--kick), and from_rest: a run
+  from the default stuck start. Each run's regime: stick_slip (a breakaway in the statistics
+  window), stuck (stick and no breakaway in the window), steady_sliding (never in stick, the
+  sliding velocity's peak-to-peak <= 4 kick V), sliding_oscillation (never in stick, larger),
+  sprag, contact_loss, method_unstable (another halt); stick fraction, stick-slip frequency
+  [Hz], pad_x peak-to-peak and groan-band (100 to 500 Hz) RMS [m/s^2] over the window.
+Cells where from_sliding is steady and from_rest stick-slips are bistable (a subcritical Hopf
+band). A cell whose scene is invalid is reported as such (its reason in `invalid`).
+
+--json prints {\"scene\", \"scene_toml\", \"sweeps\", \"duration_s\", \"stats_from_s\", \"dt_s\",
+\"precision\", \"kick\", \"steady_pp_over_kick_v\", \"cells_total\", \"shard\", \"cells\": [{\"index\",
+\"params\": {KEY: value}, \"invalid\", \"linear\": {\"stable\", \"max_growth_rate\", \"unstable_hz\",
+\"no_steady_sliding\", \"modes\"}, \"from_sliding\": {\"regime\", \"stick_fraction\", \"stick_slip_hz\",
+\"pad_x_pp\", \"groan_rms\", \"slide_v_pp\", \"halt_s\"}, \"from_rest\": {...}}]}; null where a
+value does not exist. Cell index i = i_1 + n_1 i_2 (the first sweep runs fastest).
+
+A progress bar with the time left, and the steps per second at the end, go to stderr. On a
+cluster: run `map ... --shard K/N --json > shard_K.json` for K = 0..N-1 as a job array, then
+`map merge shard_*.json` (it checks that every cell is there once; the result equals the unsplit
+map). Bad sweeps (unknown key, N = 0, FROM > TO with log, a value that makes every cell it is in
+invalid) exit 2 with one line naming the sweep.";
+
 const SIMULATE_AFTER: &str = "\
 The summary gives the peak-to-peak values of x [m], x' [m/s], phi [rad] and phi' [rad/s] over the
 statistics window [stats_from, duration] (exact extremes of the continuous motion), the stick
@@ -426,6 +460,66 @@ pub struct RunOptions {
     /// Floating-point type of the stepper
     #[arg(long, value_enum, default_value = "f64")]
     pub precision: Precision,
+}
+
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct MapArgs {
+    #[command(subcommand)]
+    pub action: Option<MapAction>,
+    /// Built-in scene name (see `stickslip scenes`) or path to a TOML scene file: every key
+    /// not swept comes from it
+    #[arg(value_name = "SCENE|FILE", required = true)]
+    pub scene: Option<String>,
+    /// A swept key: KEY=FROM:TO:N (N values, evenly spaced) or KEY=FROM:TO:N:log (geometric);
+    /// any numeric scene key (beta, f_n, v, mu_s, mu_k, v_s, k_pivot, c_x, zeta_x, ...); give
+    /// one or two
+    #[arg(long = "sweep", value_name = "KEY=FROM:TO:N[:log]", required = true, allow_hyphen_values = true)]
+    pub sweeps: Vec<String>,
+    /// The start from sliding: velocity kick relative to the band speed V (x' and y' by kick V,
+    /// phi' by kick V / l), 0 < kick <= 0.5
+    #[arg(long, value_name = "K", default_value_t = 0.01, allow_hyphen_values = true)]
+    pub kick: f64,
+    /// Run only every N-th cell starting at K (0 <= K < N), for a job array; join the shards'
+    /// --json with `map merge`
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Worker threads (default: every core)
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    #[command(flatten)]
+    pub run: RunOptions,
+    #[command(flatten)]
+    pub out: MapOutput,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum MapAction {
+    /// Join the --json files of a map's shards into the whole map (and its CSV and figure)
+    Merge(MapMergeArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MapMergeArgs {
+    /// The shards' JSON files (`map ... --shard K/N --json > shard_K.json`)
+    #[arg(value_name = "FILE", required = true)]
+    pub files: Vec<PathBuf>,
+    #[command(flatten)]
+    pub out: MapOutput,
+}
+
+#[derive(Debug, Args)]
+pub struct MapOutput {
+    /// Print the map as JSON instead of the Markdown summary
+    #[arg(long)]
+    pub json: bool,
+    /// Write one row per cell to FILE (CSV)
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write the figure to FILE (SVG): heat maps with the linear boundary (two sweeps), lines
+    /// (one sweep)
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -58,6 +58,7 @@ fn main() -> ExitCode {
         Command::Analyze(a) => commands::analyze(a),
         Command::Sil(a) => commands::sil(a),
         Command::Compare(a) => commands::compare(a),
+        Command::Map(a) => commands::map(a),
         Command::Decode(a) => commands::decode(a),
     };
     match result {

@@ -299,7 +299,7 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
 
 /// The linear stability of steady sliding as one line of the summary.
 pub fn sliding_line(lin: &crate::sliding::SlidingStability) -> String {
-    if let Some(why) = &lin.invalid {
+    if let Some((_, why)) = &lin.invalid {
         return format!("does not exist ({why})");
     }
     let mode = |hz: f64| if hz == 0.0 { "a non-oscillating mode".to_string() } else { format!("the {} Hz mode", sig4(hz)) };
@@ -399,7 +399,7 @@ pub struct LinearJson {
     pub max_growth_rate: f64,
     /// Frequency of the fastest-growing mode [Hz] (null when stable).
     pub unstable_hz: Option<f64>,
-    /// Why steady sliding does not exist, if it does not (contact loss).
+    /// Why steady sliding does not exist, if it does not (sprag, contact loss).
     pub invalid: Option<String>,
     /// The floating pad: the kinetic friction at which steady Coulomb sliding turns unstable.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -416,7 +416,7 @@ impl LinearJson {
             stable: lin.stable(),
             max_growth_rate: lin.max_growth_rate(),
             unstable_hz: lin.unstable_mode().map(|m| m.frequency_hz),
-            invalid: lin.invalid.clone(),
+            invalid: lin.invalid.as_ref().map(|(_, why)| why.clone()),
             flutter_mu_k: if s.floating() { crate::sliding::instability_threshold_mu(s, 0.0, 2.0, 1e-6) } else { None },
         })
     }
@@ -458,7 +458,7 @@ pub struct CasesJson {
 }
 
 /// Four significant digits, plain notation.
-fn sig4(v: f64) -> String {
+pub fn sig4(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
     }

@@ -2,7 +2,7 @@
 //! cycle spread, transition log) and the per-step sink; a halt is an outcome, not an error.
 
 use stickslip_model::propagator::Propagator;
-use stickslip_model::stats::{RunStats, StatsObserver};
+use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
 use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 use stickslip_model::{
     Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
@@ -151,6 +151,13 @@ impl<T: Real> Observer<T> for RunObserver<T> {
 
     fn transition(&mut self, tr: &Transition<T>) {
         self.stats.transition(tr);
+        self.note(tr);
+    }
+}
+
+impl<T: Real> RunObserver<T> {
+    /// The transition log and the cycle spread (everything but the window statistics).
+    fn note(&mut self, tr: &Transition<T>) {
         self.cycles.transition(tr);
         self.log.transitions += 1;
         if tr.from == Regime::Stick && self.log.first_slip.is_none() {
@@ -159,16 +166,100 @@ impl<T: Real> Observer<T> for RunObserver<T> {
     }
 }
 
+/// Where a run starts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Start {
+    /// The model's initial state: the pad stuck, moving with the band, at its rest under the
+    /// load (every command's start).
+    Rest,
+    /// Steady sliding at the band speed ([`crate::sliding`]: the pad at rest at its sliding
+    /// fixed point, the band at V) plus a velocity kick of relative size `kick` on each of the
+    /// pad's degrees of freedom the scene moves: x' and y' by kick V [m/s], phi' by kick V / l
+    /// [rad/s] (each pad edge by kick V). Slip with the pad slower than the band.
+    Sliding { kick: f64 },
+}
+
+/// The start state of `scene` from `start` (None for [`Start::Rest`]): the state
+/// [x, x', phi, phi', u, u', y, y'] in slip with the pad slower than the band. An error if the
+/// scene has no steady sliding (sprag, contact loss).
+pub fn start_state(scene: &Scene, start: Start) -> Result<Option<[f64; 8]>> {
+    let Start::Sliding { kick } = start else { return Ok(None) };
+    let lin = crate::sliding::sliding_stability(scene);
+    if let Some((_, why)) = &lin.invalid {
+        return Err(HostError::Input(format!("no start from steady sliding: {why}")));
+    }
+    let mut z = lin.state;
+    z[1] += kick * scene.v;
+    if scene.rotation {
+        z[3] += kick * scene.v / scene.l;
+    }
+    if scene.floating() {
+        z[stickslip_model::model2::Y + 1] += kick * scene.v;
+    }
+    Ok(Some(z))
+}
+
+/// How much of the window statistics a run keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Detail {
+    /// Everything: the exact extremes of the state too.
+    Full,
+    /// Stick fraction, stick-slip frequency and transitions only (the extremes in
+    /// [`RunStats`] and [`Model2Extra`] stay 0): the maps' runs, several times cheaper.
+    Events,
+}
+
 /// Runs a validated scene for round(duration / dt) steps, handing each completed step to `sink`.
 /// A scene with a model-2 option (Stribeck friction, the band) runs on the model-2 stepper;
 /// every other scene on the thesis stepper.
-pub fn run(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> Result<RunReport> {
-    match (precision, scene.uses_model2()) {
-        (Precision::F32, false) => run_in::<f32>(scene, precision, sink),
-        (Precision::F64, false) => run_in::<f64>(scene, precision, sink),
-        (Precision::F32, true) => run_model2_in::<f32>(scene, precision, sink),
-        (Precision::F64, true) => run_model2_in::<f64>(scene, precision, sink),
+pub fn run<S: Sink + ?Sized>(scene: &Scene, precision: Precision, sink: &mut S) -> Result<RunReport> {
+    run_from(scene, precision, Start::Rest, Detail::Full, sink)
+}
+
+/// [`run`] from `start`, keeping the statistics `detail` says.
+pub fn run_from<S: Sink + ?Sized>(
+    scene: &Scene,
+    precision: Precision,
+    start: Start,
+    detail: Detail,
+    sink: &mut S,
+) -> Result<RunReport> {
+    let mut reports = run_starts(scene, precision, detail, &mut [(start, sink)])?;
+    Ok(reports.remove(0))
+}
+
+/// [`run_from`] from each start in turn, the stepper set up once (its tables are most of a
+/// short run's cost) and copied for each: the maps' two runs of a cell.
+pub fn run_starts<S: Sink + ?Sized>(
+    scene: &Scene,
+    precision: Precision,
+    detail: Detail,
+    runs: &mut [(Start, &mut S)],
+) -> Result<Vec<RunReport>> {
+    let mut starts = Vec::with_capacity(runs.len());
+    for (start, sink) in runs.iter_mut() {
+        starts.push((start_state(scene, *start)?, &mut **sink));
     }
+    let full = detail == Detail::Full;
+    match (precision, scene.uses_model2()) {
+        (Precision::F32, false) => thesis_runs::<f32, S>(scene, precision, full, &mut starts),
+        (Precision::F64, false) => thesis_runs::<f64, S>(scene, precision, full, &mut starts),
+        (Precision::F32, true) => model2_runs::<f32, S>(scene, precision, full, &mut starts),
+        (Precision::F64, true) => model2_runs::<f64, S>(scene, precision, full, &mut starts),
+    }
+}
+
+type Starts<'a, S> = [(Option<[f64; 8]>, &'a mut S)];
+
+fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
+    // The caller validated the scene; a failure here still gets a message, not a panic.
+    let proto = ExactStepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, proto.clone(), *z0, full, &mut **sink)).collect()
+}
+
+fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
+    let proto = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+    starts.iter_mut().map(|(z0, sink)| run_model2_in(scene, precision, proto.clone(), *z0, full, &mut **sink)).collect()
 }
 
 /// The model-2 run's observers: window statistics, cycle spread, transition log.
@@ -202,21 +293,26 @@ impl<T: Real> Observer2<T> for Run2Observer {
     }
 }
 
-fn run_model2_in<T: Real>(
+fn run_model2_in<T: Real, S: Sink + ?Sized>(
     scene: &Scene,
     precision: Precision,
-    sink: &mut dyn Sink,
+    mut stepper: AnyModel2Stepper<T>,
+    z0: Option<[f64; 8]>,
+    full: bool,
+    sink: &mut S,
 ) -> Result<RunReport> {
-    let mut stepper =
-        AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+    if let Some(z0) = z0 {
+        stepper.set_state(z0.map(T::from_f64), Regime::SlipSlower);
+    }
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
-    let window_start = (scene.stats_from / scene.dt).round() * scene.dt;
+    let window_start = window_start(scene);
     let mut obs = Run2Observer {
-        stats: Stats2Observer::new(window_start, scene.v),
+        stats: if full { Stats2Observer::new(window_start, scene.v) } else { Stats2Observer::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
+    let forces = sink.wants_forces();
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
     for _ in 0..steps_planned {
@@ -230,8 +326,10 @@ fn run_model2_in<T: Real>(
         sink.sample(&Sample {
             t: stepper.time(),
             z: [z[0].to_f64(), z[1].to_f64(), z[2].to_f64(), z[3].to_f64()],
-            n: stepper.normal_force(&z).to_f64(),
-            f_f: stepper.friction_force(regime, &z).to_f64(),
+            n: if forces { stepper.normal_force(&z).to_f64() } else { f64::NAN },
+            f_f: if forces { stepper.friction_force(regime, &z).to_f64() } else { f64::NAN },
+            pad_acc: stepper.derivative(regime, &z)[1].to_f64(),
+            v_slide: stepper.sliding_velocity(&z).to_f64(),
             regime,
         })?;
     }
@@ -263,31 +361,62 @@ fn run_model2_in<T: Real>(
     })
 }
 
+/// Start of the statistics window [s]: the step boundary nearest stats_from (as the thesis
+/// stepper's statistics take it).
+pub fn window_start(scene: &Scene) -> f64 {
+    (scene.stats_from / scene.dt).round() * scene.dt
+}
+
 /// round(duration / dt), at least one.
 pub fn planned_steps(scene: &Scene) -> u64 {
     ((scene.duration / scene.dt).round() as u64).max(1)
 }
 
-fn run_in<T: Real>(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> Result<RunReport> {
-    // The caller validated the scene; a failure here still gets a message, not a panic.
-    let mut stepper = ExactStepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+fn run_in<T: Real, S: Sink + ?Sized>(
+    scene: &Scene,
+    precision: Precision,
+    mut stepper: ExactStepper<T>,
+    z0: Option<[f64; 8]>,
+    full: bool,
+    sink: &mut S,
+) -> Result<RunReport> {
+    if let Some(z) = z0 {
+        let pad = [z[0], z[1], z[2], z[3]].map(T::from_f64);
+        stepper.set_state(State::from_array(pad), Regime::SlipSlower);
+    }
+    let v = T::from_f64(scene.v);
     let stats = StatsObserver::<T>::new(scene.stats_from, scene.dt);
     let window_start = stats.window_start();
+    // Detail::Events: the stepper's fast path, the window's statistics from its transitions
+    let mut events = EventWindow::new(window_start, stepper.regime() == Regime::Stick);
     let mut obs = RunObserver {
         stats,
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
+    let forces = sink.wants_forces();
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
     for _ in 0..steps_planned {
-        if let Err(halt) = stepper.step_observed(&mut obs) {
+        let stepped = if full {
+            stepper.step_observed(&mut obs)
+        } else {
+            let r = stepper.step();
+            for tr in stepper.transitions() {
+                events.transition(tr.t, tr.from == Regime::Stick, tr.to == Regime::Stick);
+                obs.note(tr);
+            }
+            r
+        };
+        if let Err(halt) = stepped {
             outcome = Outcome::halted(scene, halt);
             break;
         }
         steps_done += 1;
         let st = stepper.state();
+        let regime = stepper.regime();
+        let pad_acc = stepper.propagator().accelerations(regime, &st.to_array()).0;
         sink.sample(&Sample {
             t: stepper.time(),
             z: [
@@ -296,9 +425,11 @@ fn run_in<T: Real>(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> 
                 st.phi.to_f64(),
                 st.phidot.to_f64(),
             ],
-            n: stepper.normal_force().to_f64(),
-            f_f: stepper.friction_force().to_f64(),
-            regime: stepper.regime(),
+            n: if forces { stepper.normal_force().to_f64() } else { f64::NAN },
+            f_f: if forces { stepper.friction_force().to_f64() } else { f64::NAN },
+            pad_acc: pad_acc.to_f64(),
+            v_slide: (st.xdot - v).to_f64(),
+            regime,
         })?;
     }
     Ok(RunReport {
@@ -306,7 +437,7 @@ fn run_in<T: Real>(scene: &Scene, precision: Precision, sink: &mut dyn Sink) -> 
         steps_planned,
         steps_done,
         window_start,
-        stats: obs.stats.finish(),
+        stats: if full { obs.stats.finish() } else { events.finish(steps_done as f64 * scene.dt) },
         cycles: obs.cycles.finish(),
         outcome,
         first_slip: obs.log.first_slip,

@@ -20,12 +20,22 @@ pub struct Sample {
     pub n: f64,
     /// Friction force on the pad F_f [N] (along +x, the band's direction).
     pub f_f: f64,
+    /// Pad acceleration x'' [m/s^2] (the rig's pad_x).
+    pub pad_acc: f64,
+    /// Sliding velocity of the friction contact against the band [m/s] (x' - V for the
+    /// thesis model; 0 in stick).
+    pub v_slide: f64,
     pub regime: Regime,
 }
 
 /// Receives the state after every completed step of a run.
 pub trait Sink {
     fn sample(&mut self, s: &Sample) -> Result<()>;
+    /// Whether the sink reads the forces n and f_f (false: the run leaves them NaN and saves
+    /// their cost).
+    fn wants_forces(&self) -> bool {
+        true
+    }
 }
 
 /// Takes nothing.

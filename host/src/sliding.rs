@@ -40,9 +40,31 @@ pub struct SlidingStability {
     /// Every mode of the degrees of freedom the scene moves, one per complex pair, fastest
     /// growth first.
     pub modes: Vec<Mode>,
-    /// Where steady sliding does not exist as a valid state: contact loss (N or a contact
-    /// spring's compression below 0 at the fixed point).
-    pub invalid: Option<String>,
+    /// Where steady sliding does not exist as a valid state, why: sprag (no static
+    /// equilibrium under the sliding friction) or contact loss (N or a contact spring's
+    /// compression below 0 at the fixed point).
+    pub invalid: Option<(NoSteadySliding, String)>,
+}
+
+/// Why a scene has no steady sliding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoSteadySliding {
+    /// The friction's moment beats the rotational stiffness: the pad self-locks (the static
+    /// stiffness under sliding friction is <= 0, so there is no fixed point, or only an
+    /// unstable one beyond a real divergence).
+    Sprag,
+    /// The fixed point has N < 0 or a contact spring in tension.
+    ContactLoss,
+}
+
+impl NoSteadySliding {
+    /// The keyword of the map and the JSON: `sprag`, `contact_loss`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            NoSteadySliding::Sprag => "sprag",
+            NoSteadySliding::ContactLoss => "contact_loss",
+        }
+    }
 }
 
 impl SlidingStability {
@@ -138,13 +160,30 @@ pub fn sliding_stability(scene: &Scene) -> SlidingStability {
         .collect();
     modes.sort_by(|p, q| q.growth_rate.total_cmp(&p.growth_rate));
     let mut invalid = None;
-    if normal_force < 0.0 {
-        invalid = Some(format!("contact loss: N = {normal_force:.4e} N < 0 in steady sliding"));
+    // sprag: the static stiffness under the sliding friction mu(V) (forward: sigma = +1)
+    let static_stiffness = if !scene.rotation {
+        f64::INFINITY
+    } else if scene.floating() {
+        let (_, _, c) = System::floating_mode_quadratic(scene, &co, mu_v);
+        c
+    } else {
+        co.effective_rotational_stiffness(scene, 1.0, mu_v)
+    };
+    if static_stiffness <= 0.0 {
+        invalid = Some((
+            NoSteadySliding::Sprag,
+            format!("sprag: the pad's static stiffness under the sliding friction mu(V) = {mu_v:.4} is {static_stiffness:.4e} <= 0 (it self-locks)"),
+        ));
+    } else if normal_force < 0.0 {
+        invalid = Some((NoSteadySliding::ContactLoss, format!("contact loss: N = {normal_force:.4e} N < 0 in steady sliding")));
     } else if scene.floating() {
         for (name, d) in [("leading", sys.d_l), ("trailing", sys.d_t)] {
             let compression = state[Y] + d * state[2];
             if compression < 0.0 {
-                invalid = Some(format!("contact loss: the {name} spring lifts off in steady sliding (compression {compression:.3e} m)"));
+                invalid = Some((
+                    NoSteadySliding::ContactLoss,
+                    format!("contact loss: the {name} spring lifts off in steady sliding (compression {compression:.3e} m)"),
+                ));
             }
         }
     }

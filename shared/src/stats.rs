@@ -176,3 +176,71 @@ impl<T: Real> Observer<T> for StatsObserver<T> {
         }
     }
 }
+
+/// The window statistics that the transitions alone give (stick fraction, stick-slip
+/// frequency, transition counts), for a run stepped without an observer: the stepper's fast
+/// path ([`crate::ExactStepper::step`]) reports each step's transitions, and the time in stick
+/// is the sum of the stick intervals between them, clipped to the window. The same quantities
+/// as [`StatsObserver`] (which sums the stick segments instead: equal to round-off).
+#[derive(Clone, Copy, Debug)]
+pub struct EventWindow {
+    t_from: f64,
+    stick: bool,
+    /// Start of the current regime [s].
+    since: f64,
+    stick_s: f64,
+    first_onset: f64,
+    last_onset: f64,
+    onsets: u64,
+    transitions: u64,
+}
+
+impl EventWindow {
+    /// A window from `t_from` [s] of a run that starts at t = 0 in stick (`stick`) or slip.
+    pub fn new(t_from: f64, stick: bool) -> Self {
+        EventWindow { t_from, stick, since: 0.0, stick_s: 0.0, first_onset: 0.0, last_onset: 0.0, onsets: 0, transitions: 0 }
+    }
+
+    /// A transition at `t` [s] out of stick (`from_stick`) or into it (`to_stick`).
+    pub fn transition(&mut self, t: f64, from_stick: bool, to_stick: bool) {
+        if self.stick && from_stick {
+            self.stick_s += (t - self.since.max(self.t_from)).max(0.0);
+        }
+        self.stick = to_stick;
+        self.since = t;
+        if t < self.t_from {
+            return;
+        }
+        self.transitions += 1;
+        if from_stick {
+            if self.onsets == 0 {
+                self.first_onset = t;
+            }
+            self.last_onset = t;
+            self.onsets += 1;
+        }
+    }
+
+    /// The statistics of the window [t_from, `t_end`] (min and max 0: not kept).
+    pub fn finish(&self, t_end: f64) -> RunStats {
+        let window_s = (t_end - self.t_from).max(0.0);
+        let mut stick_s = self.stick_s;
+        if self.stick {
+            stick_s += (t_end - self.since.max(self.t_from)).max(0.0);
+        }
+        let hz = if self.onsets >= 2 && self.last_onset > self.first_onset {
+            (self.onsets - 1) as f64 / (self.last_onset - self.first_onset)
+        } else {
+            0.0
+        };
+        RunStats {
+            min: [0.0; 4],
+            max: [0.0; 4],
+            stick_fraction: if window_s > 0.0 { stick_s / window_s } else { 0.0 },
+            stick_slip_hz: hz,
+            slip_onsets: self.onsets,
+            transitions: self.transitions,
+            window_s,
+        }
+    }
+}

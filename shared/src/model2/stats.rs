@@ -47,12 +47,25 @@ pub struct Stats2Observer {
     t_end: f64,
     first_onset: f64,
     last_onset: f64,
+    /// Keep the extremes (false: only the window's time, stick time and transitions).
+    extremes: bool,
 }
 
 impl Stats2Observer {
     /// `v`: the band drive speed V [m/s] (the band velocity is V + u').
     pub fn new(t_from: f64, v: f64) -> Self {
+        Self::with_extremes(t_from, v, true)
+    }
+
+    /// [`Self::new`] without the extremes (min and max stay 0): stick fraction, stick-slip
+    /// frequency and transitions only.
+    pub fn events_only(t_from: f64, v: f64) -> Self {
+        Self::with_extremes(t_from, v, false)
+    }
+
+    fn with_extremes(t_from: f64, v: f64, extremes: bool) -> Self {
         Stats2Observer {
+            extremes,
             t_from,
             v,
             s: Stats2::default(),
@@ -151,6 +164,11 @@ impl<T: Real> Observer2<T> for Stats2Observer {
         }
         if seg.regime == Regime::Stick {
             self.stick_s += seg.t1 - t0;
+        }
+        if !self.extremes {
+            // finish() needs `seen` to report the window
+            self.seen = true;
+            return;
         }
         let h = seg.t1 - seg.t0;
         let z0: [f64; 6] = core::array::from_fn(|i| seg.z0[i].to_f64());
