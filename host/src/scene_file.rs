@@ -395,6 +395,56 @@ pub fn to_toml(name: &str, description: &str, s: &Scene) -> String {
     out
 }
 
+/// The numeric scene keys (those a sweep can set), in [`KEYS`] order.
+pub const NUMERIC_KEYS: [&str; 29] = [
+    "m", "inertia", "l", "w", "l_cl", "l_ct", "k_l", "k_t", "k_g", "f_n", "beta", "v", "mu_s", "mu_k", "c_x", "c_phi",
+    "v_s", "stribeck_exponent", "m_b", "k_b", "c_b", "k_pivot", "c_y", "zeta_x", "zeta_phi", "zeta_b", "dt",
+    "duration", "stats_from",
+];
+
+/// Sets the numeric key `key` of `s` to `value` (SI units, as in a scene file). A damping ratio
+/// (`zeta_x`, `zeta_phi`, `zeta_b`) sets its viscous coefficient from the scene's stiffness and
+/// inertia as they are now, so set it after them. The scene is not validated here. Errors:
+/// a key that is not a numeric scene key, a damping ratio that is negative or not finite.
+pub fn set_numeric(s: &mut Scene, key: &str, value: f64) -> Result<(), String> {
+    macro_rules! keys {
+        ($($f:ident),*) => {
+            match key {
+                $( stringify!($f) => { s.$f = value; return Ok(()); } )*
+                _ => {}
+            }
+        };
+    }
+    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, dt, duration, stats_from);
+    let km = match key {
+        "zeta_x" => s.k_g * s.m,
+        "zeta_phi" => Coefficients::of(s).k_rot * s.inertia,
+        "zeta_b" => s.k_b * s.m_b,
+        _ => return Err(format!("unknown numeric scene key `{key}` (the numeric keys: {})", NUMERIC_KEYS.join(", "))),
+    };
+    if !(value.is_finite() && value >= 0.0) {
+        return Err(format!("`{key}` = {value}: a damping ratio must be a finite number >= 0"));
+    }
+    let c = 2.0 * value * km.max(0.0).sqrt();
+    match key {
+        "zeta_x" => s.c_x = c,
+        "zeta_phi" => s.c_phi = c,
+        _ => s.c_b = c,
+    }
+    Ok(())
+}
+
+/// The field a numeric key sets ([`set_numeric`]): the key itself, or a damping ratio's
+/// viscous coefficient.
+pub fn field_of(key: &str) -> &str {
+    match key {
+        "zeta_x" => "c_x",
+        "zeta_phi" => "c_phi",
+        "zeta_b" => "c_b",
+        k => k,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -447,55 +497,5 @@ mod tests {
         assert!(e.message.contains("bogus"), "{}", e.message);
         assert_eq!(key_line("# m = 2\n  m= 3\n", "m"), Some(2));
         assert_eq!(key_line("mu_s = 3\n", "m"), None);
-    }
-}
-
-/// The numeric scene keys (those a sweep can set), in [`KEYS`] order.
-pub const NUMERIC_KEYS: [&str; 29] = [
-    "m", "inertia", "l", "w", "l_cl", "l_ct", "k_l", "k_t", "k_g", "f_n", "beta", "v", "mu_s", "mu_k", "c_x", "c_phi",
-    "v_s", "stribeck_exponent", "m_b", "k_b", "c_b", "k_pivot", "c_y", "zeta_x", "zeta_phi", "zeta_b", "dt",
-    "duration", "stats_from",
-];
-
-/// Sets the numeric key `key` of `s` to `value` (SI units, as in a scene file). A damping ratio
-/// (`zeta_x`, `zeta_phi`, `zeta_b`) sets its viscous coefficient from the scene's stiffness and
-/// inertia as they are now, so set it after them. The scene is not validated here. Errors:
-/// a key that is not a numeric scene key, a damping ratio that is negative or not finite.
-pub fn set_numeric(s: &mut Scene, key: &str, value: f64) -> Result<(), String> {
-    macro_rules! keys {
-        ($($f:ident),*) => {
-            match key {
-                $( stringify!($f) => { s.$f = value; return Ok(()); } )*
-                _ => {}
-            }
-        };
-    }
-    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, dt, duration, stats_from);
-    let km = match key {
-        "zeta_x" => s.k_g * s.m,
-        "zeta_phi" => Coefficients::of(s).k_rot * s.inertia,
-        "zeta_b" => s.k_b * s.m_b,
-        _ => return Err(format!("unknown numeric scene key `{key}` (the numeric keys: {})", NUMERIC_KEYS.join(", "))),
-    };
-    if !(value.is_finite() && value >= 0.0) {
-        return Err(format!("`{key}` = {value}: a damping ratio must be a finite number >= 0"));
-    }
-    let c = 2.0 * value * km.max(0.0).sqrt();
-    match key {
-        "zeta_x" => s.c_x = c,
-        "zeta_phi" => s.c_phi = c,
-        _ => s.c_b = c,
-    }
-    Ok(())
-}
-
-/// The field a numeric key sets ([`set_numeric`]): the key itself, or a damping ratio's
-/// viscous coefficient.
-pub fn field_of(key: &str) -> &str {
-    match key {
-        "zeta_x" => "c_x",
-        "zeta_phi" => "c_phi",
-        "zeta_b" => "c_b",
-        k => k,
     }
 }

@@ -319,3 +319,24 @@ fn a_cell_whose_scene_is_invalid_is_reported_as_such_and_the_json_has_the_issues
         }
     }
 }
+
+#[test]
+fn a_swept_damping_ratio_uses_the_cells_stiffness_and_log_sweeps_end_on_their_bounds() {
+    // zeta_x with k_g swept beside it: c_x = 2 zeta_x sqrt(k_g m) with the cell's k_g
+    let base = builtin("push_center");
+    let grid = Grid::new(vec![Sweep::parse("zeta_x=0.01:0.05:3").unwrap(), Sweep::parse("k_g=1e5:4e5:2").unwrap()]).unwrap();
+    for i in 0..grid.cells() {
+        let s = grid.scene(&base, i).expect("valid");
+        let p = grid.params(i);
+        let (zeta, k_g) = (p[0].1, p[1].1);
+        assert_eq!(s.k_g, k_g);
+        let want = 2.0 * zeta * (k_g * base.m).sqrt();
+        assert!((s.c_x - want).abs() <= 1e-12 * want, "cell {i}: c_x {} against {want}", s.c_x);
+    }
+    let w = Sweep::parse("v=0.001:0.1:7:log").unwrap();
+    assert_eq!((w.value(0), w.value(6)), (0.001, 0.1));
+    // geometric: each value 10^(1/3) times the one before
+    for i in 0..6 {
+        assert!((w.value(i + 1) / w.value(i) - 10f64.powf(1.0 / 3.0)).abs() < 1e-12);
+    }
+}

@@ -194,6 +194,9 @@ fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// One line of a 1-D map's panel: label, points, colour, dashed.
+type Series = (String, Vec<(f64, f64)>, RGBColor, bool);
+
 fn lines(m: &MapJson, path: &Path) -> Result<()> {
     let a = &m.sweeps[0];
     let cells = by_index(m);
@@ -212,8 +215,7 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
         ("", |_| None),
     ];
     for (p, panel) in panels.iter().enumerate() {
-        // (label, points, colour, dashed)
-        let mut series: Vec<(String, Vec<(f64, f64)>, RGBColor, bool)> = Vec::new();
+        let mut series: Vec<Series> = Vec::new();
         let caption;
         if p == 3 {
             caption = "largest growth rate of steady sliding [1/s]".to_string();
