@@ -48,40 +48,35 @@ pub fn cases() -> Vec<Builtin> {
 
 pub use stickslip_model::rig_set::{rig_float_scene, rig_scene, RIG_K_B, RIG_M_B, RIG_V_S, RIG_ZETA, RIG_ZETA_B};
 
-/// The rig set: the six cases with model 2 on, named `rig_push_trail` ... `rig_pull_lead`.
-pub fn rig_cases() -> Vec<Builtin> {
+/// The six cases as a derived set: each named `{prefix}{case}`, its description extended by
+/// `what`, its scene `scene(caliper, beta)`.
+fn derived_cases(prefix: &str, what: &str, scene: fn(Caliper, f64) -> Scene) -> Vec<Builtin> {
     cases()
         .into_iter()
         .map(|b| Builtin {
-            name: format!("rig_{}", b.name),
-            description: format!(
-                "{}; model 2: Stribeck friction, band as a mass, {} % damping (guessed values)",
-                b.description,
-                RIG_ZETA * 100.0
-            ),
-            scene: rig_scene(b.scene.caliper, b.scene.beta),
+            name: format!("{prefix}{}", b.name),
+            description: format!("{}; {what}, {} % damping (guessed values)", b.description, RIG_ZETA * 100.0),
+            scene: scene(b.scene.caliper, b.scene.beta),
         })
         .collect()
 }
 
-/// push_center with the thesis's friction law mu_k = mu_s (Eq. 2.10).
+/// The rig set: the six cases with model 2 on, named `rig_push_trail` ... `rig_pull_lead`.
+pub fn rig_cases() -> Vec<Builtin> {
+    derived_cases("rig_", "model 2: Stribeck friction, band as a mass", rig_scene)
+}
+
 /// The rig set with part 2 of model 2: friction-face kinematics and the floating pad, named
 /// `rig_float_push_trail` ... `rig_float_pull_lead`.
 pub fn rig_float_cases() -> Vec<Builtin> {
-    cases()
-        .into_iter()
-        .map(|b| Builtin {
-            name: format!("rig_float_{}", b.name),
-            description: format!(
-                "{}; model 2 with the face and a floating pad (k_pivot = 0), Stribeck friction, band as a mass, {} % damping (guessed values)",
-                b.description,
-                RIG_ZETA * 100.0
-            ),
-            scene: rig_float_scene(b.scene.caliper, b.scene.beta),
-        })
-        .collect()
+    derived_cases(
+        "rig_float_",
+        "model 2 with the face and a floating pad (k_pivot = 0), Stribeck friction, band as a mass",
+        rig_float_scene,
+    )
 }
 
+/// push_center with the thesis's friction law mu_k = mu_s (Eq. 2.10).
 fn thesis_mu() -> Builtin {
     let mut scene = DEFAULT_SCENE;
     scene.mu_k = scene.mu_s;

@@ -184,11 +184,11 @@ pub enum Start {
 /// scene has no steady sliding (sprag, contact loss).
 pub fn start_state(scene: &Scene, start: Start) -> Result<Option<[f64; 8]>> {
     let Start::Sliding { kick } = start else { return Ok(None) };
-    let lin = crate::sliding::sliding_stability(scene);
-    if let Some((_, why)) = &lin.invalid {
+    let fixed = crate::sliding::steady_sliding(scene);
+    if let Some((_, why)) = &fixed.invalid {
         return Err(HostError::Input(format!("no start from steady sliding: {why}")));
     }
-    let mut z = lin.state;
+    let mut z = fixed.state;
     z[1] += kick * scene.v;
     if scene.rotation {
         z[3] += kick * scene.v / scene.l;
@@ -312,7 +312,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
-    let forces = sink.wants_forces();
+    let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
     for _ in 0..steps_planned {
@@ -328,8 +328,8 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
             z: [z[0].to_f64(), z[1].to_f64(), z[2].to_f64(), z[3].to_f64()],
             n: if forces { stepper.normal_force(&z).to_f64() } else { f64::NAN },
             f_f: if forces { stepper.friction_force(regime, &z).to_f64() } else { f64::NAN },
-            pad_acc: stepper.derivative(regime, &z)[1].to_f64(),
-            v_slide: stepper.sliding_velocity(&z).to_f64(),
+            pad_acc: if kinematics { stepper.derivative(regime, &z)[1].to_f64() } else { f64::NAN },
+            v_slide: if kinematics { stepper.sliding_velocity(&z).to_f64() } else { f64::NAN },
             regime,
         })?;
     }
@@ -395,7 +395,7 @@ fn run_in<T: Real, S: Sink + ?Sized>(
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
-    let forces = sink.wants_forces();
+    let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
     for _ in 0..steps_planned {
@@ -416,7 +416,6 @@ fn run_in<T: Real, S: Sink + ?Sized>(
         steps_done += 1;
         let st = stepper.state();
         let regime = stepper.regime();
-        let pad_acc = stepper.propagator().accelerations(regime, &st.to_array()).0;
         sink.sample(&Sample {
             t: stepper.time(),
             z: [
@@ -427,8 +426,8 @@ fn run_in<T: Real, S: Sink + ?Sized>(
             ],
             n: if forces { stepper.normal_force().to_f64() } else { f64::NAN },
             f_f: if forces { stepper.friction_force().to_f64() } else { f64::NAN },
-            pad_acc: pad_acc.to_f64(),
-            v_slide: (st.xdot - v).to_f64(),
+            pad_acc: if kinematics { stepper.propagator().accelerations(regime, &st.to_array()).0.to_f64() } else { f64::NAN },
+            v_slide: if kinematics { (st.xdot - v).to_f64() } else { f64::NAN },
             regime,
         })?;
     }

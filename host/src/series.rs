@@ -16,14 +16,16 @@ pub struct Sample {
     pub t: f64,
     /// x [m], x' [m/s], phi [rad], phi' [rad/s].
     pub z: [f64; 4],
-    /// Normal contact force N [N].
+    /// Normal contact force N [N] (NaN unless the sink [`Sink::wants_forces`]).
     pub n: f64,
-    /// Friction force on the pad F_f [N] (along +x, the band's direction).
+    /// Friction force on the pad F_f [N] (along +x, the band's direction; NaN unless the sink
+    /// [`Sink::wants_forces`]).
     pub f_f: f64,
-    /// Pad acceleration x'' [m/s^2] (the rig's pad_x).
+    /// Pad acceleration x'' [m/s^2] (the rig's pad_x); NaN unless the sink
+    /// [`Sink::wants_kinematics`].
     pub pad_acc: f64,
     /// Sliding velocity of the friction contact against the band [m/s] (x' - V for the
-    /// thesis model; 0 in stick).
+    /// thesis model; 0 in stick); NaN unless the sink [`Sink::wants_kinematics`].
     pub v_slide: f64,
     pub regime: Regime,
 }
@@ -35,6 +37,11 @@ pub trait Sink {
     /// their cost).
     fn wants_forces(&self) -> bool {
         true
+    }
+    /// Whether the sink reads pad_acc and v_slide (false, the default: the run leaves them
+    /// NaN and saves their cost).
+    fn wants_kinematics(&self) -> bool {
+        false
     }
 }
 

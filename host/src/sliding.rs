@@ -119,18 +119,33 @@ pub fn friction_at(scene: &Scene, speed: f64) -> (f64, f64) {
     }
 }
 
-/// Steady sliding of `scene` and its modes. The scene must be valid
-/// ([`Scene::validate`]).
-pub fn sliding_stability(scene: &Scene) -> SlidingStability {
+/// The fixed point of steady sliding at the band speed, without its modes.
+#[derive(Clone, Debug)]
+pub struct SteadySliding {
+    /// The state [x, x', phi, phi', u, u', y, y'].
+    pub state: [f64; NS],
+    /// Normal force there [N].
+    pub normal_force: f64,
+    /// Why it does not exist as a valid state, if it does not (as in [`SlidingStability`]).
+    pub invalid: Option<(NoSteadySliding, String)>,
+}
+
+/// The fixed point of steady sliding of `scene` (the start of [`crate::run::Start::Sliding`]).
+/// The scene must be valid.
+pub fn steady_sliding(scene: &Scene) -> SteadySliding {
     let co = Coefficients::of(scene);
     let sys = System::of(scene, &co);
+    fixed_point(scene, &co, &sys)
+}
+
+/// A x + b (mu(V) - mu_k) N(x) = 0 at zero velocity, and whether it exists (sprag, contact).
+fn fixed_point(scene: &Scene, co: &Coefficients, sys: &System) -> SteadySliding {
     let a = &sys.a[stickslip_model::Regime::SlipSlower.index()];
-    let (mu_v, mu_slope) = friction_at(scene, scene.v);
+    let (mu_v, _) = friction_at(scene, scene.v);
     // fixed point: A z + b (mu(V) - mu_k) N(z) = 0 with x' = phi' = y' = u' = 0
     let excess = mu_v - scene.mu_k;
     let a_eff = |r: usize, c: usize| a[r][c] + sys.b[r] * excess * sys.r_n[c];
-    let idx = active(scene);
-    let pos: Vec<usize> = idx.iter().copied().filter(|i| i % 2 == 0).collect();
+    let pos: Vec<usize> = active(scene).into_iter().filter(|i| i % 2 == 0).collect();
     // the velocity rows (odd) at zero velocity: sum over positions of a_eff(row, pos) q = -a_eff(row, ONE)
     let n = pos.len();
     let m = DMatrix::from_fn(n, n, |r, c| a_eff(pos[r] + 1, pos[c]));
@@ -146,25 +161,12 @@ pub fn sliding_stability(scene: &Scene) -> SlidingStability {
         state[2] = co.phi0;
     }
     let normal_force: f64 = (0..NS).map(|c| sys.r_n[c] * state[c]).sum::<f64>() + sys.r_n[NA - 1];
-    // J = A + b [excess r_N - N mu'(V) r_v] on the active entries
-    let k = idx.len();
-    let j = DMatrix::from_fn(k, k, |r, c| {
-        let (r, c) = (idx[r], idx[c]);
-        a[r][c] + sys.b[r] * (excess * sys.r_n[c] - normal_force * mu_slope * sys.r_v[c])
-    });
-    let eig = eigenvalues(j);
-    let mut modes: Vec<Mode> = eig
-        .iter()
-        .filter(|l| l.im >= 0.0)
-        .map(|l| Mode { growth_rate: l.re, frequency_hz: l.im / (2.0 * std::f64::consts::PI) })
-        .collect();
-    modes.sort_by(|p, q| q.growth_rate.total_cmp(&p.growth_rate));
     let mut invalid = None;
     // sprag: the static stiffness under the sliding friction mu(V) (forward: sigma = +1)
     let static_stiffness = if !scene.rotation {
         f64::INFINITY
     } else if scene.floating() {
-        let (_, _, c) = System::floating_mode_quadratic(scene, &co, mu_v);
+        let (_, _, c) = System::floating_mode_quadratic(scene, co, mu_v);
         c
     } else {
         co.effective_rotational_stiffness(scene, 1.0, mu_v)
@@ -187,6 +189,32 @@ pub fn sliding_stability(scene: &Scene) -> SlidingStability {
             }
         }
     }
+    SteadySliding { state, normal_force, invalid }
+}
+
+/// Steady sliding of `scene` and its modes. The scene must be valid
+/// ([`Scene::validate`]).
+pub fn sliding_stability(scene: &Scene) -> SlidingStability {
+    let co = Coefficients::of(scene);
+    let sys = System::of(scene, &co);
+    let SteadySliding { state, normal_force, invalid } = fixed_point(scene, &co, &sys);
+    let a = &sys.a[stickslip_model::Regime::SlipSlower.index()];
+    let (mu_v, mu_slope) = friction_at(scene, scene.v);
+    let excess = mu_v - scene.mu_k;
+    // J = A + b [excess r_N - N mu'(V) r_v] on the active entries
+    let idx = active(scene);
+    let k = idx.len();
+    let j = DMatrix::from_fn(k, k, |r, c| {
+        let (r, c) = (idx[r], idx[c]);
+        a[r][c] + sys.b[r] * (excess * sys.r_n[c] - normal_force * mu_slope * sys.r_v[c])
+    });
+    let eig = eigenvalues(j);
+    let mut modes: Vec<Mode> = eig
+        .iter()
+        .filter(|l| l.im >= 0.0)
+        .map(|l| Mode { growth_rate: l.re, frequency_hz: l.im / (2.0 * std::f64::consts::PI) })
+        .collect();
+    modes.sort_by(|p, q| q.growth_rate.total_cmp(&p.growth_rate));
     SlidingStability { state, normal_force, modes, invalid }
 }
 

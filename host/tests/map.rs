@@ -39,20 +39,19 @@ fn param(c: &CellJson, key: &str) -> f64 {
     c.params[key].as_f64().expect("a number")
 }
 
-/// V_cr = v_s ln(N (mu_s - mu_k) / (c v_s)) of the 1-DOF oracle (model.md), N = F_N a_N / ... as
-/// the rotation-free model holds it: N0 = k_L k_T / (k_L + k_T) ... is not needed: the oracle's
-/// N0 is its own closed form, N0 = F_N (beta a-lever) / K phi-lever; taken from Coefficients'
-/// N_0, which the thesis tests hold to the printed values.
+/// The oracle's normal force: N0 = 10 N by its definition (model.md, `Scene::oracle_1dof`).
+const ORACLE_N: f64 = 10.0;
+
+/// V_cr = v_s ln(N (mu_s - mu_k) / (c v_s)) of the 1-DOF oracle (model.md).
 fn oracle_v_cr(s: &Scene) -> f64 {
-    let n = Coefficients::of(s).n0;
-    s.v_s * (n * (s.mu_s - s.mu_k) / (s.c_x * s.v_s)).ln()
+    s.v_s * (ORACLE_N * (s.mu_s - s.mu_k) / (s.c_x * s.v_s)).ln()
 }
 
 /// Growth rate of steady sliding of the 1-DOF Stribeck oracle (delta = 1) at its V, closed
 /// form: m x'' + (c + N mu'(V)) x' + k x = 0, mu'(V) = -(mu_s - mu_k) e^(-V/v_s) / v_s; the
 /// larger real part of the two roots.
 fn oracle_growth_rate(s: &Scene) -> f64 {
-    let n = Coefficients::of(s).n0;
+    let n = ORACLE_N;
     let slope = -(s.mu_s - s.mu_k) * (-s.v / s.v_s).exp() / s.v_s;
     let c = s.c_x + n * slope;
     let disc = c * c - 4.0 * s.m * s.k_g;
@@ -98,6 +97,10 @@ struct Deviation {
 }
 
 impl Sink for Deviation {
+    fn wants_kinematics(&self) -> bool {
+        true
+    }
+
     fn sample(&mut self, s: &Sample) -> stickslip::error::Result<()> {
         self.samples.push((s.t, s.v_slide + self.v));
         Ok(())

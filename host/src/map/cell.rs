@@ -146,6 +146,10 @@ impl Sink for CellSink {
         false
     }
 
+    fn wants_kinematics(&self) -> bool {
+        true
+    }
+
     #[inline]
     fn sample(&mut self, s: &Sample) -> Result<()> {
         if s.t < self.filter_from {

@@ -72,12 +72,6 @@ pub struct MapJson {
     pub cells: Vec<CellJson>,
 }
 
-impl MapJson {
-    pub fn grid(&self) -> Grid {
-        Grid { sweeps: self.sweeps.clone() }
-    }
-}
-
 /// What to map.
 pub struct MapSpec {
     pub scene_name: String,
