@@ -76,6 +76,11 @@ pub enum Command {
     /// stick-slip, ...); in parallel on every core, shardable (`map merge` joins the shards)
     #[command(after_help = MAP_AFTER)]
     Map(MapArgs),
+    /// Identify a rig: fit free scene keys (mu_s, mu_k, v_s, k_b, ...) so that the virtual rig
+    /// reproduces recordings (CASE=FILE) or a table of measured statistics (--table), with
+    /// standard errors, correlations, flat directions and held-out cases
+    #[command(after_help = FIT_AFTER)]
+    Fit(FitArgs),
     /// Decode the firmware's raw defmt log stream (RTT capture or defmt-semihosting output)
     /// with the firmware ELF into CSV or JSON records
     #[command(after_help = DECODE_AFTER)]
@@ -231,6 +236,10 @@ pub struct SilArgs {
     /// Write the SVG figures of the statistics window into DIR
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
+    /// The front end: rig (noise, 700 m/s^2 clipping, 12-bit ADC, calibration: the rig as
+    /// built) or ideal (the accelerations plus the noise only: a high-resolution logger)
+    #[arg(long, value_name = "rig|ideal", default_value = "rig", value_parser = ["rig", "ideal"])]
+    pub front_end: String,
     #[command(flatten)]
     pub record: RecordOptions,
     #[command(flatten)]
@@ -378,6 +387,38 @@ pub struct StabilityArgs {
     pub check: bool,
 }
 
+const FIT_AFTER: &str = "\
+Targets: a recording CASE=FILE (a CSV as `analyze` reads it, its time zero at the band's start,
+as `sil --csv` writes it) gives, over t >= --from, every statistic `analyze` computes: per
+channel pp, rms, groan_rms [m/s^2] and peak_hz [Hz]; per case stick_fraction [-],
+stick_slip_hz [Hz] and first_slip_s [s] (the estimator's first slip onset in the whole file:
+it carries the friction level, which the accelerations alone do not). A table (--table FILE)
+is CSV `case,channel,statistic,value` with that header (channel empty for a per-case
+statistic); `--table thesis_table_3_1` is the thesis's Table 3.1 (24 peak-to-peak values).
+CASE is one of push_trail, push_center, push_lead, pull_trail, pull_center, pull_lead (SCENE
+with that case's caliper and beta, c_phi at SCENE's damping ratio) or SCENE's own name.
+
+The model of each case runs through the virtual rig's ideal sensor path (no noise, no ADC)
+into the same analysis, with the estimator's breakaway jump of SCENE (or --breakaway-jump) on
+both sides. Residual = sqrt(weight) ln(model / measured); default weight 1, peak_hz 0 (one
+Welch bin is too coarse). Search: from each of --starts starts (in parallel) Nelder-Mead
+(argmin) on ln(value), then Levenberg-Marquardt from its best point; the lowest cost wins;
+bounds default to start / 10 .. start x 10.
+Standard errors: central-difference Jacobian at the optimum, scaled by the residual variance;
+a direction of the parameters known to no better than about +-35 % is reported as flat (not
+identifiable). Recordings add a bootstrap over 8 windows each (a linearised refit per
+resample). --holdout fits without those cases and reports the fitted model's prediction of
+them.
+
+--json prints {\"scene\", \"parameters\": {KEY: {\"value\", \"std\", \"std_bootstrap\", \"start\",
+\"lo\", \"hi\"}}, \"residuals\": [{\"case\", \"channel\", \"statistic\", \"measured\", \"model\",
+\"log_ratio\", \"weight\", \"source\"}], \"holdout\": [...], \"converged\", \"identifiable\",
+\"flat_directions\", \"correlation\", \"cost\", \"residual_variance\", \"rms_log_ratio_fitted\",
+\"rms_log_ratio_holdout\", \"weights\", \"breakaway_jump_m_s2\", \"bootstrap_resamples\",
+\"evaluations\", \"seconds\", \"starts\", \"skipped\", \"notes\"}. Progress goes to stderr.
+Bad targets (unknown case, a free key that is not numeric, a table row with an unknown channel
+or statistic, a recording that does not parse) exit 2 with one line naming them.";
+
 const MAP_AFTER: &str = "\
 Each cell is SCENE with the swept values (a damping ratio zeta_x, zeta_phi, zeta_b is set after
 the other keys, with the cell's stiffness). Per cell:
@@ -491,6 +532,60 @@ pub struct MapArgs {
     pub run: RunOptions,
     #[command(flatten)]
     pub out: MapOutput,
+}
+
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// The base scene (built-in name or TOML scene file): every key not freed comes from it
+    #[arg(long, value_name = "SCENE|FILE")]
+    pub scene: String,
+    /// The keys to fit, comma-separated (any numeric scene key but beta, dt, duration,
+    /// stats_from; e.g. mu_s,mu_k,v_s,k_b); each starts at SCENE's value, which must be > 0
+    #[arg(long, value_name = "KEY[,KEY...]", required = true)]
+    pub free: Vec<String>,
+    /// Recordings, CASE=FILE (see below)
+    #[arg(value_name = "CASE=FILE")]
+    pub recordings: Vec<String>,
+    /// A table of measured statistics: CSV case,channel,statistic,value (or the built-in
+    /// thesis_table_3_1)
+    #[arg(long, value_name = "FILE")]
+    pub table: Vec<String>,
+    /// Cases to leave out of the fit and predict, comma-separated
+    #[arg(long, value_name = "CASE[,CASE...]")]
+    pub holdout: Vec<String>,
+    /// Bounds of a free key, KEY=LO:HI (default start / 10 .. start x 10)
+    #[arg(long, value_name = "KEY=LO:HI")]
+    pub bounds: Vec<String>,
+    /// Weights of the statistics, STAT=W (0 leaves it out; default 1, peak_hz 0)
+    #[arg(long, value_name = "STAT=W[,...]")]
+    pub weights: Vec<String>,
+    /// Start of a recording's statistics on its time axis [s] (default SCENE's stats_from)
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub from: Option<f64>,
+    /// Starts of the search (the scene's values, then points spread over +-30 %)
+    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_STARTS)]
+    pub starts: usize,
+    /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its
+    /// Levenberg-Marquardt run)
+    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_MAX_ITERS)]
+    pub max_iters: u64,
+    /// Bootstrap resamples over the recordings' windows (0: none)
+    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_BOOTSTRAP)]
+    pub bootstrap: usize,
+    /// Seed of the bootstrap's resampling
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u32,
+    /// Write the fitted scene as a scene file (for simulate, sil, compare)
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object instead of the Markdown report
+    #[arg(long)]
+    pub json: bool,
+    /// Write an SVG of model against measured, per statistic and case
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    #[command(flatten)]
+    pub record: RecordOptions,
 }
 
 #[derive(Debug, Subcommand)]

@@ -360,7 +360,15 @@ fn sil_options(
     figures: bool,
     breakaway_jump_m_s2: Option<f64>,
 ) -> crate::recorded::sil::SilOptions {
-    crate::recorded::sil::SilOptions { noise_m_s2: noise.noise, seed: noise.seed, segment, figures, breakaway_jump_m_s2 }
+    crate::recorded::sil::SilOptions {
+        noise_m_s2: noise.noise,
+        seed: noise.seed,
+        segment,
+        figures,
+        breakaway_jump_m_s2,
+        sensor: crate::recorded::sil::SensorPath::Rig,
+        spectra: true,
+    }
 }
 
 pub fn sil(a: &crate::cli::SilArgs) -> Result<String> {
@@ -368,7 +376,10 @@ pub fn sil(a: &crate::cli::SilArgs) -> Result<String> {
     check_segment(a.record.segment)?;
     check_jump(a.record.breakaway_jump)?;
     let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &overrides(&a.run))?;
-    let opts = sil_options(a.record.segment, &a.noise, a.plots.is_some(), a.record.breakaway_jump);
+    let mut opts = sil_options(a.record.segment, &a.noise, a.plots.is_some(), a.record.breakaway_jump);
+    if a.front_end == "ideal" {
+        opts.sensor = sil::SensorPath::Ideal;
+    }
     let r = sil::run(&ns, a.run.precision, &opts, a.csv.as_deref())?;
     if let (Some(dir), Some(m)) = (&a.plots, &r.measured) {
         let n = figures::write_all(dir, &format!("virtual rig, {}", ns.name), m)?.len();
@@ -460,4 +471,41 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
         map::plot::write(&m, path)?;
     }
     Ok(if out.json { to_json(&m) } else { map::output::markdown(&m) })
+}
+
+/// `fit`.
+pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
+    use crate::fit::{self, output, FitRequest};
+    check_segment(a.record.segment)?;
+    check_jump(a.record.breakaway_jump)?;
+    check_from(a.from)?;
+    if a.starts == 0 || a.max_iters == 0 {
+        return Err(HostError::Input("--starts and --max-iters must be at least 1".into()));
+    }
+    let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &Overrides::default())?;
+    let req = FitRequest {
+        free: a.free.clone(),
+        bounds: a.bounds.clone(),
+        recordings: a.recordings.clone(),
+        tables: a.table.clone(),
+        holdout: a.holdout.clone(),
+        weights: a.weights.clone(),
+        from_s: a.from,
+        segment: a.record.segment,
+        breakaway_jump_m_s2: a.record.breakaway_jump,
+        starts: a.starts,
+        max_iters: a.max_iters,
+        bootstrap: a.bootstrap,
+        seed: a.seed,
+        progress: stderr_is_terminal(),
+    };
+    let r = fit::run_fit(ns, &req)?;
+    if let Some(path) = &a.out {
+        std::fs::write(path, output::fitted_toml(&r))
+            .map_err(|e| HostError::Output(format!("{}: cannot write the fitted scene: {e}", path.display())))?;
+    }
+    if let Some(path) = &a.plot {
+        output::write_plot(&r, path)?;
+    }
+    Ok(if a.json { to_json(&output::FitJson::new(&r)) } else { output::markdown(&r) })
 }

@@ -8,6 +8,7 @@ pub mod commands;
 pub mod cycles;
 pub mod error;
 pub mod exp_variants;
+pub mod fit;
 pub mod map;
 pub mod numerics_plots;
 pub mod plots;

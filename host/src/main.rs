@@ -59,6 +59,7 @@ fn main() -> ExitCode {
         Command::Sil(a) => commands::sil(a),
         Command::Compare(a) => commands::compare(a),
         Command::Map(a) => commands::map(a),
+        Command::Fit(a) => commands::fit(a),
         Command::Decode(a) => commands::decode(a),
     };
     match result {

@@ -434,6 +434,28 @@ pub fn set_numeric(s: &mut Scene, key: &str, value: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// The value of the numeric key `key` of `s` (SI units, as in a scene file): a damping
+/// ratio is the viscous coefficient over 2 sqrt(stiffness x inertia) as [`set_numeric`] sets
+/// it. `None` for a key that is not a numeric scene key.
+pub fn get_numeric(s: &Scene, key: &str) -> Option<f64> {
+    macro_rules! keys {
+        ($($f:ident),*) => {
+            match key {
+                $( stringify!($f) => return Some(s.$f), )*
+                _ => {}
+            }
+        };
+    }
+    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, dt, duration, stats_from);
+    let (c, km) = match key {
+        "zeta_x" => (s.c_x, s.k_g * s.m),
+        "zeta_phi" => (s.c_phi, Coefficients::of(s).k_rot * s.inertia),
+        "zeta_b" => (s.c_b, s.k_b * s.m_b),
+        _ => return None,
+    };
+    Some(c / (2.0 * km.max(0.0).sqrt()))
+}
+
 /// The field a numeric key sets ([`set_numeric`]): the key itself, or a damping ratio's
 /// viscous coefficient.
 pub fn field_of(key: &str) -> &str {
@@ -449,6 +471,19 @@ pub fn field_of(key: &str) -> &str {
 mod tests {
     use super::*;
     use crate::builtin;
+
+    #[test]
+    fn get_numeric_reads_what_set_numeric_wrote() {
+        let mut s = crate::builtin::find("rig_pull_lead").unwrap().scene;
+        for (i, key) in NUMERIC_KEYS.iter().enumerate() {
+            let v = 0.125 + i as f64;
+            set_numeric(&mut s, key, v).unwrap();
+            let back = get_numeric(&s, key).unwrap();
+            assert!((back - v).abs() <= 1e-14 * v, "{key}: set {v}, read {back}");
+        }
+        assert_eq!(get_numeric(&s, "caliper"), None);
+        assert_eq!(get_numeric(&s, "no_such_key"), None);
+    }
 
     #[test]
     fn every_builtin_round_trips_exactly() {

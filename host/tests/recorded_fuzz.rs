@@ -22,6 +22,7 @@ fn cfg() -> AnalysisConfig {
         breakaway_jump_m_s2: 33.17,
         band_speed_m_s: 0.005,
         figures: true,
+        spectra: true,
     }
 }
 

@@ -22,7 +22,12 @@
 //!   row on: stick fraction = samples estimated in stick / samples; frequency = (n - 1) /
 //!   (time of the last onset - time of the first) over the n stick-to-slip onsets it decided,
 //!   none with fewer than two. Its contact thresholds come from a breakaway jump J [m/s^2]
-//!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`).
+//!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`);
+//! - the first slip onset: the time column's value at the estimator's first stick-to-slip
+//!   onset over the whole record, before `from_s` too. With the record's time zero at the
+//!   band's start (as the virtual rig writes it), it is the first breakaway's time, which
+//!   depends on the friction level itself (mu_s N / k V for a pad held by a spring k) where
+//!   the accelerations do not (`stickslip fit`).
 
 use stickslip_model::rig::bandpass::GROAN_BAND_HZ;
 use stickslip_model::rig::calibration::{Calibrated, Saturation};
@@ -55,6 +60,9 @@ pub struct AnalysisConfig {
     pub band_speed_m_s: f64,
     /// Keep the envelope and spectra for figures.
     pub figures: bool,
+    /// Compute the Welch spectra (the spectral peaks); off, `Analysis::spectrum` is `None`
+    /// and no sample goes through an FFT (a fit that does not weigh the peaks).
+    pub spectra: bool,
 }
 
 /// Statistics of one channel [m/s^2, Hz].
@@ -68,6 +76,10 @@ pub struct ChannelStats {
     /// Frequency of the largest Welch bin above 0 Hz; `None` without a spectrum.
     pub peak_hz: Option<f64>,
     pub groan_rms: f64,
+    /// The smallest nonzero change between consecutive analysed samples [m/s^2]: the
+    /// recording's amplitude resolution (one ADC count of a quantised record) or finer; 0
+    /// where the channel never changes.
+    pub step: f64,
 }
 
 /// The result of an analysis.
@@ -78,6 +90,9 @@ pub struct Analysis {
     /// `None` with fewer than two onsets.
     pub stick_slip_hz: Option<f64>,
     pub slip_onsets: u64,
+    /// Time of the estimator's first stick-to-slip onset in the whole record, before
+    /// `from_s` too [s]; `None` without one.
+    pub first_onset_s: Option<f64>,
     /// From the whole time column [Hz].
     pub sample_rate_hz: f64,
     /// The rate the estimator and band-pass were set up with (first rows) [Hz].
@@ -118,7 +133,7 @@ struct Running {
     fs: f64,
     from_eff: f64,
     est: Estimator,
-    welch: Welch,
+    welch: Option<Welch>,
     envelope: Option<Envelope>,
     n: u64,
     t_first: f64,
@@ -128,10 +143,13 @@ struct Running {
     sum: [f64; CH],
     sq: [f64; CH],
     groan_sq: [f64; CH],
+    prev: [f64; CH],
+    step: [f64; CH],
     stick: u64,
     onsets: u64,
     onset_first: f64,
     onset_last: f64,
+    first_onset: Option<f64>,
     at_range: u64,
 }
 
@@ -153,6 +171,10 @@ impl Running {
         if s.window_ready {
             let _ = self.est.take_window();
         }
+        let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
+        if onset && self.first_onset.is_none() {
+            self.first_onset = Some(t);
+        }
         if t < self.from_eff {
             return;
         }
@@ -172,6 +194,11 @@ impl Running {
             }
             self.sum[c] += v;
             self.sq[c] += v * v;
+            let d = (v - self.prev[c]).abs();
+            if d > 0.0 && d < self.step[c] && self.n > 1 {
+                self.step[c] = d;
+            }
+            self.prev[c] = v;
             let gv = g[c] as f64;
             self.groan_sq[c] += gv * gv;
         }
@@ -181,14 +208,16 @@ impl Running {
         if s.contact.regime == Regime::Stick {
             self.stick += 1;
         }
-        if matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip) {
+        if onset {
             if self.onsets == 0 {
                 self.onset_first = t;
             }
             self.onset_last = t;
             self.onsets += 1;
         }
-        self.welch.push(a);
+        if let Some(w) = &mut self.welch {
+            w.push(a);
+        }
         if let Some(e) = &mut self.envelope {
             e.push(t, a);
         }
@@ -319,7 +348,7 @@ impl Analyzer {
             fs,
             from_eff: self.cfg.from_s - 0.25 / fs,
             est,
-            welch: Welch::new(segment),
+            welch: self.cfg.spectra.then(|| Welch::new(segment)),
             envelope: self.cfg.figures.then(Envelope::new),
             n: 0,
             t_first: 0.0,
@@ -329,10 +358,13 @@ impl Analyzer {
             sum: [0.0; CH],
             sq: [0.0; CH],
             groan_sq: [0.0; CH],
+            prev: [0.0; CH],
+            step: [f64::INFINITY; CH],
             stick: 0,
             onsets: 0,
             onset_first: 0.0,
             onset_last: 0.0,
+            first_onset: None,
             at_range: 0,
         };
         for p in &buf {
@@ -363,7 +395,7 @@ impl Analyzer {
             ));
         }
         let sample_rate_hz = (self.rows - 1) as f64 / (self.t_prev - self.t0);
-        let spectrum = r.welch.finish(sample_rate_hz);
+        let spectrum = r.welch.and_then(|w| w.finish(sample_rate_hz));
         let n = r.n as f64;
         let channels = std::array::from_fn(|c| ChannelStats {
             pp: r.max[c] - r.min[c],
@@ -373,6 +405,7 @@ impl Analyzer {
             max: r.max[c],
             peak_hz: spectrum.as_ref().and_then(|s| s.peak(c)).map(|p| p.1),
             groan_rms: (r.groan_sq[c] / n).sqrt(),
+            step: if r.step[c].is_finite() { r.step[c] } else { 0.0 },
         });
         let stick_slip_hz = (r.onsets >= 2 && r.onset_last > r.onset_first)
             .then(|| (r.onsets - 1) as f64 / (r.onset_last - r.onset_first));
@@ -382,6 +415,7 @@ impl Analyzer {
             stick_fraction: r.stick as f64 / n,
             stick_slip_hz,
             slip_onsets: r.onsets,
+            first_onset_s: r.first_onset,
             sample_rate_hz,
             setup_rate_hz: r.fs,
             rows: self.rows,

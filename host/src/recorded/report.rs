@@ -85,6 +85,8 @@ pub struct AnalysisJson {
     pub stick_fraction: f64,
     pub stick_slip_hz: Option<f64>,
     pub slip_onsets: u64,
+    /// Time of the estimator's first slip onset in the whole file [s] (the time column's).
+    pub first_slip_onset_s: Option<f64>,
     pub sample_rate_hz: f64,
     pub samples: u64,
     pub rows: u64,
@@ -117,6 +119,7 @@ impl AnalysisJson {
             stick_fraction: a.stick_fraction,
             stick_slip_hz: a.stick_slip_hz,
             slip_onsets: a.slip_onsets,
+            first_slip_onset_s: a.first_onset_s,
             sample_rate_hz: a.sample_rate_hz,
             samples: a.samples,
             rows: a.rows,
@@ -156,8 +159,9 @@ fn estimator_lines(a: &Analysis) -> String {
         Some(f) => format!("{} Hz ({} slip onsets)", num(f), a.slip_onsets),
         None => format!("none ({} slip onset{}: two are needed)", a.slip_onsets, if a.slip_onsets == 1 { "" } else { "s" }),
     };
+    let first = a.first_onset_s.map_or("none".into(), |t| format!("t = {} s", num(t)));
     format!(
-        "Stick fraction: {} and stick-slip frequency: {hz}, from the rig's estimator (breakaway jump {} m/s^2: slip onset above {} m/s^2, stick at most {} m/s^2 of pad_x - disc_x).\n",
+        "Stick fraction: {} and stick-slip frequency: {hz}, from the rig's estimator (breakaway jump {} m/s^2: slip onset above {} m/s^2, stick at most {} m/s^2 of pad_x - disc_x). First slip onset in the whole file: {first}.\n",
         num(a.stick_fraction),
         num(a.breakaway_jump_m_s2),
         num(a.thresholds.slip_onset_m_s2 as f64),
@@ -244,6 +248,8 @@ pub struct SilJson {
     pub halt_t_s: Option<f64>,
     pub noise_m_s2: f64,
     pub seed: u32,
+    /// "rig" (noise, clipping, 12-bit ADC, calibration) or "ideal" (noise only).
+    pub front_end: &'static str,
     pub saturated_frames: u64,
     pub stick_fraction: VsTruth,
     pub stick_slip_hz: VsTruth,
@@ -277,6 +283,7 @@ impl SilJson {
             halt_t_s: r.halt_t_s,
             noise_m_s2: r.noise_m_s2,
             seed: r.seed,
+            front_end: r.sensor.name(),
             saturated_frames: r.saturated_frames,
             stick_fraction: sf,
             stick_slip_hz: hz,
@@ -303,13 +310,22 @@ pub fn sil_markdown(r: &SilReport) -> String {
         "# Virtual rig: {} ({} caliper, beta = {} m)\n\n",
         r.name, r.caliper, r.beta
     );
+    let chain = match r.sensor {
+        crate::recorded::sil::SensorPath::Rig => format!(
+            "rig sensor model (100 mV/g, front-end gain 0.2, noise {} m/s^2 rms seed {}, 700 m/s^2 clipping, 12-bit ADC) -> calibration",
+            num(r.noise_m_s2),
+            r.seed
+        ),
+        crate::recorded::sil::SensorPath::Ideal => format!(
+            "ideal front end (noise {} m/s^2 rms seed {}, no clipping, no ADC: a high-resolution logger)",
+            num(r.noise_m_s2),
+            r.seed
+        ),
+    };
     s.push_str(&format!(
-        "Model ({}) -> rig sensor model (100 mV/g, front-end gain 0.2, noise {} m/s^2 rms seed {}, \
-         700 m/s^2 clipping, 12-bit ADC) -> calibration -> the rig's estimator, at {} Hz; statistics over t >= {} s \
+        "Model ({}) -> {chain} -> the rig's estimator, at {} Hz; statistics over t >= {} s \
          ({} samples). Outcome: {}{}.\n\n",
         r.stepper,
-        num(r.noise_m_s2),
-        r.seed,
         num(r.sample_rate_hz),
         num(r.stats_from),
         r.truth.samples,

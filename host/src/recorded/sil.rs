@@ -24,6 +24,7 @@ use std::path::Path;
 
 use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
 use stickslip_model::rig::contact::ContactThresholds;
+use stickslip_model::rig::prng::XorShift32;
 use stickslip_model::rig::sensor_model::{
     Model2Motion, Motion, Noise, SensorModel, SensorModelConfig, SensorModelError,
 };
@@ -43,6 +44,28 @@ pub const DEFAULT_NOISE_M_S2: f64 = 0.005;
 /// Default seed of the noise generator.
 pub const DEFAULT_SEED: u32 = 1;
 
+/// What the analysis sees.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SensorPath {
+    /// The rig's chain: noise, clipping, the 12-bit ADC and the calibration (what `sil` runs).
+    #[default]
+    Rig,
+    /// The model's accelerations at the samples plus the sensor noise, neither clipped nor
+    /// quantised: a high-resolution logger. With no noise it is the expectation of what a fine
+    /// converter records, smooth in the scene's parameters (`stickslip fit` runs its model
+    /// through it: the rig's path would make its cost a staircase of ADC counts).
+    Ideal,
+}
+
+impl SensorPath {
+    pub fn name(self) -> &'static str {
+        match self {
+            SensorPath::Rig => "rig",
+            SensorPath::Ideal => "ideal",
+        }
+    }
+}
+
 /// How to run the virtual rig.
 #[derive(Clone, Debug)]
 pub struct SilOptions {
@@ -52,6 +75,9 @@ pub struct SilOptions {
     pub figures: bool,
     /// The estimator's breakaway jump [m/s^2]; default the scene's.
     pub breakaway_jump_m_s2: Option<f64>,
+    pub sensor: SensorPath,
+    /// Compute the Welch spectra (`AnalysisConfig::spectra`).
+    pub spectra: bool,
 }
 
 /// The breakaway jump the estimator uses for `ns`: `given`, else the scene's
@@ -103,6 +129,7 @@ pub struct SilReport {
     pub halt_t_s: Option<f64>,
     pub noise_m_s2: f64,
     pub seed: u32,
+    pub sensor: SensorPath,
     /// Frames with an accelerometer at its range or at an ADC rail.
     pub saturated_frames: u64,
     /// The hard bound of |estimated - true| peak-to-peak per channel [m/s^2]: each extreme is
@@ -135,6 +162,7 @@ pub fn analysis_config(scene: &stickslip_model::Scene, from_s: f64, segment: Opt
         breakaway_jump_m_s2: ContactThresholds::breakaway_jump(scene),
         band_speed_m_s: scene.v,
         figures,
+        spectra: true,
     }
 }
 
@@ -196,6 +224,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     let dt = scene.dt;
     let from_eff = scene.stats_from - 0.25 * dt;
     let mut acfg = analysis_config(scene, scene.stats_from, opts.segment, opts.figures);
+    acfg.spectra = opts.spectra;
     acfg.breakaway_jump_m_s2 = breakaway_jump(ns, opts.breakaway_jump_m_s2)?;
     let mut analyzer = Analyzer::new(acfg);
     let steps_planned = run::planned_steps(scene);
@@ -205,6 +234,9 @@ fn sample_run<T: Real, M: Motion<T>>(
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
     let mut saturated_frames = 0;
+    // the ideal path's noise: its own stream of the same generator and seed
+    let mut rng = XorShift32::new(opts.seed);
+    let sigma = opts.noise_m_s2;
     for i in 0..steps_planned {
         let frame = match sensor.next_frame() {
             Ok(f) => f,
@@ -215,11 +247,23 @@ fn sample_run<T: Real, M: Motion<T>>(
         };
         steps_done += 1;
         let t = (i + 1) as f64 * dt;
-        let c = cal.calibrate(&frame);
-        if c.saturation.any_accel() {
-            saturated_frames += 1;
-        }
-        let a: [f64; CH] = c.accel_m_s2.map(|v| v as f64);
+        let a: [f64; CH] = match opts.sensor {
+            SensorPath::Rig => {
+                let c = cal.calibrate(&frame);
+                if c.saturation.any_accel() {
+                    saturated_frames += 1;
+                }
+                c.accel_m_s2.map(|v| v as f64)
+            }
+            SensorPath::Ideal => {
+                let tr = sensor.truth().accel_m_s2.map(|v| v.to_f64());
+                if sigma > 0.0 {
+                    tr.map(|v| v + sigma * rng.unit_noise::<f64>())
+                } else {
+                    tr
+                }
+            }
+        };
         if let Some(o) = &mut out {
             writeln!(o.w, "{t},{},{},{},{}", a[0], a[1], a[2], a[3]).map_err(|e| o.err(e))?;
         }
@@ -275,8 +319,12 @@ fn sample_run<T: Real, M: Motion<T>>(
         halt_t_s: outcome.halt_time(),
         noise_m_s2: opts.noise_m_s2,
         seed: opts.seed,
+        sensor: opts.sensor,
         saturated_frames,
-        pp_bound_m_s2: pp_error_bound(&RIG_CALIBRATION, opts.noise_m_s2),
+        pp_bound_m_s2: match opts.sensor {
+            SensorPath::Rig => pp_error_bound(&RIG_CALIBRATION, opts.noise_m_s2),
+            SensorPath::Ideal => [2.0 * stickslip_model::rig::prng::UNIT_NOISE_BOUND * opts.noise_m_s2; CH],
+        },
         truth,
         measured,
     })

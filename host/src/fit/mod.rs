@@ -1,0 +1,400 @@
+//! Identification (`stickslip fit`): the free keys of a scene adjusted so that the model's
+//! virtual rig reproduces measured statistics (recordings or a table), with standard errors,
+//! correlations, flat directions, the bootstrap over a recording's windows and held-out cases.
+//!
+//! - [`stat`]: the statistics by name;
+//! - [`target`]: recordings and tables;
+//! - [`model`]: each case's scene and its statistics;
+//! - [`solve`]: the least-squares problem, the search (argmin's Nelder-Mead) and the
+//!   uncertainty;
+//! - [`output`]: Markdown, JSON, the figure and the fitted scene file.
+
+pub mod model;
+pub mod output;
+pub mod solve;
+pub mod stat;
+pub mod target;
+
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use nalgebra::DMatrix;
+use stickslip_model::Scene;
+
+use crate::error::{HostError, Result};
+use crate::recorded::sil;
+use crate::scene_file;
+use crate::scene_source::NamedScene;
+use model::FreeKey;
+use solve::{Problem, Row, StartReport};
+use stat::{Stat, StatKey};
+use target::{Measured, Skipped};
+
+/// What to fit, as given on the command line (checked by [`run_fit`]).
+#[derive(Clone, Debug, Default)]
+pub struct FitRequest {
+    pub free: Vec<String>,
+    /// `KEY=LO:HI`.
+    pub bounds: Vec<String>,
+    /// `CASE=FILE`.
+    pub recordings: Vec<String>,
+    pub tables: Vec<String>,
+    pub holdout: Vec<String>,
+    /// `STAT=W`.
+    pub weights: Vec<String>,
+    /// Start of a recording's statistics [s]; default the scene's stats_from.
+    pub from_s: Option<f64>,
+    pub segment: Option<usize>,
+    pub breakaway_jump_m_s2: Option<f64>,
+    pub starts: usize,
+    pub max_iters: u64,
+    pub bootstrap: usize,
+    pub seed: u32,
+    pub progress: bool,
+}
+
+/// Default number of starts.
+pub const DEFAULT_STARTS: usize = 3;
+/// Default iteration limit of one Nelder-Mead run.
+pub const DEFAULT_MAX_ITERS: u64 = 300;
+/// Default bootstrap resamples.
+pub const DEFAULT_BOOTSTRAP: usize = 400;
+/// Default bounds: the start value times or divided by this.
+pub const DEFAULT_BOUND_FACTOR: f64 = 10.0;
+
+/// A statistic with the model's value beside the measured one.
+#[derive(Clone, Debug)]
+pub struct Compared {
+    pub key: StatKey,
+    pub measured: f64,
+    pub model: Option<f64>,
+    pub weight: f64,
+    pub source: String,
+}
+
+impl Compared {
+    /// ln(model / measured); `None` where the model has none.
+    pub fn log_ratio(&self) -> Option<f64> {
+        self.model.filter(|m| m.is_finite() && *m > 0.0).map(|m| (m / self.measured).ln())
+    }
+}
+
+/// The root mean square of the weighted log ratios of `rows` (the rows with weight > 0 and a
+/// model value).
+pub fn rms_log_ratio(rows: &[Compared]) -> Option<f64> {
+    let v: Vec<f64> = rows.iter().filter(|r| r.weight > 0.0).filter_map(|r| r.log_ratio()).collect();
+    (!v.is_empty()).then(|| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt())
+}
+
+/// The result of a fit.
+pub struct FitReport {
+    pub scene: NamedScene,
+    pub fitted_scene: Scene,
+    pub free: Vec<FreeKey>,
+    pub values: Vec<f64>,
+    /// Standard error from the Jacobian (delta method), per key.
+    pub std: Vec<f64>,
+    pub std_bootstrap: Option<Vec<f64>>,
+    pub bootstrap_resamples: usize,
+    pub correlation: DMatrix<f64>,
+    pub uncertainty: solve::Uncertainty,
+    pub fitted: Vec<Compared>,
+    pub holdout: Vec<Compared>,
+    pub holdout_cases: Vec<String>,
+    pub skipped: Vec<Skipped>,
+    pub starts: Vec<StartReport>,
+    pub converged: bool,
+    pub cost: f64,
+    pub evaluations: usize,
+    pub seconds: f64,
+    pub jump_m_s2: f64,
+    pub weights: Vec<(Stat, f64)>,
+    pub notes: Vec<String>,
+}
+
+impl FitReport {
+    /// No flat direction.
+    pub fn identifiable(&self) -> bool {
+        self.uncertainty.flat.is_empty()
+    }
+}
+
+fn parse_weights(given: &[String]) -> Result<Vec<(Stat, f64)>> {
+    let mut w: Vec<(Stat, f64)> = Stat::ALL.iter().map(|s| (*s, s.default_weight())).collect();
+    for g in given {
+        for item in g.split(',') {
+            let bad = |m: String| HostError::Input(format!("--weights {item}: {m}"));
+            let (k, v) = item.split_once('=').ok_or_else(|| bad("give STAT=W, e.g. peak_hz=0.5".into()))?;
+            let stat = Stat::parse(k.trim()).ok_or_else(|| {
+                let names: Vec<&str> = Stat::ALL.iter().map(|s| s.name()).collect();
+                bad(format!("unknown statistic `{k}` (the statistics: {})", names.join(", ")))
+            })?;
+            let x: f64 = v.trim().parse().map_err(|_| bad(format!("`{v}` is not a number")))?;
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(bad("a weight must be finite and >= 0 (0 leaves the statistic out)".into()));
+            }
+            w.iter_mut().find(|(s, _)| *s == stat).expect("every statistic").1 = x;
+        }
+    }
+    Ok(w)
+}
+
+fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String]) -> Result<Vec<FreeKey>> {
+    let mut keys: Vec<FreeKey> = Vec::new();
+    for item in free.iter().flat_map(|f| f.split(',')).map(str::trim).filter(|s| !s.is_empty()) {
+        let bad = |m: String| HostError::Input(format!("--free {item}: {m}"));
+        if model::NOT_FREE.contains(&item) {
+            return Err(bad("is not a parameter to fit (beta is each case's own; dt, duration, stats_from are the run's)".into()));
+        }
+        let start = scene_file::get_numeric(&scene.scene, item).ok_or_else(|| {
+            bad(format!("not a numeric scene key (the numeric keys: {})", scene_file::NUMERIC_KEYS.join(", ")))
+        })?;
+        if keys.iter().any(|k| k.key == item) {
+            return Err(bad("given twice".into()));
+        }
+        if !(start.is_finite() && start > 0.0) {
+            return Err(bad(format!(
+                "starts at {start} in scene `{}`: a fit searches each key on a log scale and needs a start > 0 (set one in a scene file)",
+                scene.name
+            )));
+        }
+        keys.push(FreeKey { key: item.to_string(), start, lo: start / DEFAULT_BOUND_FACTOR, hi: start * DEFAULT_BOUND_FACTOR });
+    }
+    if keys.is_empty() {
+        return Err(HostError::Input("--free: give at least one scene key to fit, e.g. --free mu_s,mu_k,v_s".into()));
+    }
+    for b in bounds.iter().flat_map(|f| f.split(',')).map(str::trim).filter(|s| !s.is_empty()) {
+        let bad = |m: String| HostError::Input(format!("--bounds {b}: {m}"));
+        let (k, range) = b.split_once('=').ok_or_else(|| bad("give KEY=LO:HI".into()))?;
+        let (lo, hi) = range.split_once(':').ok_or_else(|| bad("give KEY=LO:HI".into()))?;
+        let num = |s: &str| s.trim().parse::<f64>().map_err(|_| bad(format!("`{s}` is not a number")));
+        let (lo, hi) = (num(lo)?, num(hi)?);
+        let f = keys.iter_mut().find(|f| f.key == k.trim()).ok_or_else(|| bad(format!("`{k}` is not a free key")))?;
+        if !(lo > 0.0 && hi.is_finite() && lo < hi) {
+            return Err(bad("needs 0 < LO < HI (the search is on a log scale)".into()));
+        }
+        if !(lo <= f.start && f.start <= hi) {
+            return Err(bad(format!("the start {} is outside [{lo}, {hi}]", f.start)));
+        }
+        f.lo = lo;
+        f.hi = hi;
+    }
+    Ok(keys)
+}
+
+fn unknown_case(base: &NamedScene, case: &str, at: &str) -> HostError {
+    HostError::Input(format!(
+        "{at}: unknown case `{case}` (the cases: {}, or the scene's own name `{}`)",
+        model::case_names().join(", "),
+        base.name
+    ))
+}
+
+/// Runs the fit described by `req` on the base scene `base` (validated).
+pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
+    let t0 = Instant::now();
+    let weights = parse_weights(&req.weights)?;
+    let free = free_keys(&base, &req.free, &req.bounds)?;
+    let jump = sil::breakaway_jump(&base, req.breakaway_jump_m_s2)?;
+    let from = req.from_s.unwrap_or(base.scene.stats_from);
+    let mut notes = Vec::new();
+    let weight_of = |s: Stat| weights.iter().find(|(k, _)| *k == s).map_or(0.0, |(_, w)| *w);
+    if req.recordings.is_empty() && req.tables.is_empty() {
+        return Err(HostError::Input("no target: give recordings as CASE=FILE and/or --table FILE".into()));
+    }
+    // the targets: tables first (cheap), then the recordings
+    let mut measured: Vec<Measured> = Vec::new();
+    let mut skipped: Vec<Skipped> = Vec::new();
+    for t in &req.tables {
+        for m in target::load_table(t)? {
+            if model::case_scene(&base, &m.key.case).is_none() {
+                return Err(unknown_case(&base, &m.key.case, &m.source));
+            }
+            measured.push(m);
+        }
+    }
+    let mut recs = Vec::new();
+    for arg in &req.recordings {
+        let (case, file) = target::parse_recording_arg(arg)?;
+        let scene = model::case_scene(&base, &case).ok_or_else(|| unknown_case(&base, &case, arg))?;
+        recs.push((case, file, scene));
+    }
+    for (case, file, scene) in &recs {
+        let cfg = sil::analysis_config(scene, from, req.segment, false);
+        let cfg = crate::recorded::analysis::AnalysisConfig { breakaway_jump_m_s2: jump, spectra: weight_of(Stat::PeakHz) > 0.0, ..cfg };
+        let rec = target::read_recording(case, file, &cfg)?;
+        let rate = 1.0 / scene.dt;
+        if (rec.analysis.sample_rate_hz / rate - 1.0).abs() > 0.01 {
+            notes.push(format!(
+                "{file} is sampled at {:.6} Hz, the model at 1 / dt = {rate:.6} Hz: the statistics are compared as they are",
+                rec.analysis.sample_rate_hz
+            ));
+        }
+        if !rec.windows_hold_cycles() {
+            notes.push(format!(
+                "{file}: a window of 1/{} of the analysed stretch holds fewer than two slip onsets: no bootstrap over its windows",
+                target::WINDOWS
+            ));
+        }
+        let (keep, skip) = rec.measured();
+        for m in keep {
+            if let Some(prev) = measured.iter().find(|p| p.key == m.key) {
+                return Err(HostError::Input(format!("{}: {} is also given by {}", m.source, m.key.label(), prev.source)));
+            }
+            measured.push(m);
+        }
+        skipped.extend(skip);
+    }
+    // held-out cases
+    let mut holdout_cases: Vec<String> = Vec::new();
+    for c in req.holdout.iter().flat_map(|h| h.split(',')).map(str::trim).filter(|s| !s.is_empty()) {
+        if !measured.iter().any(|m| m.key.case == c) {
+            return Err(HostError::Input(format!("--holdout {c}: no target has that case")));
+        }
+        if !holdout_cases.iter().any(|h| h == c) {
+            holdout_cases.push(c.to_string());
+        }
+    }
+    let mut case_names: Vec<String> = Vec::new();
+    for m in &measured {
+        if !holdout_cases.contains(&m.key.case) && weight_of(m.key.stat) > 0.0 && !case_names.contains(&m.key.case) {
+            case_names.push(m.key.case.clone());
+        }
+    }
+    if case_names.is_empty() {
+        return Err(HostError::Input("every case is held out or has no weighted statistic: nothing left to fit".into()));
+    }
+    let scene_of = |c: &str| model::case_scene(&base, c).expect("checked above");
+    let cases: Vec<(String, Scene)> = case_names.iter().map(|c| (c.clone(), scene_of(c))).collect();
+    let row_of = |m: &Measured, case: usize| Row {
+        key: m.key.clone(),
+        case,
+        measured: m.value,
+        weight: weight_of(m.key.stat),
+        windows: m.windows.clone(),
+        source: m.source.clone(),
+    };
+    let rows: Vec<Row> = measured
+        .iter()
+        .filter(|m| weight_of(m.key.stat) > 0.0)
+        .filter_map(|m| case_names.iter().position(|c| *c == m.key.case).map(|i| row_of(m, i)))
+        .collect();
+    if rows.len() <= free.len() {
+        return Err(HostError::Input(format!(
+            "{} weighted statistics for {} free keys: a fit needs more statistics than free keys",
+            rows.len(),
+            free.len()
+        )));
+    }
+    let progress = req.progress.then(|| {
+        let p = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        p.set_style(ProgressStyle::with_template("fit: {spinner} {elapsed} {msg}").expect("valid template"));
+        p
+    });
+    let mut problem = Problem::new(free.clone(), cases, rows, jump, req.segment, progress.clone());
+    // the start must be a valid scene for every case
+    let start_stats = problem.run_cases(&problem.cases, &problem.values(&vec![0.0; free.len()]));
+    if let Some(Err(e)) = start_stats.iter().find(|s| s.is_err()) {
+        return Err(HostError::Input(format!("the start (scene `{}` as given): {e}", base.name)));
+    }
+    // a channel the scene does not move (no band: disc_x; no rotation: the edges) is exactly 0
+    // in the model at any parameters: what a recording shows there is noise, not fitted
+    let start_model = Problem::model_values(&problem.rows, &start_stats);
+    let (keep, drop): (Vec<_>, Vec<_>) = std::mem::take(&mut problem.rows)
+        .into_iter()
+        .zip(start_model)
+        .partition(|(r, m)| !(r.key.channel.is_some() && *m == Some(0.0)));
+    for (r, _) in drop {
+        skipped.push(Skipped { key: r.key, source: r.source, why: "the scene does not move this channel (0 in the model)".into() });
+    }
+    problem.rows = keep.into_iter().map(|(r, _)| r).collect();
+    if problem.rows.len() <= free.len() {
+        return Err(HostError::Input(format!(
+            "{} statistics the scene can produce for {} free keys: a fit needs more statistics than free keys",
+            problem.rows.len(),
+            free.len()
+        )));
+    }
+    let sol = solve::search(&problem, req.starts, req.max_iters).map_err(HostError::Input)?;
+    let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
+    let j = solve::jacobian(&problem, &sol.u, &r);
+    let unc = solve::uncertainty(&j, &r);
+    let sources: Vec<String> = {
+        let mut s: Vec<String> = problem.rows.iter().filter(|r| !r.windows.is_empty()).map(|r| r.source.clone()).collect();
+        s.sort();
+        s.dedup();
+        s
+    };
+    let std_boot_u = solve::bootstrap(&j, &problem.rows, &sources, req.bootstrap, req.seed);
+    let values = problem.values(&sol.u);
+    let std: Vec<f64> = values.iter().enumerate().map(|(k, v)| v * unc.cov_u[(k, k)].sqrt()).collect();
+    let std_bootstrap = std_boot_u.map(|s| s.iter().zip(&values).map(|(su, v)| v * su).collect());
+    let n = free.len();
+    let correlation = DMatrix::from_fn(n, n, |a, b| unc.cov_u[(a, b)] / (unc.cov_u[(a, a)] * unc.cov_u[(b, b)]).sqrt());
+    // the model at the optimum: fitted rows, then the held-out cases
+    let stats = problem.run_cases(&problem.cases, &values);
+    let model = Problem::model_values(&problem.rows, &stats);
+    let fitted: Vec<Compared> = problem
+        .rows
+        .iter()
+        .zip(model)
+        .map(|(r, m)| Compared { key: r.key.clone(), measured: r.measured, model: m, weight: r.weight, source: r.source.clone() })
+        .collect();
+    let hold_cases: Vec<(String, Scene)> = holdout_cases.iter().map(|c| (c.clone(), scene_of(c))).collect();
+    let hold_stats = problem.run_cases(&hold_cases, &values);
+    for ((c, _), s) in hold_cases.iter().zip(&hold_stats) {
+        if let Err(e) = s {
+            notes.push(format!("held-out case {c}: the fitted model's run: {e}"));
+        }
+    }
+    let holdout: Vec<Compared> = measured
+        .iter()
+        .filter(|m| holdout_cases.contains(&m.key.case) && weight_of(m.key.stat) > 0.0)
+        .map(|m| {
+            let i = hold_cases.iter().position(|(c, _)| *c == m.key.case).expect("a held-out case");
+            let model = hold_stats[i].as_ref().ok().and_then(|a| m.key.stat.of(a, m.key.channel));
+            Compared { key: m.key.clone(), measured: m.value, model, weight: weight_of(m.key.stat), source: m.source.clone() }
+        })
+        .filter(|c| {
+            // a channel the scene does not move is not predicted either (as in the fit)
+            let structural_zero = c.key.channel.is_some() && c.model == Some(0.0);
+            if structural_zero {
+                skipped.push(Skipped {
+                    key: c.key.clone(),
+                    source: c.source.clone(),
+                    why: "the scene does not move this channel (0 in the model)".into(),
+                });
+            }
+            !structural_zero
+        })
+        .collect();
+    let fitted_scene = model::with_values(&base.scene, &free, &values)
+        .map_err(|e| HostError::Input(format!("the fitted values in scene `{}`: {e}", base.name)))?;
+    if let Some(p) = progress {
+        p.finish_and_clear();
+    }
+    let evaluations = problem.evals.load(std::sync::atomic::Ordering::Relaxed);
+    Ok(FitReport {
+        scene: base,
+        fitted_scene,
+        free,
+        values,
+        std,
+        std_bootstrap,
+        bootstrap_resamples: req.bootstrap,
+        correlation,
+        uncertainty: unc,
+        fitted,
+        holdout,
+        holdout_cases,
+        skipped,
+        starts: sol.starts,
+        converged: sol.converged,
+        cost: sol.cost,
+        evaluations,
+        seconds: t0.elapsed().as_secs_f64(),
+        jump_m_s2: jump,
+        weights,
+        notes,
+    })
+}

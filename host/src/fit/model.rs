@@ -1,0 +1,96 @@
+//! The model side of a fit: the scene of each case, the free keys applied to it, and its
+//! statistics from the virtual rig on the ideal sensor path (`sil::SensorPath::Ideal`: the
+//! model's accelerations at the samples through the same analysis as a recording, so the
+//! cost is smooth in the parameters instead of a staircase of ADC counts).
+
+use stickslip_model::coefficients::Coefficients;
+use stickslip_model::scene::CASE_BETAS;
+use stickslip_model::{Caliper, Scene};
+
+use crate::recorded::analysis::Analysis;
+use crate::recorded::sil::{self, SensorPath, SilOptions};
+use crate::run::Precision;
+use crate::scene_file;
+use crate::scene_source::{NamedScene, Origin};
+
+/// The six case names (caliper_position).
+pub fn case_names() -> Vec<String> {
+    let mut v = Vec::new();
+    for c in [Caliper::Push, Caliper::Pull] {
+        for (tag, _) in CASE_BETAS {
+            v.push(format!("{}_{tag}", c.name()));
+        }
+    }
+    v
+}
+
+/// The scene of `case` from the base scene: the base itself for its own name; for one of the
+/// six case names the base with that case's caliper and load position, and the rotation's
+/// viscous damping c_phi rescaled so that its damping ratio c_phi / (2 sqrt(K I)) stays the
+/// base's (K, the rotational stiffness about the pivot, changes with the caliper). Every other
+/// key is the base's. `None` for an unknown case.
+pub fn case_scene(base: &NamedScene, case: &str) -> Option<Scene> {
+    if case == base.name {
+        return Some(base.scene);
+    }
+    for caliper in [Caliper::Push, Caliper::Pull] {
+        for (tag, beta) in CASE_BETAS {
+            if case == format!("{}_{tag}", caliper.name()) {
+                let mut s = base.scene;
+                let k_base = Coefficients::of(&s).k_rot;
+                s.caliper = caliper;
+                s.beta = beta;
+                let k_case = Coefficients::of(&s).k_rot;
+                if s.c_phi != 0.0 && k_base > 0.0 && k_case > 0.0 {
+                    s.c_phi *= (k_case / k_base).sqrt();
+                }
+                return Some(s);
+            }
+        }
+    }
+    None
+}
+
+/// A free key, fitted on a log scale between its bounds.
+#[derive(Clone, Debug)]
+pub struct FreeKey {
+    pub key: String,
+    pub start: f64,
+    pub lo: f64,
+    pub hi: f64,
+}
+
+/// The keys a fit may not free: the case's own (beta, set per case) and the run's.
+pub const NOT_FREE: [&str; 4] = ["beta", "dt", "duration", "stats_from"];
+
+/// `scene` with the free keys at `values` (in the order of `free`), validated.
+pub fn with_values(scene: &Scene, free: &[FreeKey], values: &[f64]) -> Result<Scene, String> {
+    let mut s = *scene;
+    for (f, v) in free.iter().zip(values) {
+        scene_file::set_numeric(&mut s, &f.key, *v)?;
+    }
+    s.validate().map_err(|e| format!("field `{}` = {}: {}", e.field, e.value, e.rule))?;
+    Ok(s)
+}
+
+/// The statistics of `scene` (named `name`) through the virtual rig's ideal sensor path, with
+/// the estimator's breakaway jump `jump_m_s2` and Welch segment `segment` (spectra only if
+/// `spectra`). An error for a run
+/// that halts (sprag, contact loss) or leaves nothing to analyse.
+pub fn statistics(name: &str, scene: &Scene, jump_m_s2: f64, segment: Option<usize>, spectra: bool) -> Result<Analysis, String> {
+    let ns = NamedScene { name: name.to_string(), description: String::new(), origin: Origin::Builtin, scene: *scene };
+    let opts = SilOptions {
+        noise_m_s2: 0.0,
+        seed: sil::DEFAULT_SEED,
+        segment,
+        figures: false,
+        breakaway_jump_m_s2: Some(jump_m_s2),
+        sensor: SensorPath::Ideal,
+        spectra,
+    };
+    let r = sil::run(&ns, Precision::F64, &opts, None).map_err(|e| e.to_string())?;
+    if r.outcome != "completed" {
+        return Err(format!("the run ends in {} at t = {:?} s", r.outcome, r.halt_t_s));
+    }
+    r.measured.ok_or_else(|| "nothing to analyse".to_string())
+}

@@ -1,0 +1,382 @@
+//! A fit's Markdown, JSON, figure (model against measured, per statistic, every case) and
+//! fitted scene file.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use plotters::prelude::*;
+use serde::Serialize;
+
+use super::stat::Stat;
+use super::{rms_log_ratio, Compared, FitReport};
+use crate::error::{HostError, Result};
+use crate::recorded::report::num;
+use crate::scene_file;
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or("none".into(), num)
+}
+
+fn pct(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:.3} %", 100.0 * v)
+    } else {
+        "n/a".into()
+    }
+}
+
+#[derive(Serialize)]
+pub struct ParameterJson {
+    pub value: f64,
+    /// From the Jacobian (delta method); null where not determined.
+    pub std: Option<f64>,
+    pub std_bootstrap: Option<f64>,
+    pub start: f64,
+    pub lo: f64,
+    pub hi: f64,
+}
+
+#[derive(Serialize)]
+pub struct ComparedJson {
+    pub case: String,
+    pub channel: Option<&'static str>,
+    pub statistic: &'static str,
+    pub measured: f64,
+    pub model: Option<f64>,
+    pub log_ratio: Option<f64>,
+    pub weight: f64,
+    pub source: String,
+}
+
+impl From<&Compared> for ComparedJson {
+    fn from(c: &Compared) -> Self {
+        ComparedJson {
+            case: c.key.case.clone(),
+            channel: c.key.channel.map(|_| c.key.channel_name()),
+            statistic: c.key.stat.name(),
+            measured: c.measured,
+            model: c.model,
+            log_ratio: c.log_ratio(),
+            weight: c.weight,
+            source: c.source.clone(),
+        }
+    }
+}
+
+#[derive(Serialize)]
+pub struct FlatJson {
+    pub direction: BTreeMap<String, f64>,
+    pub std_log: Option<f64>,
+}
+
+#[derive(Serialize)]
+pub struct StartJson {
+    pub from: BTreeMap<String, f64>,
+    pub values: BTreeMap<String, f64>,
+    pub cost: f64,
+    pub converged: bool,
+}
+
+#[derive(Serialize)]
+pub struct FitJson {
+    pub scene: String,
+    pub parameters: BTreeMap<String, ParameterJson>,
+    pub residuals: Vec<ComparedJson>,
+    pub holdout: Vec<ComparedJson>,
+    pub converged: bool,
+    pub identifiable: bool,
+    pub flat_directions: Vec<FlatJson>,
+    pub correlation: BTreeMap<String, BTreeMap<String, Option<f64>>>,
+    pub cost: f64,
+    pub residual_variance: Option<f64>,
+    pub rms_log_ratio_fitted: Option<f64>,
+    pub rms_log_ratio_holdout: Option<f64>,
+    pub weights: BTreeMap<&'static str, f64>,
+    pub breakaway_jump_m_s2: f64,
+    pub bootstrap_resamples: usize,
+    pub evaluations: usize,
+    pub seconds: f64,
+    pub starts: Vec<StartJson>,
+    pub skipped: Vec<String>,
+    pub notes: Vec<String>,
+}
+
+fn finite(v: f64) -> Option<f64> {
+    v.is_finite().then_some(v)
+}
+
+impl FitJson {
+    pub fn new(r: &FitReport) -> Self {
+        let keyed = |v: &[f64]| -> BTreeMap<String, f64> { r.free.iter().zip(v).map(|(f, x)| (f.key.clone(), *x)).collect() };
+        let parameters = r
+            .free
+            .iter()
+            .enumerate()
+            .map(|(k, f)| {
+                (
+                    f.key.clone(),
+                    ParameterJson {
+                        value: r.values[k],
+                        std: finite(r.std[k]),
+                        std_bootstrap: r.std_bootstrap.as_ref().and_then(|s| finite(s[k])),
+                        start: f.start,
+                        lo: f.lo,
+                        hi: f.hi,
+                    },
+                )
+            })
+            .collect();
+        let correlation = r
+            .free
+            .iter()
+            .enumerate()
+            .map(|(a, fa)| {
+                (fa.key.clone(), r.free.iter().enumerate().map(|(b, fb)| (fb.key.clone(), finite(r.correlation[(a, b)]))).collect())
+            })
+            .collect();
+        FitJson {
+            scene: r.scene.name.clone(),
+            parameters,
+            residuals: r.fitted.iter().map(Into::into).collect(),
+            holdout: r.holdout.iter().map(Into::into).collect(),
+            converged: r.converged,
+            identifiable: r.identifiable(),
+            flat_directions: r
+                .uncertainty
+                .flat
+                .iter()
+                .map(|f| FlatJson { direction: keyed(&f.direction), std_log: finite(f.std_log) })
+                .collect(),
+            correlation,
+            cost: r.cost,
+            residual_variance: finite(r.uncertainty.residual_variance),
+            rms_log_ratio_fitted: rms_log_ratio(&r.fitted),
+            rms_log_ratio_holdout: rms_log_ratio(&r.holdout),
+            weights: r.weights.iter().map(|(s, w)| (s.name(), *w)).collect(),
+            breakaway_jump_m_s2: r.jump_m_s2,
+            bootstrap_resamples: if r.std_bootstrap.is_some() { r.bootstrap_resamples } else { 0 },
+            evaluations: r.evaluations,
+            seconds: r.seconds,
+            starts: r
+                .starts
+                .iter()
+                .map(|s| StartJson { from: keyed(&s.from), values: keyed(&s.values), cost: s.cost, converged: s.converged })
+                .collect(),
+            skipped: r.skipped.iter().map(|s| format!("{} ({}): {}", s.key.label(), s.source, s.why)).collect(),
+            notes: r.notes.clone(),
+        }
+    }
+}
+
+fn compared_table(rows: &[Compared]) -> String {
+    let mut s = String::from("| case | channel | statistic | measured | model | model / measured | weight |\n|---|---|---|---:|---:|---:|---:|\n");
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {} | {} [{}] | {} | {} | {} | {} |\n",
+            r.key.case,
+            if r.key.channel.is_some() { r.key.channel_name() } else { "-" },
+            r.key.stat.name(),
+            r.key.stat.unit(),
+            num(r.measured),
+            opt(r.model),
+            r.log_ratio().map_or("n/a".into(), |l| format!("{:.4}", l.exp())),
+            num(r.weight)
+        ));
+    }
+    s
+}
+
+/// A direction as "0.71 mu_s + 0.70 mu_k".
+fn direction_text(r: &FitReport, d: &[f64]) -> String {
+    let mut parts: Vec<(f64, &str)> = d.iter().zip(&r.free).map(|(x, f)| (*x, f.key.as_str())).collect();
+    parts.sort_by(|a, b| b.0.abs().total_cmp(&a.0.abs()));
+    parts
+        .iter()
+        .filter(|(x, _)| x.abs() >= 0.05)
+        .map(|(x, k)| format!("{x:+.2} ln {k}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The Markdown report.
+pub fn markdown(r: &FitReport) -> String {
+    let mut s = format!("# Fit of scene `{}` ({})\n\n", r.scene.name, r.scene.origin_short());
+    let cases: Vec<&str> = {
+        let mut c: Vec<&str> = r.fitted.iter().map(|x| x.key.case.as_str()).collect();
+        c.dedup();
+        c
+    };
+    s.push_str(&format!(
+        "{} statistics of {} case{} ({}) fitted with {} free key{}; {} evaluations of the virtual rig in {:.1} s; {}.\n\n",
+        r.fitted.len(),
+        cases.len(),
+        if cases.len() == 1 { "" } else { "s" },
+        cases.join(", "),
+        r.free.len(),
+        if r.free.len() == 1 { "" } else { "s" },
+        r.evaluations,
+        r.seconds,
+        if r.converged { "the search converged" } else { "**the search stopped at its iteration limit** (raise --max-iters)" }
+    ));
+    s.push_str("| key | start | fitted | std (Jacobian) | std (bootstrap) | bounds |\n|---|---:|---:|---:|---:|---|\n");
+    for (k, f) in r.free.iter().enumerate() {
+        let rel = r.std[k] / r.values[k];
+        let boot = r.std_bootstrap.as_ref().map_or("-".into(), |b| format!("{} ({})", num(b[k]), pct(b[k] / r.values[k])));
+        s.push_str(&format!(
+            "| {} | {} | {} | {} ({}) | {} | [{}, {}] |\n",
+            f.key,
+            num(f.start),
+            num(r.values[k]),
+            num(r.std[k]),
+            pct(rel),
+            boot,
+            num(f.lo),
+            num(f.hi)
+        ));
+    }
+    s.push('\n');
+    if r.identifiable() {
+        s.push_str("Identifiable: every direction of the parameters is determined to better than +-35 % (the standard error of ln p along each singular vector of the Jacobian is below 0.3).\n\n");
+    } else {
+        s.push_str("**Not identifiable**: the data leave these directions of the parameters undetermined (standard error of ln p along them above 0.3, about +-35 %):\n\n");
+        for f in &r.uncertainty.flat {
+            s.push_str(&format!("- {} (std {})\n", direction_text(r, &f.direction), num(f.std_log)));
+        }
+        s.push_str("\nFix one of the keys along a flat direction, or add a target that moves it.\n\n");
+    }
+    if r.free.len() > 1 {
+        s.push_str("Correlation of the fitted parameters (of ln p):\n\n|  |");
+        for f in &r.free {
+            s.push_str(&format!(" {} |", f.key));
+        }
+        s.push_str("\n|---|");
+        s.push_str(&"---:|".repeat(r.free.len()));
+        s.push('\n');
+        for (a, fa) in r.free.iter().enumerate() {
+            s.push_str(&format!("| {} |", fa.key));
+            for b in 0..r.free.len() {
+                let c = r.correlation[(a, b)];
+                s.push_str(&if c.is_finite() { format!(" {c:+.3} |") } else { " n/a |".into() });
+            }
+            s.push('\n');
+        }
+        s.push('\n');
+    }
+    s.push_str(&format!(
+        "## Residuals (fitted cases)\n\nRMS of ln(model / measured): {} over {} statistics; residual variance s^2 = {} ({} degrees of freedom).\n\n",
+        opt(rms_log_ratio(&r.fitted)),
+        r.fitted.len(),
+        num(r.uncertainty.residual_variance),
+        r.uncertainty.dof
+    ));
+    s.push_str(&compared_table(&r.fitted));
+    if !r.holdout.is_empty() {
+        s.push_str(&format!(
+            "\n## Held out: {}\n\nThe fitted model's prediction of cases it was not fitted to. RMS of ln(model / measured): {}.\n\n",
+            r.holdout_cases.join(", "),
+            opt(rms_log_ratio(&r.holdout))
+        ));
+        s.push_str(&compared_table(&r.holdout));
+    }
+    s.push_str("\n## Starts\n\n| start | from | fitted | cost | converged |\n|---:|---|---|---:|---|\n");
+    let kv = |v: &[f64]| r.free.iter().zip(v).map(|(f, x)| format!("{} = {}", f.key, num(*x))).collect::<Vec<_>>().join(", ");
+    for (i, st) in r.starts.iter().enumerate() {
+        s.push_str(&format!("| {} | {} | {} | {:.4e} | {} |\n", i + 1, kv(&st.from), kv(&st.values), st.cost, st.converged));
+    }
+    s.push_str(&format!(
+        "\nMethod: residual = sqrt(weight) ln(model / measured) per statistic; weights {}. The model side is the scene's virtual rig on the ideal sensor path (its accelerations at the samples, no noise or ADC) through the analysis `analyze` runs, the estimator's breakaway jump fixed at {} m/s^2 on both sides. Nelder-Mead (argmin) on ln p from each start, then Levenberg-Marquardt from its best point; standard errors from the central-difference Jacobian at the optimum scaled by the residual variance{}.\n",
+        r.weights.iter().map(|(st, w)| format!("{}={}", st.name(), num(*w))).collect::<Vec<_>>().join(", "),
+        num(r.jump_m_s2),
+        if r.std_bootstrap.is_some() {
+            format!("; bootstrap: {} resamples of the recordings' {} windows, each a linearised refit", r.bootstrap_resamples, super::target::WINDOWS)
+        } else {
+            String::new()
+        }
+    ));
+    if !r.skipped.is_empty() {
+        s.push_str("\nNot fitted (recordings' statistics that are 0 or missing):\n\n");
+        for k in &r.skipped {
+            s.push_str(&format!("- {} ({}): {}\n", k.key.label(), k.source, k.why));
+        }
+    }
+    for n in &r.notes {
+        s.push_str(&format!("\nNote: {n}\n"));
+    }
+    s
+}
+
+/// The fitted scene as a scene file: the base scene with the fitted values.
+pub fn fitted_toml(r: &FitReport) -> String {
+    let desc = format!(
+        "{} fitted ({}): {}",
+        r.scene.name,
+        if r.converged { "converged" } else { "not converged" },
+        r.free
+            .iter()
+            .enumerate()
+            .map(|(k, f)| format!("{} = {} +- {}", f.key, num(r.values[k]), num(r.std[k])))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    scene_file::to_toml(&format!("{}_fit", r.scene.name), &desc, &r.fitted_scene)
+}
+
+fn out_err(path: &Path, e: impl std::fmt::Display) -> HostError {
+    HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
+}
+
+/// The figure: one panel per statistic, model against measured on log axes with the line
+/// model = measured; fitted cases filled, held-out cases open circles; each point labelled
+/// with its case and channel.
+pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
+    let stats: Vec<Stat> = Stat::ALL
+        .into_iter()
+        .filter(|s| r.fitted.iter().chain(&r.holdout).any(|c| c.key.stat == *s && c.model.is_some()))
+        .collect();
+    if stats.is_empty() {
+        return Err(HostError::Output(format!("{}: no statistic has a model value to plot", path.display())));
+    }
+    let cols = stats.len().min(3);
+    let rows = stats.len().div_ceil(cols);
+    let root = SVGBackend::new(path, (460 * cols as u32, 420 * rows as u32)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| out_err(path, e))?;
+    let panels = root.split_evenly((rows, cols));
+    for (stat, area) in stats.iter().zip(panels.iter()) {
+        let pts: Vec<(&Compared, bool)> = r
+            .fitted
+            .iter()
+            .map(|c| (c, false))
+            .chain(r.holdout.iter().map(|c| (c, true)))
+            .filter(|(c, _)| c.key.stat == *stat && c.model.is_some_and(|m| m > 0.0))
+            .collect();
+        let vals = pts.iter().flat_map(|(c, _)| [c.measured, c.model.unwrap_or(c.measured)]);
+        let (lo, hi) = vals.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        let (lo, hi) = (lo / 1.5, hi * 1.5);
+        let mut chart = ChartBuilder::on(area)
+            .caption(format!("{} [{}]", stat.name(), stat.unit()), ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(36)
+            .y_label_area_size(56)
+            .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())
+            .map_err(|e| out_err(path, e))?;
+        chart
+            .configure_mesh()
+            .x_desc("measured")
+            .y_desc("model")
+            .label_style(("sans-serif", 11))
+            .draw()
+            .map_err(|e| out_err(path, e))?;
+        chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| out_err(path, e))?;
+        for (c, held) in pts {
+            let m = c.model.expect("filtered");
+            let color = if c.key.case.starts_with("push") { RGBColor(214, 39, 40) } else { RGBColor(31, 119, 180) };
+            let style = if held { color.stroke_width(2) } else { color.filled() };
+            chart.draw_series(std::iter::once(Circle::new((c.measured, m), 4, style))).map_err(|e| out_err(path, e))?;
+            let label = if c.key.channel.is_some() { format!("{} {}", c.key.case, c.key.channel_name()) } else { c.key.case.clone() };
+            chart
+                .draw_series(std::iter::once(Text::new(label, (c.measured, m), ("sans-serif", 9).into_font().color(&BLACK.mix(0.7)))))
+                .map_err(|e| out_err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| out_err(path, e))
+}

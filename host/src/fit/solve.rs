@@ -1,0 +1,499 @@
+//! The least-squares problem of a fit and its solution: the weighted log-ratio residuals, the
+//! search from several starts (argmin's Nelder-Mead, then the levenberg-marquardt crate), the
+//! Jacobian at the optimum and what it
+//! says about the parameters (standard errors, correlations, flat directions), and the
+//! linearised bootstrap over a recording's windows.
+//!
+//! **Parameters.** Free key i is searched as u_i = ln(p_i / p_i,start): every parameter on
+//! the same relative scale, positive by construction. Bounds [lo, hi] and the scene's own
+//! rules (mu_k <= mu_s, ...) are enforced by a cost of [`OUTSIDE`] outside them.
+//!
+//! **Residuals.** r_j = sqrt(w_j) ln(model_j / measured_j) for every fitted statistic j with
+//! weight w_j > 0; a statistic the model does not produce (no onset, a zero channel) counts
+//! as a ratio of e^[`MISSING_LOG_RATIO`]. Cost = sum r_j^2 / 2.
+//!
+//! **Standard errors** (Gauss-Newton at the optimum): J_jk = d r_j / d u_k by central
+//! differences (step [`JACOBIAN_STEP`] in u); the residual variance s^2 = sum r^2 / (m - n)
+//! (m residuals, n parameters) sets the scale: cov(u) = s^2 (J^T J)^-1, std(p_k) = p_k
+//! sqrt(cov_kk) (the delta method). A direction of u along which the cost rises by less than
+//! s^2 / 2 within +-[`FLAT_LOG`] (a singular value sigma of J with s / sigma > FLAT_LOG) is
+//! reported as flat: the data do not determine it.
+//!
+//! **Bootstrap** over a recording's windows: each resample draws the windows with
+//! replacement (the same draw for every statistic of a recording), moves each measured
+//! statistic by the ratio of the resampled windows' mean to all windows' mean, and takes the
+//! Gauss-Newton step from the optimum that this moves the parameters by,
+//! du = (J^T J)^-1 J^T dlog(measured): a linearised refit (exact to first order, and
+//! one model run fewer than a refit per resample). The parameters' spread over the resamples
+//! is the bootstrap standard error.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use argmin::core::{CostFunction, Error, Executor, State, TerminationReason, TerminationStatus};
+use argmin::solver::neldermead::NelderMead;
+use indicatif::ProgressBar;
+use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
+use nalgebra::storage::Owned;
+use nalgebra::{DMatrix, DVector, Dyn};
+use rayon::prelude::*;
+use stickslip_model::rig::prng::XorShift32;
+use stickslip_model::Scene;
+
+use super::model::{self, FreeKey};
+use super::stat::StatKey;
+use crate::recorded::analysis::Analysis;
+
+/// The cost outside the bounds or the scene's rules.
+pub const OUTSIDE: f64 = 1e12;
+/// The log ratio a statistic the model does not produce counts as (e^7, about 1100 x).
+pub const MISSING_LOG_RATIO: f64 = 7.0;
+/// Central-difference step of the Jacobian in u = ln(p / p_start): 1 %.
+pub const JACOBIAN_STEP: f64 = 0.01;
+/// A direction whose standard error exceeds this in u (ln p: 0.3 is about +-35 %) is flat.
+pub const FLAT_LOG: f64 = 0.3;
+/// Nelder-Mead stops when the standard deviation of its vertices' costs is below this: it
+/// only has to find the basin, Levenberg-Marquardt goes to the bottom.
+pub const SD_TOLERANCE: f64 = 1e-6;
+/// First simplex of a start: each vertex one parameter 10 % off.
+const SIMPLEX_STEP: f64 = 0.1;
+
+/// One fitted statistic.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub key: StatKey,
+    /// Index of its case in [`Problem::cases`].
+    pub case: usize,
+    pub measured: f64,
+    pub weight: f64,
+    pub windows: Vec<f64>,
+    pub source: String,
+}
+
+/// The least-squares problem.
+pub struct Problem {
+    pub free: Vec<FreeKey>,
+    /// The fitted cases and their scenes before the free keys are applied.
+    pub cases: Vec<(String, Scene)>,
+    pub rows: Vec<Row>,
+    pub jump_m_s2: f64,
+    pub segment: Option<usize>,
+    /// Whether a statistic needs the spectra (peak_hz weighted).
+    pub spectra: bool,
+    pub evals: AtomicUsize,
+    best: Mutex<f64>,
+    progress: Option<ProgressBar>,
+}
+
+impl Problem {
+    pub fn new(
+        free: Vec<FreeKey>,
+        cases: Vec<(String, Scene)>,
+        rows: Vec<Row>,
+        jump_m_s2: f64,
+        segment: Option<usize>,
+        progress: Option<ProgressBar>,
+    ) -> Self {
+        let spectra = rows.iter().any(|r| r.key.stat == super::stat::Stat::PeakHz);
+        Problem {
+            free,
+            cases,
+            rows,
+            jump_m_s2,
+            segment,
+            spectra,
+            evals: AtomicUsize::new(0),
+            best: Mutex::new(f64::INFINITY),
+            progress,
+        }
+    }
+
+    /// The parameters at u.
+    pub fn values(&self, u: &[f64]) -> Vec<f64> {
+        self.free.iter().zip(u).map(|(f, x)| f.start * x.exp()).collect()
+    }
+
+    /// The statistics of every case at parameters `values` (the cases run in parallel).
+    pub fn run_cases(&self, cases: &[(String, Scene)], values: &[f64]) -> Vec<Result<Analysis, String>> {
+        cases
+            .par_iter()
+            .map(|(name, s)| {
+                let scene = model::with_values(s, &self.free, values)?;
+                model::statistics(name, &scene, self.jump_m_s2, self.segment, self.spectra)
+            })
+            .collect()
+    }
+
+    /// The model's value of each row from the cases' statistics.
+    pub fn model_values(rows: &[Row], stats: &[Result<Analysis, String>]) -> Vec<Option<f64>> {
+        rows.iter()
+            .map(|r| stats[r.case].as_ref().ok().and_then(|a| r.key.stat.of(a, r.key.channel)))
+            .collect()
+    }
+
+    /// The residual of a row with model value `model`.
+    pub fn residual(row: &Row, model: Option<f64>) -> f64 {
+        let lr = match model {
+            Some(m) if m.is_finite() && m > 0.0 => (m / row.measured).ln(),
+            _ => MISSING_LOG_RATIO,
+        };
+        row.weight.sqrt() * lr
+    }
+
+    /// The residuals at u; an error (the first case's) where u is outside the bounds or a
+    /// case's scene is invalid or its run halts.
+    pub fn residuals(&self, u: &[f64]) -> Result<Vec<f64>, String> {
+        let values = self.values(u);
+        for (f, v) in self.free.iter().zip(&values) {
+            if !(*v >= f.lo && *v <= f.hi) {
+                return Err(format!("{} = {v} outside [{}, {}]", f.key, f.lo, f.hi));
+            }
+        }
+        let stats = self.run_cases(&self.cases, &values);
+        if let Some(Err(e)) = stats.iter().find(|s| s.is_err()) {
+            return Err(e.clone());
+        }
+        let model = Self::model_values(&self.rows, &stats);
+        Ok(self.rows.iter().zip(model).map(|(r, m)| Self::residual(r, m)).collect())
+    }
+
+    fn note(&self, cost: f64) {
+        let n = self.evals.fetch_add(1, Ordering::Relaxed) + 1;
+        let mut best = self.best.lock().expect("not poisoned");
+        if cost < *best {
+            *best = cost;
+        }
+        if let Some(p) = &self.progress {
+            p.set_message(format!("evaluation {n}: cost {cost:.4e}, best {:.4e}", *best));
+            p.tick();
+        }
+    }
+}
+
+pub fn cost_of(r: &[f64]) -> f64 {
+    0.5 * r.iter().map(|x| x * x).sum::<f64>()
+}
+
+impl CostFunction for &Problem {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, u: &Vec<f64>) -> Result<f64, Error> {
+        let c = match self.residuals(u) {
+            Ok(r) => cost_of(&r),
+            Err(_) => OUTSIDE,
+        };
+        self.note(c);
+        Ok(c)
+    }
+}
+
+/// One start of the search.
+#[derive(Clone, Debug)]
+pub struct StartReport {
+    /// Its starting values.
+    pub from: Vec<f64>,
+    pub values: Vec<f64>,
+    pub cost: f64,
+    pub converged: bool,
+}
+
+/// The search's result.
+pub struct Solution {
+    pub u: Vec<f64>,
+    pub cost: f64,
+    pub converged: bool,
+    pub starts: Vec<StartReport>,
+}
+
+/// The starting points: the given values (u = 0), then points spread over +-30 % of each
+/// parameter by a Halton sequence (bases 2, 3, 5, ...: no two starts alike, every parameter
+/// above and below its start), inside the bounds.
+pub fn start_points(p: &Problem, starts: usize) -> Vec<Vec<f64>> {
+    const BASES: [u32; 12] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37];
+    let halton = |mut k: u32, b: u32| {
+        let (mut f, mut x) = (1.0, 0.0);
+        while k > 0 {
+            f /= b as f64;
+            x += f * (k % b) as f64;
+            k /= b;
+        }
+        x
+    };
+    let span = 0.3f64.ln_1p();
+    (0..starts.max(1))
+        .map(|k| {
+            p.free
+                .iter()
+                .enumerate()
+                .map(|(i, f)| {
+                    if k == 0 {
+                        return 0.0;
+                    }
+                    let u = span * (2.0 * halton(k as u32, BASES[i % BASES.len()]) - 1.0);
+                    u.clamp((f.lo / f.start).ln(), (f.hi / f.start).ln())
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Nelder-Mead from `u0`: a simplex of `step`, at most `max_iters` iterations, until the
+/// costs of the simplex's vertices agree to [`SD_TOLERANCE`] (their standard deviation).
+fn nelder_mead(p: &Problem, u0: &[f64], step: f64, max_iters: u64) -> Result<(Vec<f64>, f64, bool), String> {
+    let n = u0.len();
+    let mut simplex = vec![u0.to_vec()];
+    for i in 0..n {
+        let mut v = u0.to_vec();
+        v[i] += step;
+        simplex.push(v);
+    }
+    let solver = NelderMead::new(simplex).with_sd_tolerance(SD_TOLERANCE).map_err(|e| e.to_string())?;
+    let res = Executor::new(p, solver).configure(|s| s.max_iters(max_iters)).run().map_err(|e| e.to_string())?;
+    let st = res.state();
+    let converged = matches!(st.get_termination_status(), TerminationStatus::Terminated(TerminationReason::SolverConverged));
+    let best = st.get_best_param().cloned().unwrap_or_else(|| u0.to_vec());
+    Ok((best, st.get_best_cost(), converged))
+}
+
+/// The problem as `levenberg_marquardt` sees it: parameters u, the residuals (a rejected
+/// point gives residuals of [`REJECTED_RESIDUAL`], so that the step is refused), the
+/// central-difference Jacobian.
+struct LmProblem<'a> {
+    p: &'a Problem,
+    u: DVector<f64>,
+    /// The residuals at `u`, computed once for both calls at a point.
+    r: std::cell::RefCell<Option<Vec<f64>>>,
+}
+
+/// Each residual at a rejected point (outside the bounds, an invalid scene, a run that halts).
+const REJECTED_RESIDUAL: f64 = 1e6;
+
+impl LmProblem<'_> {
+    fn r(&self) -> Vec<f64> {
+        if let Some(r) = self.r.borrow().as_ref() {
+            return r.clone();
+        }
+        let u: Vec<f64> = self.u.iter().copied().collect();
+        let r = match self.p.residuals(&u) {
+            Ok(r) => r,
+            Err(_) => vec![REJECTED_RESIDUAL; self.p.rows.len()],
+        };
+        self.p.note(cost_of(&r));
+        *self.r.borrow_mut() = Some(r.clone());
+        r
+    }
+}
+
+impl LeastSquaresProblem<f64, Dyn, Dyn> for LmProblem<'_> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, u: &DVector<f64>) {
+        self.u.copy_from(u);
+        *self.r.borrow_mut() = None;
+    }
+
+    fn params(&self) -> DVector<f64> {
+        self.u.clone()
+    }
+
+    fn residuals(&self) -> Option<DVector<f64>> {
+        Some(DVector::from_vec(self.r()))
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        let r0 = self.r();
+        let u: Vec<f64> = self.u.iter().copied().collect();
+        Some(jacobian(self.p, &u, &r0))
+    }
+}
+
+/// Levenberg-Marquardt from `u0` (the `levenberg-marquardt` crate, MINPACK's algorithm):
+/// the cost's relative reduction or the parameters' relative step below 1e-8, at most
+/// `max_iters` residual evaluations beyond the Jacobians'.
+fn levenberg_marquardt(p: &Problem, u0: &[f64], max_iters: u64) -> (Vec<f64>, f64, bool) {
+    let n = u0.len();
+    let lm = LevenbergMarquardt::new()
+        .with_ftol(1e-8)
+        .with_xtol(1e-8)
+        .with_patience((max_iters as usize).div_ceil(n + 1).max(1));
+    let start = LmProblem { p, u: DVector::from_column_slice(u0), r: std::cell::RefCell::new(None) };
+    let (done, report) = lm.minimize(start);
+    let u: Vec<f64> = done.u.iter().copied().collect();
+    let cost = cost_of(&done.r());
+    (u, cost, report.termination.was_successful())
+}
+
+/// Searches from each start (Nelder-Mead from a simplex 10 % wide, then Levenberg-Marquardt
+/// from its best point: the simplex finds the basin, the Gauss-Newton steps follow its
+/// valley to the bottom, where a simplex stalls when the parameters are correlated) and keeps
+/// the lowest cost.
+pub fn search(p: &Problem, starts: usize, max_iters: u64) -> Result<Solution, String> {
+    let points = start_points(p, starts);
+    let total = points.len();
+    // the starts run in parallel (each evaluation runs its cases in parallel too)
+    let runs: Vec<Result<(Vec<f64>, f64, bool, StartReport), String>> = points
+        .into_par_iter()
+        .enumerate()
+        .map(|(k, u0)| {
+            let (mut u, mut cost, _) = nelder_mead(p, &u0, SIMPLEX_STEP, max_iters)?;
+            let mut converged = false;
+            if cost < OUTSIDE {
+                let (lu, lc, conv) = levenberg_marquardt(p, &u, max_iters);
+                if lc <= cost {
+                    u = lu;
+                    cost = lc;
+                }
+                converged = conv;
+            }
+            let values = p.values(&u);
+            eprintln!(
+                "fit: start {} of {total}: cost {cost:.6e} ({}): {}",
+                k + 1,
+                if converged { "converged" } else { "iteration limit" },
+                p.free.iter().zip(&values).map(|(f, v)| format!("{} = {v:.6e}", f.key)).collect::<Vec<_>>().join(", ")
+            );
+            let report = StartReport { from: p.values(&u0), values, cost, converged };
+            Ok((u, cost, converged, report))
+        })
+        .collect();
+    let mut reports = Vec::new();
+    let mut best: Option<(Vec<f64>, f64, bool)> = None;
+    for r in runs {
+        let (u, cost, converged, report) = r?;
+        reports.push(report);
+        if best.as_ref().is_none_or(|b| cost < b.1) {
+            best = Some((u, cost, converged));
+        }
+    }
+    let (u, cost, converged) = best.expect("at least one start");
+    if cost >= OUTSIDE {
+        return Err("no start reached a valid scene inside the bounds: every evaluation was rejected".into());
+    }
+    Ok(Solution { u, cost, converged, starts: reports })
+}
+
+/// d r / d u at `u` by central differences (one-sided where one side is rejected; a zero
+/// column where both are).
+pub fn jacobian(p: &Problem, u: &[f64], r0: &[f64]) -> DMatrix<f64> {
+    let (m, n) = (r0.len(), u.len());
+    let mut j = DMatrix::zeros(m, n);
+    for k in 0..n {
+        let at = |d: f64| {
+            let mut v = u.to_vec();
+            v[k] += d;
+            p.residuals(&v).ok()
+        };
+        let h = JACOBIAN_STEP;
+        let col: Option<Vec<f64>> = match (at(h), at(-h)) {
+            (Some(a), Some(b)) => Some(a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()),
+            (Some(a), None) => Some(a.iter().zip(r0).map(|(x, y)| (x - y) / h).collect()),
+            (None, Some(b)) => Some(r0.iter().zip(&b).map(|(x, y)| (x - y) / h).collect()),
+            (None, None) => None,
+        };
+        if let Some(c) = col {
+            for i in 0..m {
+                j[(i, k)] = c[i];
+            }
+        }
+    }
+    j
+}
+
+/// A direction in u the data do not determine.
+#[derive(Clone, Debug)]
+pub struct Flat {
+    /// The unit vector's components, per free key.
+    pub direction: Vec<f64>,
+    /// Its standard error in u (ln p).
+    pub std_log: f64,
+    pub singular_value: f64,
+}
+
+/// What the Jacobian says about the parameters.
+pub struct Uncertainty {
+    /// s^2: the residual variance (NaN with no more residuals than parameters).
+    pub residual_variance: f64,
+    pub dof: usize,
+    /// Covariance of u.
+    pub cov_u: DMatrix<f64>,
+    pub singular_values: Vec<f64>,
+    pub flat: Vec<Flat>,
+}
+
+/// The covariance and the flat directions from J and the residuals r at the optimum.
+pub fn uncertainty(j: &DMatrix<f64>, r: &[f64]) -> Uncertainty {
+    let (m, n) = (j.nrows(), j.ncols());
+    let dof = m.saturating_sub(n);
+    let s2 = if dof > 0 { r.iter().map(|x| x * x).sum::<f64>() / dof as f64 } else { f64::NAN };
+    let svd = j.clone().svd(false, true);
+    let vt = svd.v_t.expect("asked for V^T");
+    let sv: Vec<f64> = svd.singular_values.iter().copied().collect();
+    // cov = s^2 V diag(1/sigma^2) V^T, infinite along a zero singular value
+    let mut cov = DMatrix::zeros(n, n);
+    let mut flat = Vec::new();
+    for (k, &sigma) in sv.iter().enumerate() {
+        let v = vt.row(k).transpose();
+        let var = if sigma > 0.0 { s2 / (sigma * sigma) } else { f64::INFINITY };
+        let std_log = var.sqrt();
+        if sigma == 0.0 || std_log > FLAT_LOG {
+            flat.push(Flat { direction: v.iter().copied().collect(), std_log, singular_value: sigma });
+        }
+        for a in 0..n {
+            for b in 0..n {
+                let term = var * v[a] * v[b];
+                // an infinite variance spreads only over the components the direction has
+                cov[(a, b)] += if term.is_nan() { 0.0 } else { term };
+            }
+        }
+    }
+    Uncertainty { residual_variance: s2, dof, cov_u: cov, singular_values: sv, flat }
+}
+
+/// The linearised bootstrap over the rows' windows (see the module documentation): the
+/// standard error of each u over `resamples` resamples, `None` where no row has windows.
+pub fn bootstrap(j: &DMatrix<f64>, rows: &[Row], sources: &[String], resamples: usize, seed: u32) -> Option<Vec<f64>> {
+    let n = j.ncols();
+    if resamples < 2 || rows.iter().all(|r| r.windows.is_empty()) {
+        return None;
+    }
+    let jtj = j.transpose() * j;
+    let eps = 1e-12 * jtj.norm();
+    let pinv = jtj.pseudo_inverse(eps).ok()?;
+    let gain = pinv * j.transpose();
+    let mut rng = XorShift32::new(seed.max(1));
+    let mut samples: Vec<DVector<f64>> = Vec::with_capacity(resamples);
+    for _ in 0..resamples {
+        // one draw of window indices per recording (source)
+        let draws: Vec<Vec<usize>> = sources
+            .iter()
+            .map(|src| {
+                let k = rows.iter().find(|r| &r.source == src && !r.windows.is_empty()).map_or(0, |r| r.windows.len());
+                (0..k).map(|_| (rng.next_u32() as usize) % k.max(1)).collect()
+            })
+            .collect();
+        let delta = DVector::from_iterator(
+            rows.len(),
+            rows.iter().map(|r| {
+                if r.windows.is_empty() {
+                    return 0.0;
+                }
+                let d = &draws[sources.iter().position(|s| s == &r.source).unwrap_or(0)];
+                let all = r.windows.iter().sum::<f64>() / r.windows.len() as f64;
+                let re = d.iter().map(|&i| r.windows[i]).sum::<f64>() / d.len() as f64;
+                r.weight.sqrt() * (re / all).ln()
+            }),
+        );
+        samples.push(&gain * delta);
+    }
+    let b = samples.len() as f64;
+    Some(
+        (0..n)
+            .map(|k| {
+                let mean = samples.iter().map(|s| s[k]).sum::<f64>() / b;
+                (samples.iter().map(|s| (s[k] - mean).powi(2)).sum::<f64>() / (b - 1.0)).sqrt()
+            })
+            .collect(),
+    )
+}

@@ -1,0 +1,235 @@
+//! What a fit is fitted to: recordings (`CASE=FILE`, a CSV as `analyze` reads it) and tables
+//! of measured statistics (`--table FILE`: CSV `case,channel,statistic,value`).
+//!
+//! A recording gives every statistic of [`super::stat::Stat`] over its analysed stretch
+//! (`--from` on), and the same statistics over [`WINDOWS`] equal windows of that stretch for
+//! the bootstrap. A table gives what it lists. Values must be finite and > 0: a fit compares
+//! log ratios. A recording's statistic that is 0 or missing (a dead channel, no onset) is
+//! left out and named in the report.
+
+use std::path::Path;
+
+use crate::error::{HostError, Result};
+use crate::recorded::analysis::{Analysis, AnalysisConfig, Analyzer};
+use crate::recorded::csv_in::RowReader;
+
+use super::stat::{channel_index, recording_keys, Stat, StatKey};
+
+/// A recording's peak-to-peak is fitted only if it spans at least this many of its amplitude
+/// steps (`ChannelStats::step`, one ADC count of a quantised record): its two extremes are each
+/// off by up to half a step, so the peak-to-peak by up to 5 % here.
+pub const MIN_STEPS_PP: f64 = 20.0;
+/// An RMS (plain or groan-band) is fitted only if it is at least this many amplitude steps
+/// (quantisation adds step^2 / 12 to the mean square: 0.5 % of it here).
+pub const MIN_STEPS_RMS: f64 = 3.0;
+
+/// Windows of a recording's analysed stretch for the bootstrap.
+pub const WINDOWS: usize = 8;
+
+/// The thesis's Table 3.1 (peak-to-peak accelerations measured on the rig, 6 cases x 4
+/// channels, m/s^2), shipped as data: `--table thesis_table_3_1`.
+pub const THESIS_TABLE_3_1_NAME: &str = "thesis_table_3_1";
+pub const THESIS_TABLE_3_1: &str = include_str!("../../data/thesis_table_3_1.csv");
+
+/// One measured value.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    pub key: StatKey,
+    pub value: f64,
+    /// Where it came from: "FILE" or "FILE line N".
+    pub source: String,
+    /// The value in each window of its recording (empty for a table row or where a window
+    /// has none): the bootstrap's resampling units.
+    pub windows: Vec<f64>,
+}
+
+/// A recording's statistic that is not fitted, and why.
+#[derive(Clone, Debug)]
+pub struct Skipped {
+    pub key: StatKey,
+    pub source: String,
+    pub why: String,
+}
+
+/// A recording target as given on the command line, `CASE=FILE`.
+pub fn parse_recording_arg(arg: &str) -> Result<(String, String)> {
+    match arg.split_once('=') {
+        Some((case, file)) if !case.trim().is_empty() && !file.is_empty() => Ok((case.trim().to_string(), file.to_string())),
+        _ => Err(HostError::Input(format!(
+            "target `{arg}`: a recording target is CASE=FILE (e.g. pull_center=run.csv); a table is --table FILE"
+        ))),
+    }
+}
+
+/// Reads a table of measured statistics. `label` names it in errors; errors name the line.
+pub fn read_table(label: &str, text: &str) -> Result<Vec<Measured>> {
+    let bad = |line: u64, m: String| HostError::Input(format!("{label}: line {line}: {m}"));
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let mut out: Vec<Measured> = Vec::new();
+    let mut header_seen = false;
+    for rec in rdr.records() {
+        let rec = rec.map_err(|e| {
+            let line = e.position().map_or(0, |p| p.line());
+            bad(line, format!("not CSV: {e}"))
+        })?;
+        let line = rec.position().map_or(0, |p| p.line());
+        if !header_seen {
+            let h: Vec<&str> = rec.iter().collect();
+            if h != ["case", "channel", "statistic", "value"] {
+                return Err(bad(line, format!("the header must be `case,channel,statistic,value`, not `{}`", h.join(","))));
+            }
+            header_seen = true;
+            continue;
+        }
+        if rec.len() != 4 {
+            return Err(bad(line, format!("{} fields where the header has 4 (case,channel,statistic,value)", rec.len())));
+        }
+        let (case, channel, statistic, value) = (&rec[0], &rec[1], &rec[2], &rec[3]);
+        if case.is_empty() {
+            return Err(bad(line, "the case is empty".into()));
+        }
+        let stat = Stat::parse(statistic).ok_or_else(|| {
+            let names: Vec<&str> = Stat::ALL.iter().map(|s| s.name()).collect();
+            bad(line, format!("unknown statistic `{statistic}` (the statistics: {})", names.join(", ")))
+        })?;
+        let channel = if stat.per_channel() {
+            Some(channel_index(channel).ok_or_else(|| {
+                bad(
+                    line,
+                    format!(
+                        "unknown channel `{channel}` (the channels: {}; {} needs one)",
+                        stickslip_model::rig::ACCEL_NAMES.join(", "),
+                        stat.name()
+                    ),
+                )
+            })?)
+        } else if channel.is_empty() {
+            None
+        } else {
+            return Err(bad(line, format!("{} is a statistic of the case: leave the channel empty, not `{channel}`", stat.name())));
+        };
+        // a decimal comma is a separator here: the table is comma-separated
+        let v: f64 = value.parse().map_err(|_| bad(line, format!("value `{value}` is not a number")))?;
+        if !(v.is_finite() && v > 0.0) {
+            return Err(bad(line, format!("value {v}: must be finite and > 0 (a fit compares log ratios)")));
+        }
+        let key = StatKey { case: case.to_string(), channel, stat };
+        if let Some(prev) = out.iter().find(|m| m.key == key) {
+            return Err(bad(line, format!("{} is given twice (also {})", key.label(), prev.source)));
+        }
+        out.push(Measured { key, value: v, source: format!("{label} line {line}"), windows: Vec::new() });
+    }
+    if !header_seen {
+        return Err(HostError::Input(format!("{label}: empty: a table is CSV `case,channel,statistic,value` with that header")));
+    }
+    if out.is_empty() {
+        return Err(HostError::Input(format!("{label}: a header and no rows")));
+    }
+    Ok(out)
+}
+
+/// Reads `--table ARG`: the built-in [`THESIS_TABLE_3_1_NAME`] or a file.
+pub fn load_table(arg: &str) -> Result<Vec<Measured>> {
+    if arg == THESIS_TABLE_3_1_NAME && !Path::new(arg).exists() {
+        return read_table(THESIS_TABLE_3_1_NAME, THESIS_TABLE_3_1);
+    }
+    let text = std::fs::read_to_string(arg).map_err(|e| HostError::Input(format!("{arg}: cannot read the table: {e}")))?;
+    read_table(arg, &text)
+}
+
+/// One pass over the recording at `path`, each row given to `f`.
+fn each_row(path: &str, mut f: impl FnMut(u64, f64, f64, &[f64; 4]) -> std::result::Result<(), String>) -> Result<()> {
+    let file = std::fs::File::open(path).map_err(|e| HostError::Input(format!("{path}: cannot open the recording: {e}")))?;
+    let mut rows = RowReader::new(path, file)?;
+    while let Some(row) = rows.next_row()? {
+        f(row.line, row.t, row.t_resolution, &row.accel).map_err(|m| HostError::Input(format!("{path}: {m}")))?;
+    }
+    Ok(())
+}
+
+/// A recording analysed as a whole and in [`WINDOWS`] windows.
+pub struct Recording {
+    pub case: String,
+    pub path: String,
+    pub analysis: Analysis,
+    pub windows: Vec<Analysis>,
+}
+
+/// Analyses the recording at `path` for `case` with `cfg` (two passes: the whole stretch,
+/// then its windows, each window analysed on its own rows).
+pub fn read_recording(case: &str, path: &str, cfg: &AnalysisConfig) -> Result<Recording> {
+    if path == "-" {
+        return Err(HostError::Input(format!(
+            "{case}=-: a fit reads each recording twice (the whole, then its windows for the bootstrap): give a file"
+        )));
+    }
+    let analysis = crate::recorded::analyze_path(path, cfg.clone())?;
+    let (t0, t1) = (analysis.t_first, analysis.t_last);
+    let span = (t1 - t0) / WINDOWS as f64;
+    let mut windows: Vec<Analyzer> = (0..WINDOWS)
+        .map(|k| Analyzer::new(AnalysisConfig { from_s: t0 + k as f64 * span, figures: false, ..cfg.clone() }))
+        .collect();
+    let half_sample = 0.25 / analysis.sample_rate_hz;
+    each_row(path, |line, t, res, a| {
+        if t < t0 - half_sample {
+            return Ok(());
+        }
+        let k = (((t - t0) / span).floor().max(0.0) as usize).min(WINDOWS - 1);
+        windows[k].push(line, t, res, a)
+    })?;
+    let windows = windows
+        .into_iter()
+        .enumerate()
+        .map(|(k, w)| w.finish().map_err(|m| HostError::Input(format!("{path}: window {} of {WINDOWS}: {m}", k + 1))))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Recording { case: case.to_string(), path: path.to_string(), analysis, windows })
+}
+
+impl Recording {
+    /// Whether every window holds at least two slip onsets (a stick-slip cycle or more): only
+    /// then do the windows resample the record's statistics.
+    pub fn windows_hold_cycles(&self) -> bool {
+        self.windows.iter().all(|w| w.slip_onsets >= 2)
+    }
+
+    /// Its statistics as measured values, and those left out.
+    pub fn measured(&self) -> (Vec<Measured>, Vec<Skipped>) {
+        let (mut keep, mut skip) = (Vec::new(), Vec::new());
+        let cycles = self.windows_hold_cycles();
+        for key in recording_keys(&self.case) {
+            let step = key.channel.map_or(0.0, |c| self.analysis.channels[c].step);
+            let min_steps = match key.stat {
+                Stat::Pp => MIN_STEPS_PP,
+                Stat::Rms | Stat::GroanRms => MIN_STEPS_RMS,
+                _ => 0.0,
+            };
+            match key.stat.of(&self.analysis, key.channel) {
+                Some(v) if v.is_finite() && v > 0.0 && v < min_steps * step => skip.push(Skipped {
+                    key,
+                    source: self.path.clone(),
+                    why: format!("measured {v}: fewer than {min_steps} of the recording's amplitude steps ({step} m/s^2)"),
+                }),
+                Some(v) if v.is_finite() && v > 0.0 => {
+                    let windows = self
+                        .windows
+                        .iter()
+                        .filter_map(|w| key.stat.of(w, key.channel))
+                        .filter(|v| v.is_finite() && *v > 0.0)
+                        .collect::<Vec<_>>();
+                    // the first onset is one event of the whole record: windows do not resample it
+                    let whole = cycles && windows.len() == self.windows.len() && key.stat != Stat::FirstSlipS;
+                    let windows = if whole { windows } else { Vec::new() };
+                    keep.push(Measured { key, value: v, source: self.path.clone(), windows });
+                }
+                Some(v) => skip.push(Skipped { key, source: self.path.clone(), why: format!("measured {v}: not > 0") }),
+                None => skip.push(Skipped { key, source: self.path.clone(), why: "not in the recording".into() }),
+            }
+        }
+        (keep, skip)
+    }
+}
