@@ -135,8 +135,9 @@ and one line naming the file, the line and the column.";
 const SIL_AFTER: &str = "\
 Per sample (t = (i + 1) dt, one exact step of the scene; the rig's rate 25.6 kHz for the
 default dt): the model's motion gives pad_x = x'', pad_trail and pad_lead = r phi'' at sensors
-5 mm in from each edge of the pad (r: lever arm about the pivot edge), disc_x = 0 (the band runs
-at constant speed); then seeded white noise (--noise, bounded at 3.46 sigma), clipping at +-700
+5 mm in from each edge of the pad (r: lever arm about the pivot edge; plus the pad's y'' where
+it floats, k_pivot finite), disc_x = the band's x_b'' (band = true; else 0: the band runs at
+constant speed); then seeded white noise (--noise, bounded at 3.46 sigma), clipping at +-700
 m/s^2, 100 mV/g through a front-end gain of 0.2 into the 12-bit ADC (0.395 m/s^2 per count),
 calibration back to m/s^2, and the same analysis as `analyze` (the rig's estimator with the
 scene's breakaway jump, or --breakaway-jump). Statistics over t >= stats_from (default 0.5 s
@@ -408,7 +409,11 @@ Standard errors: central-difference Jacobian at the optimum, scaled by the resid
 a direction of the parameters known to no better than about +-35 % is reported as flat (not
 identifiable). Recordings add a bootstrap over 8 windows each (a linearised refit per
 resample). --holdout fits without those cases and reports the fitted model's prediction of
-them.
+them. --profile KEY=LO:HI:N runs no search: it prints the cost at N values of KEY log-spaced
+from LO to HI (the other free keys at SCENE's values) with the statistic furthest off at each,
+to see a basin's width, a flat direction or a jump where the stick-slip cycle changes; with
+--json {\"scene\", \"key\", \"others\", \"statistics\", \"points\": [{\"value\", \"cost\",
+\"rms_log_ratio\", \"worst\", \"worst_log_ratio\", \"error\"}], \"seconds\"}.
 
 --json prints {\"scene\", \"parameters\": {KEY: {\"value\", \"std\", \"std_bootstrap\", \"start\",
 \"lo\", \"hi\"}}, \"residuals\": [{\"case\", \"channel\", \"statistic\", \"measured\", \"model\",
@@ -575,6 +580,11 @@ pub struct FitArgs {
     /// Seed of the bootstrap's resampling
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u32,
+    /// No search: the cost along one free key, N values log-spaced from LO to HI, the other
+    /// free keys at SCENE's values (the basin's width, a flat direction, a jump where the cycle
+    /// changes)
+    #[arg(long, value_name = "KEY=LO:HI:N")]
+    pub profile: Option<String>,
     /// Write the fitted scene as a scene file (for simulate, sil, compare)
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,

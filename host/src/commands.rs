@@ -499,6 +499,13 @@ pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
         seed: a.seed,
         progress: stderr_is_terminal(),
     };
+    if let Some(spec) = &a.profile {
+        if a.out.is_some() || a.plot.is_some() || !a.holdout.is_empty() {
+            return Err(HostError::Input("--profile evaluates the cost only: it takes no --out, --plot or --holdout".into()));
+        }
+        let p = fit::run_profile(ns, &req, spec)?;
+        return Ok(if a.json { to_json(&output::ProfileJson::new(&p)) } else { output::profile_markdown(&p) });
+    }
     let r = fit::run_fit(ns, &req)?;
     if let Some(path) = &a.out {
         std::fs::write(path, output::fitted_toml(&r))

@@ -44,26 +44,72 @@ fn assert_recovered(r: &fit::FitReport, truth: &[(&str, f64)]) {
     }
 }
 
+/// The built-in oracle_stribeck (run for `duration_s` s; 0: its own), the truth hidden from the
+/// fits (mu_s 0.66, mu_k 0.44, v_s 0.012), and the truth's recording through the ideal front
+/// end with 0.005 m/s^2 rms noise, written into the scratch directory `dir`.
+fn oracle_recording(dir: &str, duration_s: f64) -> (Scene, Scene, std::path::PathBuf) {
+    let mut base = stickslip::builtin::find("oracle_stribeck").expect("built-in").scene;
+    if duration_s > 0.0 {
+        base.duration = duration_s;
+    }
+    let mut truth = base;
+    truth.mu_s = 0.66;
+    truth.mu_k = 0.44;
+    truth.v_s = 0.012;
+    let path = scratch(dir).join("oracle.csv");
+    record(&truth, SensorPath::Ideal, 0.005, 7, &path);
+    (base, truth, path)
+}
+
 /// The 1-DOF Stribeck oracle (oracle_stribeck, 20 s so that 12 stick-slip cycles follow the
 /// first breakaway) with mu_s, mu_k, v_s hidden: one high-resolution recording (the ideal
 /// front end, 0.005 m/s^2 rms noise) identifies all three within 2 %. The first breakaway
 /// time (about mu_s N / (k V)) fixes the friction level, the cycle its drop and v_s.
 #[test]
 fn a_stribeck_oracle_recording_identifies_mu_s_mu_k_and_v_s() {
-    let mut base = stickslip::builtin::find("oracle_stribeck").expect("built-in").scene;
-    base.duration = 20.0;
-    let mut truth = base;
-    truth.mu_s = 0.66;
-    truth.mu_k = 0.44;
-    truth.v_s = 0.012;
-    let dir = scratch("fit-oracle");
-    let path = dir.join("oracle.csv");
-    record(&truth, SensorPath::Ideal, 0.005, 7, &path);
+    let (base, truth, path) = oracle_recording("fit-oracle", 20.0);
     let req = request("mu_s,mu_k,v_s", vec![format!("oracle_stribeck={}", path.display())], 4);
     let r = fit::run_fit(named("oracle_stribeck", base), &req).expect("the fit runs");
     assert!(r.converged, "the search converged");
     assert!(r.identifiable(), "no flat direction");
     assert_recovered(&r, &[("mu_s", truth.mu_s), ("mu_k", truth.mu_k), ("v_s", truth.v_s)]);
+}
+
+/// `--profile`: the cost along mu_k of the Stribeck oracle, the other keys at the truth, is
+/// lowest at the point that is the truth and rises monotonically on both sides (the 1-DOF
+/// oracle's statistics are smooth in mu_k); each point is one evaluation of the fit's cost.
+#[test]
+fn a_cost_profile_has_its_minimum_at_the_truth() {
+    let (base, truth, path) = oracle_recording("fit-profile", 0.0);
+    // the scene as the truth except mu_k (the profile sets mu_k at each point)
+    let mut start = truth;
+    start.mu_k = 0.4;
+    let req = request("mu_k", vec![format!("oracle_stribeck={}", path.display())], 1);
+    // 7 points log-spaced over 0.44 / 1.1 .. 0.44 x 1.1: the middle one is 0.44
+    let p = fit::run_profile(named("oracle_stribeck", start), &req, "mu_k=0.4:0.484:7").expect("the profile runs");
+    assert_eq!(p.points.len(), 7);
+    assert!((p.points[3].value - 0.44).abs() < 1e-12, "the middle point is the truth: {}", p.points[3].value);
+    let cost: Vec<f64> = p.points.iter().map(|q| q.cost.expect("every point evaluates")).collect();
+    for i in 0..3 {
+        assert!(cost[i] > cost[i + 1], "falls toward the truth from below: {cost:?}");
+        assert!(cost[6 - i] > cost[5 - i], "falls toward the truth from above: {cost:?}");
+    }
+    assert!(cost[3] < 0.01 * cost[2].min(cost[4]), "the truth fits far better than 3 % off: {cost:?}");
+}
+
+#[test]
+fn bad_profiles_exit_2_with_one_line() {
+    let args = |spec: &str| ["fit", "--scene", "rig_push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--profile", spec].map(String::from);
+    for (spec, needle) in [
+        ("mu_k=0.5:0.3:5", "needs 0 < LO < HI"),
+        ("mu_k=0.3:0.5:1", "needs N >= 2"),
+        ("mu_k=0.3:0.5", "KEY=LO:HI:N"),
+        ("mu_k=0.3:x:5", "`x` is not a number"),
+        ("mu_s=0.3:0.5:5", "`mu_s` is not a free key"),
+    ] {
+        let a = args(spec);
+        bad(&a.iter().map(String::as_str).collect::<Vec<_>>(), &["--profile", needle]);
+    }
 }
 
 #[test]

@@ -190,9 +190,21 @@ fn unknown_case(base: &NamedScene, case: &str, at: &str) -> HostError {
     ))
 }
 
-/// Runs the fit described by `req` on the base scene `base` (validated).
-pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
-    let t0 = Instant::now();
+/// A fit's problem before the search: the targets read, the cases' scenes, the weighted rows.
+struct Setup {
+    problem: Problem,
+    measured: Vec<Measured>,
+    skipped: Vec<Skipped>,
+    notes: Vec<String>,
+    holdout_cases: Vec<String>,
+    weights: Vec<(Stat, f64)>,
+    free: Vec<FreeKey>,
+    jump: f64,
+    progress: Option<ProgressBar>,
+}
+
+/// Reads the targets of `req`, checks the free keys and builds the problem on `base`.
+fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     let weights = parse_weights(&req.weights)?;
     let free = free_keys(&base, &req.free, &req.bounds)?;
     let jump = sil::breakaway_jump(&base, req.breakaway_jump_m_s2)?;
@@ -315,6 +327,15 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
             free.len()
         )));
     }
+    Ok(Setup { problem, measured, skipped, notes, holdout_cases, weights, free, jump, progress })
+}
+
+/// Runs the fit described by `req` on the base scene `base` (validated).
+pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
+    let t0 = Instant::now();
+    let Setup { problem, measured, mut skipped, mut notes, holdout_cases, weights, free, jump, progress } = setup(&base, req)?;
+    let weight_of = |s: Stat| weights.iter().find(|(k, _)| *k == s).map_or(0.0, |(_, w)| *w);
+    let scene_of = |c: &str| model::case_scene(&base, c).expect("checked in setup");
     let sol = solve::search(&problem, req.starts, req.max_iters).map_err(HostError::Input)?;
     let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
     let j = solve::jacobian(&problem, &sol.u, &r);
@@ -397,4 +418,90 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         weights,
         notes,
     })
+}
+
+/// One point of a cost profile.
+#[derive(Clone, Debug)]
+pub struct ProfilePoint {
+    pub value: f64,
+    /// Cost = sum r^2 / 2; `None` where the model is rejected (`error`).
+    pub cost: Option<f64>,
+    pub rms_log_ratio: Option<f64>,
+    /// The statistic with the largest weighted log ratio and that ratio.
+    pub worst: Option<(String, f64)>,
+    pub error: Option<String>,
+}
+
+/// The cost along one free key, the others at the scene's values (`fit --profile`).
+#[derive(Clone, Debug)]
+pub struct Profile {
+    pub scene: String,
+    pub key: String,
+    /// The other free keys and their (fixed) values.
+    pub others: Vec<(String, f64)>,
+    pub statistics: usize,
+    pub points: Vec<ProfilePoint>,
+    pub seconds: f64,
+}
+
+/// Parses `KEY=LO:HI:N` (0 < LO < HI, N >= 2).
+fn parse_profile(spec: &str) -> Result<(String, f64, f64, usize)> {
+    let bad = |m: &str| HostError::Input(format!("--profile {spec}: {m}"));
+    let (key, range) = spec.split_once('=').ok_or_else(|| bad("give KEY=LO:HI:N, e.g. k_b=5e5:1.5e6:21"))?;
+    let parts: Vec<&str> = range.split(':').collect();
+    if parts.len() != 3 {
+        return Err(bad("give KEY=LO:HI:N, e.g. k_b=5e5:1.5e6:21"));
+    }
+    let num = |s: &str| s.trim().parse::<f64>().map_err(|_| bad(&format!("`{s}` is not a number")));
+    let (lo, hi) = (num(parts[0])?, num(parts[1])?);
+    let n: usize = parts[2].trim().parse().map_err(|_| bad(&format!("`{}` is not a count", parts[2])))?;
+    if !(lo > 0.0 && hi.is_finite() && lo < hi) {
+        return Err(bad("needs 0 < LO < HI (the points are log-spaced)"));
+    }
+    if n < 2 {
+        return Err(bad("needs N >= 2 points"));
+    }
+    Ok((key.trim().to_string(), lo, hi, n))
+}
+
+/// The cost profile along one free key (`spec` = `KEY=LO:HI:N`): N values log-spaced from LO
+/// to HI, every other free key at the scene's value, each point one evaluation of every
+/// fitted case (the residuals of the fit, no search). It shows what a search sees along that
+/// key: the basin's width, a flat direction, a jump where the stick-slip cycle changes.
+pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Profile> {
+    let t0 = Instant::now();
+    let (key, lo, hi, n) = parse_profile(spec)?;
+    let Setup { mut problem, progress, .. } = setup(&base, req)?;
+    let k = problem.free.iter().position(|f| f.key == key).ok_or_else(|| {
+        HostError::Input(format!("--profile {spec}: `{key}` is not a free key (give it in --free)"))
+    })?;
+    let start = problem.free[k].start;
+    problem.free[k].lo = problem.free[k].lo.min(lo);
+    problem.free[k].hi = problem.free[k].hi.max(hi);
+    let values: Vec<f64> = (0..n).map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64)).collect();
+    let points = values
+        .iter()
+        .map(|&v| {
+            let mut u = vec![0.0; problem.free.len()];
+            u[k] = (v / start).ln();
+            match problem.residuals(&u) {
+                Ok(r) => {
+                    let weighted: Vec<(usize, f64)> =
+                        r.iter().enumerate().filter(|(j, _)| problem.rows[*j].weight > 0.0).map(|(j, x)| (j, *x)).collect();
+                    let rms = (weighted.iter().map(|(_, x)| x * x).sum::<f64>() / weighted.len().max(1) as f64).sqrt();
+                    let worst = weighted
+                        .iter()
+                        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                        .map(|(j, x)| (problem.rows[*j].key.label(), *x / problem.rows[*j].weight.sqrt()));
+                    ProfilePoint { value: v, cost: Some(solve::cost_of(&r)), rms_log_ratio: Some(rms), worst, error: None }
+                }
+                Err(e) => ProfilePoint { value: v, cost: None, rms_log_ratio: None, worst: None, error: Some(e) },
+            }
+        })
+        .collect();
+    if let Some(p) = progress {
+        p.finish_and_clear();
+    }
+    let others = problem.free.iter().filter(|f| f.key != key).map(|f| (f.key.clone(), f.start)).collect();
+    Ok(Profile { scene: base.name.clone(), key, others, statistics: problem.rows.len(), points, seconds: t0.elapsed().as_secs_f64() })
 }

@@ -325,9 +325,14 @@ fn out_err(path: &Path, e: impl std::fmt::Display) -> HostError {
     HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
 }
 
+/// The push caliper's colour in the figure.
+const PUSH: RGBColor = RGBColor(214, 39, 40);
+/// The pull caliper's colour in the figure.
+const PULL: RGBColor = RGBColor(31, 119, 180);
+
 /// The figure: one panel per statistic, model against measured on log axes with the line
 /// model = measured; fitted cases filled, held-out cases open circles; each point labelled
-/// with its case and channel.
+/// with its case and channel; the first panel carries the legend.
 pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
     let stats: Vec<Stat> = Stat::ALL
         .into_iter()
@@ -341,7 +346,8 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
     let root = SVGBackend::new(path, (460 * cols as u32, 420 * rows as u32)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| out_err(path, e))?;
     let panels = root.split_evenly((rows, cols));
-    for (stat, area) in stats.iter().zip(panels.iter()) {
+    for (k, (stat, area)) in stats.iter().zip(panels.iter()).enumerate() {
+        let first_panel = k == 0;
         let pts: Vec<(&Compared, bool)> = r
             .fitted
             .iter()
@@ -364,12 +370,39 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
             .x_desc("measured")
             .y_desc("model")
             .label_style(("sans-serif", 11))
+            .light_line_style(WHITE.mix(0.0))
             .draw()
             .map_err(|e| out_err(path, e))?;
-        chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| out_err(path, e))?;
+        let diagonal = chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| out_err(path, e))?;
+        if first_panel {
+            // the legend, once: the diagonal, the calipers' colours, filled fitted, open held out
+            diagonal.label("model = measured").legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.mix(0.4)));
+            for (name, color) in [("push caliper", PUSH), ("pull caliper", PULL)] {
+                chart
+                    .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                    .map_err(|e| out_err(path, e))?
+                    .label(name)
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 4, color.filled()));
+            }
+            if pts.iter().any(|(_, held)| *held) {
+                chart
+                    .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                    .map_err(|e| out_err(path, e))?
+                    .label("held out (open)")
+                    .legend(|(x, y)| Circle::new((x + 8, y), 4, BLACK.mix(0.7).stroke_width(2)));
+            }
+            chart
+                .configure_series_labels()
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.85))
+                .label_font(("sans-serif", 11))
+                .position(SeriesLabelPosition::UpperLeft)
+                .draw()
+                .map_err(|e| out_err(path, e))?;
+        }
         for (c, held) in pts {
             let m = c.model.expect("filtered");
-            let color = if c.key.case.starts_with("push") { RGBColor(214, 39, 40) } else { RGBColor(31, 119, 180) };
+            let color = if c.key.case.starts_with("push") { PUSH } else { PULL };
             let style = if held { color.stroke_width(2) } else { color.filled() };
             chart.draw_series(std::iter::once(Circle::new((c.measured, m), 4, style))).map_err(|e| out_err(path, e))?;
             let label = if c.key.channel.is_some() { format!("{} {}", c.key.case, c.key.channel_name()) } else { c.key.case.clone() };
@@ -379,4 +412,80 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
         }
     }
     root.present().map_err(|e| out_err(path, e))
+}
+
+/// `fit --profile --json`.
+#[derive(Serialize)]
+pub struct ProfileJson<'a> {
+    pub scene: &'a str,
+    pub key: &'a str,
+    pub others: BTreeMap<&'a str, f64>,
+    pub statistics: usize,
+    pub points: Vec<ProfilePointJson<'a>>,
+    pub seconds: f64,
+}
+
+#[derive(Serialize)]
+pub struct ProfilePointJson<'a> {
+    pub value: f64,
+    pub cost: Option<f64>,
+    pub rms_log_ratio: Option<f64>,
+    pub worst: Option<&'a str>,
+    pub worst_log_ratio: Option<f64>,
+    pub error: Option<&'a str>,
+}
+
+impl<'a> ProfileJson<'a> {
+    pub fn new(p: &'a super::Profile) -> Self {
+        ProfileJson {
+            scene: &p.scene,
+            key: &p.key,
+            others: p.others.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
+            statistics: p.statistics,
+            points: p
+                .points
+                .iter()
+                .map(|q| ProfilePointJson {
+                    value: q.value,
+                    cost: q.cost,
+                    rms_log_ratio: q.rms_log_ratio,
+                    worst: q.worst.as_ref().map(|w| w.0.as_str()),
+                    worst_log_ratio: q.worst.as_ref().map(|w| w.1),
+                    error: q.error.as_deref(),
+                })
+                .collect(),
+            seconds: p.seconds,
+        }
+    }
+}
+
+/// `fit --profile` as Markdown.
+pub fn profile_markdown(p: &super::Profile) -> String {
+    let mut o = format!(
+        "# Cost profile of scene `{}` along {}\n\n{} statistics; {}; {} points in {:.1} s. Cost = sum of the squared weighted log ratios / 2, as the fit minimises it.\n\n",
+        p.scene,
+        p.key,
+        p.statistics,
+        if p.others.is_empty() {
+            "no other free key".to_string()
+        } else {
+            format!(
+                "the other free keys at the scene's values ({})",
+                p.others.iter().map(|(k, v)| format!("{k} = {}", num(*v))).collect::<Vec<_>>().join(", ")
+            )
+        },
+        p.points.len(),
+        p.seconds
+    );
+    o.push_str(&format!("| {} | cost | RMS ln ratio | largest ln ratio | of |\n|---:|---:|---:|---:|---|\n", p.key));
+    for q in &p.points {
+        match (&q.cost, &q.error) {
+            (Some(c), _) => {
+                let (w, x) = q.worst.as_ref().map_or(("-".to_string(), "-".to_string()), |(l, x)| (l.clone(), format!("{x:+.4}")));
+                o.push_str(&format!("| {} | {c:.6e} | {:.4} | {x} | {w} |\n", num(q.value), q.rms_log_ratio.unwrap_or(f64::NAN)));
+            }
+            (None, e) => o.push_str(&format!("| {} | rejected | - | - | {} |\n", num(q.value), e.as_deref().unwrap_or("-"))),
+        }
+    }
+    o
 }

@@ -6,7 +6,7 @@
 //! 1. `shared::rig::sensor_model::SensorModel` steps the model and makes the rig's ADC frame:
 //!    `disc_x` the band's acceleration (0: the model's band runs at constant V), `pad_x` = x'',
 //!    `pad_trail` and `pad_lead` = r phi'' at the sensors' lever arms about the pivot (5 mm in
-//!    from each edge of the pad), plus seeded white noise, clipped at the sensors' +-700 m/s^2,
+//!    from each edge of the pad; plus y'' where the pad floats), plus seeded white noise, clipped at the sensors' +-700 m/s^2,
 //!    through the front end (100 mV/g, gain 0.2) into the 12-bit ADC;
 //! 2. `shared::rig::calibration::Calibrator` turns the counts back into m/s^2 (0.395 m/s^2 per
 //!    count), as the firmware does;
