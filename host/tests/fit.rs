@@ -80,7 +80,7 @@ fn a_stribeck_oracle_recording_identifies_mu_s_mu_k_and_v_s() {
 /// oracle's statistics are smooth in mu_k); each point is one evaluation of the fit's cost.
 #[test]
 fn a_cost_profile_has_its_minimum_at_the_truth() {
-    let (base, truth, path) = oracle_recording("fit-profile", 0.0);
+    let (_, truth, path) = oracle_recording("fit-profile", 0.0);
     // the scene as the truth except mu_k (the profile sets mu_k at each point)
     let mut start = truth;
     start.mu_k = 0.4;

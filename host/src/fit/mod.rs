@@ -206,8 +206,8 @@ struct Setup {
 /// Reads the targets of `req`, checks the free keys and builds the problem on `base`.
 fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     let weights = parse_weights(&req.weights)?;
-    let free = free_keys(&base, &req.free, &req.bounds)?;
-    let jump = sil::breakaway_jump(&base, req.breakaway_jump_m_s2)?;
+    let free = free_keys(base, &req.free, &req.bounds)?;
+    let jump = sil::breakaway_jump(base, req.breakaway_jump_m_s2)?;
     let from = req.from_s.unwrap_or(base.scene.stats_from);
     let mut notes = Vec::new();
     let weight_of = |s: Stat| weights.iter().find(|(k, _)| *k == s).map_or(0.0, |(_, w)| *w);
@@ -219,8 +219,8 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     let mut skipped: Vec<Skipped> = Vec::new();
     for t in &req.tables {
         for m in target::load_table(t)? {
-            if model::case_scene(&base, &m.key.case).is_none() {
-                return Err(unknown_case(&base, &m.key.case, &m.source));
+            if model::case_scene(base, &m.key.case).is_none() {
+                return Err(unknown_case(base, &m.key.case, &m.source));
             }
             measured.push(m);
         }
@@ -228,7 +228,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     let mut recs = Vec::new();
     for arg in &req.recordings {
         let (case, file) = target::parse_recording_arg(arg)?;
-        let scene = model::case_scene(&base, &case).ok_or_else(|| unknown_case(&base, &case, arg))?;
+        let scene = model::case_scene(base, &case).ok_or_else(|| unknown_case(base, &case, arg))?;
         recs.push((case, file, scene));
     }
     for (case, file, scene) in &recs {
@@ -276,7 +276,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     if case_names.is_empty() {
         return Err(HostError::Input("every case is held out or has no weighted statistic: nothing left to fit".into()));
     }
-    let scene_of = |c: &str| model::case_scene(&base, c).expect("checked above");
+    let scene_of = |c: &str| model::case_scene(base, c).expect("checked above");
     let cases: Vec<(String, Scene)> = case_names.iter().map(|c| (c.clone(), scene_of(c))).collect();
     let row_of = |m: &Measured, case: usize| Row {
         key: m.key.clone(),

@@ -353,7 +353,7 @@ pub struct DecodeRequest<'a> {
 /// `stickslip decode`.
 pub fn run(a: &DecodeRequest) -> Result<String> {
     let elf_label = a.elf.display().to_string();
-    let elf = std::fs::read(&a.elf).map_err(|e| HostError::Input(format!("{elf_label}: cannot read the ELF: {e}")))?;
+    let elf = std::fs::read(a.elf).map_err(|e| HostError::Input(format!("{elf_label}: cannot read the ELF: {e}")))?;
     let table = load_table(&elf_label, &elf)?;
     let mut records = Vec::new();
     let (label, stats) = if a.input == "-" {
