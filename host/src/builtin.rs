@@ -46,7 +46,7 @@ pub fn cases() -> Vec<Builtin> {
     out
 }
 
-pub use stickslip_model::rig_set::{rig_float_scene, rig_scene, RIG_K_B, RIG_M_B, RIG_V_S, RIG_ZETA, RIG_ZETA_B};
+pub use stickslip_model::rig_set::{rig_float_scene, rig_quiet_scene, rig_scene, RIG_K_B, RIG_M_B, RIG_V_S, RIG_ZETA, RIG_ZETA_B};
 
 /// The six cases as a derived set: each named `{prefix}{case}`, its description extended by
 /// `what`, its scene `scene(caliper, beta)`.
@@ -73,6 +73,16 @@ pub fn rig_float_cases() -> Vec<Builtin> {
         "rig_float_",
         "model 2 with the face and a floating pad (k_pivot = 0), Stribeck friction, band as a mass",
         rig_float_scene,
+    )
+}
+
+/// The rig set at Table 3.1's signal levels (mu_k = 0.447, V = 1 mm/s), named
+/// `rig_quiet_push_trail` ... `rig_quiet_pull_lead`.
+pub fn rig_quiet_cases() -> Vec<Builtin> {
+    derived_cases(
+        "rig_quiet_",
+        "model 2 at Table 3.1's levels (mu_k = 0.447, V = 1 mm/s), Stribeck friction, band as a mass",
+        rig_quiet_scene,
     )
 }
 
@@ -129,6 +139,7 @@ pub fn all() -> Vec<Builtin> {
     v.push(oracle_stribeck());
     v.extend(rig_cases());
     v.extend(rig_float_cases());
+    v.extend(rig_quiet_cases());
     v
 }
 

@@ -183,8 +183,8 @@ pub struct RecordOptions {
     /// with a resolution of 2 Hz or finer, 16384 at 25.6 kHz, at most 65536)
     #[arg(long, value_name = "N")]
     pub segment: Option<usize>,
-    /// The estimator's breakaway jump J [m/s^2]: slip onset above J/2, stick at most J/4
-    /// (default: (mu_s - mu_k) N0 / m of the scene)
+    /// Fixed contact thresholds from a breakaway jump J [m/s^2]: slip onset above J/2, stick
+    /// at most J/4 (default: thresholds from the noise floor of the record's quiet stretch)
     #[arg(long, value_name = "M_S2", allow_hyphen_values = true)]
     pub breakaway_jump: Option<f64>,
 }
@@ -204,10 +204,14 @@ pub struct AnalyzeArgs {
     /// rows only run through the estimator and its filters
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub from: Option<f64>,
-    /// Scene whose breakaway jump and band speed set up the estimator (built-in name or TOML
-    /// file)
+    /// Scene whose band speed and face geometry set up the estimator, and whose breakaway
+    /// jump is the starting value (built-in name or TOML file)
     #[arg(long, value_name = "SCENE|FILE", default_value = "push_center")]
     pub scene: String,
+    /// The quiet stretch (nothing moves) whose noise floor sets the contact thresholds, on the
+    /// file's time axis [s] (default: the first quiet stretch in the first 4096 rows)
+    #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
+    pub quiet: Option<String>,
     #[command(flatten)]
     pub record: RecordOptions,
 }
@@ -221,6 +225,15 @@ pub struct SilNoise {
     /// Seed of the noise generator
     #[arg(long, value_name = "N", default_value_t = crate::recorded::sil::DEFAULT_SEED)]
     pub seed: u32,
+    /// Front-end gain of the accelerometers [V/V]: one value for all four, or four
+    /// (disc_x,pad_x,pad_trail,pad_lead). 0.2 spans +-809 m/s^2 at 0.395 m/s^2 per count; 10
+    /// spans +-16 m/s^2 at 7.9 mm/s^2 per count (Table 3.1's levels)
+    #[arg(long, value_name = "G[,G,G,G]", value_delimiter = ',', allow_hyphen_values = true)]
+    pub gain: Vec<f64>,
+    /// The clamped, band-still phase before the run [s]: quiet frames written before t = 0,
+    /// whose noise floor sets the contact thresholds (0: none, the scene's breakaway jump)
+    #[arg(long, value_name = "S", default_value_t = crate::recorded::sil::DEFAULT_QUIET_S, allow_hyphen_values = true)]
+    pub quiet_lead: f64,
 }
 
 #[derive(Debug, Args)]
@@ -263,6 +276,10 @@ pub struct CompareArgs {
     /// Start of the statistics on the recording's time axis [s] (default: its first row)
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub from: Option<f64>,
+    /// The quiet stretch (nothing moves) whose noise floor sets the contact thresholds, on the
+    /// file's time axis [s] (default: the first quiet stretch in the first 4096 rows)
+    #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
+    pub quiet: Option<String>,
     #[command(flatten)]
     pub record: RecordOptions,
     #[command(flatten)]

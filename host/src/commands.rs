@@ -327,6 +327,45 @@ fn check_jump(jump: Option<f64>) -> Result<()> {
     }
 }
 
+/// The contact thresholds' source from `--breakaway-jump` and `--quiet FROM:TO`.
+fn floor_source(jump: Option<f64>, quiet: Option<&str>) -> Result<crate::recorded::analysis::FloorSource> {
+    use crate::recorded::analysis::FloorSource;
+    match (jump, quiet) {
+        (Some(_), Some(_)) => Err(HostError::Input(
+            "--breakaway-jump and --quiet: give one (fixed thresholds, or thresholds from the floor of a quiet stretch)".into(),
+        )),
+        (Some(_), None) => Ok(FloorSource::Jump),
+        (None, None) => Ok(FloorSource::Auto),
+        (None, Some(q)) => {
+            let bad = |why: &str| HostError::Input(format!("--quiet {q}: {why}"));
+            let (a, b) = q.split_once(':').ok_or_else(|| bad("expected FROM:TO in s"))?;
+            let num = |v: &str| v.trim().parse::<f64>().ok().filter(|x| x.is_finite());
+            match (num(a), num(b)) {
+                (Some(f), Some(t)) if f < t => Ok(FloorSource::Range(f, t)),
+                (Some(_), Some(_)) => Err(bad("FROM must be below TO")),
+                _ => Err(bad("FROM and TO must be finite times in s")),
+            }
+        }
+    }
+}
+
+/// The front end's gains from `--gain` (none: the rig's 0.2; one: all four; four: each).
+fn gains(g: &[f64]) -> Result<[f64; 4]> {
+    let rig = crate::recorded::sil::RIG_GAIN;
+    let out = match g.len() {
+        0 => rig,
+        1 => [g[0]; 4],
+        4 => [g[0], g[1], g[2], g[3]],
+        n => return Err(HostError::Input(format!("--gain: {n} values: give one (all four channels) or four"))),
+    };
+    for v in out {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(HostError::Input(format!("--gain {v}: must be a finite gain > 0")));
+        }
+    }
+    Ok(out)
+}
+
 fn check_from(from: Option<f64>) -> Result<()> {
     match from {
         Some(f) if !f.is_finite() => Err(HostError::Input(format!("--from {f}: must be a finite time in s"))),
@@ -341,7 +380,11 @@ pub fn analyze(a: &crate::cli::AnalyzeArgs) -> Result<String> {
     check_from(a.from)?;
     let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &Overrides::default())?;
     let mut cfg = sil::analysis_config(&ns.scene, a.from.unwrap_or(f64::NEG_INFINITY), a.record.segment, a.plots.is_some());
-    cfg.breakaway_jump_m_s2 = sil::breakaway_jump(&ns, a.record.breakaway_jump)?;
+    cfg.floor = floor_source(a.record.breakaway_jump, a.quiet.as_deref())?;
+    cfg.breakaway_jump_m_s2 = match cfg.floor {
+        recorded::analysis::FloorSource::Jump => sil::breakaway_jump(&ns, a.record.breakaway_jump)?,
+        _ => sil::breakaway_jump(&ns, None).unwrap_or(sil::NO_JUMP_START_M_S2),
+    };
     let an = recorded::analyze_path(&a.file, cfg)?;
     if let Some(dir) = &a.plots {
         let n = figures::write_all(dir, &a.file, &an)?.len();
@@ -359,8 +402,8 @@ fn sil_options(
     noise: &crate::cli::SilNoise,
     figures: bool,
     breakaway_jump_m_s2: Option<f64>,
-) -> crate::recorded::sil::SilOptions {
-    crate::recorded::sil::SilOptions {
+) -> Result<crate::recorded::sil::SilOptions> {
+    Ok(crate::recorded::sil::SilOptions {
         noise_m_s2: noise.noise,
         seed: noise.seed,
         segment,
@@ -368,7 +411,9 @@ fn sil_options(
         breakaway_jump_m_s2,
         sensor: crate::recorded::sil::SensorPath::Rig,
         spectra: true,
-    }
+        quiet_s: noise.quiet_lead,
+        gain: gains(&noise.gain)?,
+    })
 }
 
 pub fn sil(a: &crate::cli::SilArgs) -> Result<String> {
@@ -376,7 +421,7 @@ pub fn sil(a: &crate::cli::SilArgs) -> Result<String> {
     check_segment(a.record.segment)?;
     check_jump(a.record.breakaway_jump)?;
     let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &overrides(&a.run))?;
-    let mut opts = sil_options(a.record.segment, &a.noise, a.plots.is_some(), a.record.breakaway_jump);
+    let mut opts = sil_options(a.record.segment, &a.noise, a.plots.is_some(), a.record.breakaway_jump)?;
     if a.front_end == "ideal" {
         opts.sensor = sil::SensorPath::Ideal;
     }
@@ -395,7 +440,11 @@ pub fn compare(a: &crate::cli::CompareArgs) -> Result<String> {
     check_from(a.from)?;
     let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &overrides(&a.run))?;
     let mut cfg = sil::analysis_config(&ns.scene, a.from.unwrap_or(f64::NEG_INFINITY), a.record.segment, false);
-    cfg.breakaway_jump_m_s2 = sil::breakaway_jump(&ns, a.record.breakaway_jump)?;
+    cfg.floor = floor_source(a.record.breakaway_jump, a.quiet.as_deref())?;
+    cfg.breakaway_jump_m_s2 = match cfg.floor {
+        recorded::analysis::FloorSource::Jump => sil::breakaway_jump(&ns, a.record.breakaway_jump)?,
+        _ => sil::breakaway_jump(&ns, None).unwrap_or(sil::NO_JUMP_START_M_S2),
+    };
     // the model side keeps the scene's own jump unless it has none (mu_s = mu_k)
     let model_jump = match sil::breakaway_jump(&ns, None) {
         Ok(_) => None,
@@ -403,7 +452,7 @@ pub fn compare(a: &crate::cli::CompareArgs) -> Result<String> {
     };
     // the measurement first: a bad file is reported before the model runs
     let measured = recorded::analyze_path(&a.file, cfg)?;
-    let model = sil::run(&ns, a.run.precision, &sil_options(a.record.segment, &a.noise, false, model_jump), None)?;
+    let model = sil::run(&ns, a.run.precision, &sil_options(a.record.segment, &a.noise, false, model_jump)?, None)?;
     Ok(if a.json {
         to_json(&report::CompareJson::new(&a.file, &measured, &model))
     } else {

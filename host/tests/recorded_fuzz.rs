@@ -20,6 +20,8 @@ fn cfg() -> AnalysisConfig {
         from_s: f64::NEG_INFINITY,
         segment: Some(64),
         breakaway_jump_m_s2: 33.17,
+        floor: stickslip::recorded::analysis::FloorSource::Jump,
+        face_coefficient: 0.0,
         band_speed_m_s: 0.005,
         figures: true,
         spectra: true,

@@ -37,8 +37,9 @@ use stickslip_model::rig::pipeline::DigitalInputs;
 use stickslip_model::rig::sequencer::{
     Command, RecordEnd, SeqState, Sequencer, SequencerConfig, SequencerInputs, SequencerOutput,
 };
+use stickslip_model::rig::noise_floor::{FloorReport, A_REL};
 use stickslip_model::rig::window::WindowReport;
-use stickslip_model::rig::{ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, PRESSURE_CHANNELS};
+use stickslip_model::rig::{ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, DISC_X, PAD_X, PRESSURE_CHANNELS};
 use stickslip_model::{Scene, SceneError};
 
 /// `f` (a function pointer), through a value the optimiser cannot see through: a call of the
@@ -256,6 +257,10 @@ pub struct SampleOut {
     pub sequencer: SequencerOutput,
     /// This sample entered Record: the estimator was replaced by a fresh one with the model.
     pub record_started: bool,
+    /// This sample ended Clamp into Drive: the noise floor measured while clamped and the
+    /// contact thresholds designed from it (they hold from here on, and in every record until
+    /// the next clamp measures again).
+    pub floor: Option<(FloorReport, ContactThresholds)>,
 }
 
 /// The command the single start/stop/reset button gives in a state: start from Idle, stop
@@ -295,6 +300,9 @@ pub struct RigCore {
     pending: Option<ClosedWindow>,
     /// The scene the lockstep model runs in every record.
     model_scene: Scene,
+    /// The contact thresholds and a_rel bias the last clamp's noise floor designed (each
+    /// record's estimator starts with them).
+    floor_design: Option<(ContactThresholds, f32)>,
 }
 
 impl RigCore {
@@ -349,6 +357,7 @@ impl RigCore {
             addr_of_mut!((*p).closed_pressure).write(PressureWindow::default());
             addr_of_mut!((*p).pending).write(None);
             addr_of_mut!((*p).model_scene).write(model_scene);
+            addr_of_mut!((*p).floor_design).write(None);
             write_new_estimator(addr_of_mut!((*p).estimator), &ecfg)?;
             copy_estimator(addr_of_mut!((*p).armed), addr_of_mut!((*p).estimator));
             start_model(&mut (*p).armed, &cfg.model_template, setpoint).map_err(CoreError::Model)?;
@@ -378,6 +387,7 @@ impl RigCore {
             closed_pressure: _,
             pending: _,
             model_scene: _,
+            floor_design: _,
         } = self;
     }
 
@@ -477,8 +487,14 @@ impl RigCore {
         };
         let sequencer = self.sequencer.tick(&inputs, command);
         let mut record_started = false;
+        let mut floor = None;
         if sequencer.changed {
             self.ticks_in_state = 1;
+            if sequencer.state == SeqState::Clamp {
+                self.estimator.start_floor();
+            } else if before == SeqState::Clamp {
+                floor = self.end_floor(sequencer.state == SeqState::Drive);
+            }
             if sequencer.state == SeqState::Record {
                 self.start_record();
                 record_started = true;
@@ -488,7 +504,23 @@ impl RigCore {
         } else {
             self.ticks_in_state = self.ticks_in_state.saturating_add(1);
         }
-        SampleOut { calibrated, estimate, before, sequencer, record_started }
+        SampleOut { calibrated, estimate, before, sequencer, record_started, floor }
+    }
+
+    /// Clamp ended: into Drive, the floor designs the contact thresholds (kept for the
+    /// records' estimators); otherwise it is dropped.
+    #[inline(never)]
+    fn end_floor(&mut self, into_drive: bool) -> Option<(FloorReport, ContactThresholds)> {
+        if !into_drive {
+            self.estimator.cancel_floor();
+            return None;
+        }
+        let sc = self.calibrator.scale();
+        let design = self.estimator.finish_floor(sc[PAD_X].max(sc[DISC_X]));
+        if let Some((r, th)) = design {
+            self.floor_design = Some((th, r.mean_m_s2[A_REL]));
+        }
+        design
     }
 
     /// The running estimator gives way to a copy of the armed one; a window it closed and
@@ -500,6 +532,9 @@ impl RigCore {
         }
         // SAFETY: two distinct fields of `self`: valid, aligned, not overlapping.
         unsafe { copy_estimator(&mut self.estimator, &self.armed) };
+        if let Some((th, bias)) = self.floor_design {
+            self.estimator.set_contact(th, bias);
+        }
         self.pressure = PressureSums::FRESH;
         self.record = self.record.wrapping_add(1);
     }

@@ -85,6 +85,8 @@ pub fn statistics(name: &str, scene: &Scene, jump_m_s2: f64, segment: Option<usi
         segment,
         figures: false,
         breakaway_jump_m_s2: Some(jump_m_s2),
+        quiet_s: 0.0,
+        gain: crate::recorded::sil::RIG_GAIN,
         sensor: SensorPath::Ideal,
         spectra,
     };

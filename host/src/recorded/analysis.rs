@@ -33,6 +33,7 @@ use stickslip_model::rig::bandpass::GROAN_BAND_HZ;
 use stickslip_model::rig::calibration::{Calibrated, Saturation};
 use stickslip_model::rig::contact::{ContactEventKind, ContactThresholds};
 use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
+use stickslip_model::rig::noise_floor::{NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
 use stickslip_model::Regime;
 
 use super::envelope::{Bucket, Envelope};
@@ -53,8 +54,13 @@ pub struct AnalysisConfig {
     pub from_s: f64,
     /// Welch segment length [samples]; default [`default_segment`] of the rate.
     pub segment: Option<usize>,
-    /// Breakaway jump J for the estimator's thresholds [m/s^2].
+    /// Breakaway jump J for the estimator's thresholds [m/s^2]: the thresholds with
+    /// `floor` off, else only the starting value the floor replaces.
     pub breakaway_jump_m_s2: f64,
+    /// Where the contact thresholds come from.
+    pub floor: FloorSource,
+    /// The estimator's face term (`EstimatorConfig::face_coefficient`, 0 without the face).
+    pub face_coefficient: f32,
     /// Band speed for the estimator's configuration [m/s] (its lockstep model, which this
     /// analysis does not start).
     pub band_speed_m_s: f64,
@@ -63,6 +69,36 @@ pub struct AnalysisConfig {
     /// Compute the Welch spectra (the spectral peaks); off, `Analysis::spectrum` is `None`
     /// and no sample goes through an FFT (a fit that does not weigh the peaks).
     pub spectra: bool,
+}
+
+/// Where the contact thresholds come from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FloorSource {
+    /// From `breakaway_jump_m_s2` (onset J/2, stick J/4), fixed.
+    Jump,
+    /// From the noise floor of the record's first quiet stretch, found in the first
+    /// [`PREVIEW_ROWS`] rows (see [`find_quiet`]).
+    Auto,
+    /// From the noise floor of the rows with FROM <= t <= TO [s].
+    Range(f64, f64),
+}
+
+/// Rows per block of the quiet-stretch search.
+pub const QUIET_BLOCK: usize = 32;
+/// The most rows `FloorSource::Range` buffers before the estimator starts.
+pub const MAX_QUIET_ROWS: usize = 1 << 22;
+
+/// The noise floor the thresholds were designed from.
+#[derive(Clone, Debug)]
+pub struct FloorOutcome {
+    /// The stretch [s] (first and last row's time) and how it was chosen.
+    pub t_from: f64,
+    pub t_to: f64,
+    pub auto: bool,
+    pub report: stickslip_model::rig::noise_floor::FloorReport,
+    /// The quantum used: the larger smallest nonzero step of pad_x and disc_x in the
+    /// buffered rows [m/s^2] (0 for a continuous record).
+    pub quantum_m_s2: f64,
 }
 
 /// Statistics of one channel [m/s^2, Hz].
@@ -111,6 +147,17 @@ pub struct Analysis {
     pub samples_at_range: u64,
     pub thresholds: ContactThresholds,
     pub breakaway_jump_m_s2: f64,
+    /// The noise floor the thresholds came from (`None`: from the breakaway jump).
+    pub floor: Option<FloorOutcome>,
+    /// Analysed samples at or beyond the sensor range, per channel.
+    pub at_range: [u64; CH],
+    /// Why the estimator cannot decide stick from slip on this record (its stick fraction
+    /// and frequency are then not reported), or `None`.
+    pub undecided: Option<String>,
+    /// Per channel, what is wrong with it, or empty: "flat" (no sample changed: dead, or a
+    /// signal below one count), "saturated" (samples at the range), "noisier than the signal"
+    /// (RMS under twice the floor's sigma).
+    pub health: [Vec<&'static str>; CH],
     pub spectrum: Option<Spectrum>,
     /// Empty unless figures were asked for.
     pub envelope: Vec<Bucket>,
@@ -151,6 +198,8 @@ struct Running {
     onset_last: f64,
     first_onset: Option<f64>,
     at_range: u64,
+    at_range_ch: [u64; CH],
+    floor: Option<FloorOutcome>,
 }
 
 impl Running {
@@ -173,7 +222,7 @@ impl Running {
         }
         let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
         if onset && self.first_onset.is_none() {
-            self.first_onset = Some(t);
+            self.first_onset = Some(t - s.contact.lead_samples as f64 / self.fs);
         }
         if t < self.from_eff {
             return;
@@ -204,11 +253,20 @@ impl Running {
         }
         if bits != 0 {
             self.at_range += 1;
+            for c in 0..CH {
+                if bits & (1 << c) != 0 {
+                    self.at_range_ch[c] += 1;
+                }
+            }
         }
         if s.contact.regime == Regime::Stick {
             self.stick += 1;
         }
         if onset {
+            // the estimator dates the slip back by its lead: those samples were counted stick
+            let lead = (s.contact.lead_samples as u64).min(self.stick);
+            self.stick -= lead;
+            let t = t - lead as f64 / self.fs;
             if self.onsets == 0 {
                 self.onset_first = t;
             }
@@ -227,6 +285,39 @@ impl Running {
 enum Phase {
     Preview(Vec<Pending>),
     Running(Box<Running>),
+}
+
+/// The first quiet stretch of a_rel (row range `i0..i1`), or `None`: blocks of
+/// [`QUIET_BLOCK`] rows, each with its variance about its own mean; a block is quiet when its
+/// variance is at most 4 times the smallest (its RMS at most twice), or 0 where the smallest is
+/// 0 (a record whose quiet rows do not change by a count); the stretch is the first run of
+/// consecutive quiet blocks at least [`MIN_FLOOR_SAMPLES`] rows long. In stick a_rel is 0 up to
+/// noise like in the clamped phase: a stick longer than the run qualifies too.
+pub fn find_quiet(a_rel: &[f32]) -> Option<(usize, usize)> {
+    let var: Vec<f64> = a_rel
+        .chunks_exact(QUIET_BLOCK)
+        .map(|b| {
+            let m = b.iter().map(|&v| v as f64).sum::<f64>() / b.len() as f64;
+            b.iter().map(|&v| (v as f64 - m).powi(2)).sum::<f64>() / b.len() as f64
+        })
+        .collect();
+    let vmin = var.iter().copied().fold(f64::INFINITY, f64::min);
+    if !vmin.is_finite() {
+        return None;
+    }
+    let need = (MIN_FLOOR_SAMPLES as usize).div_ceil(QUIET_BLOCK);
+    let mut run = 0;
+    for (k, &v) in var.iter().enumerate() {
+        if v <= 4.0 * vmin {
+            run += 1;
+        } else {
+            if run >= need {
+                return Some(((k - run) * QUIET_BLOCK, k * QUIET_BLOCK));
+            }
+            run = 0;
+        }
+    }
+    (run >= need).then(|| ((var.len() - run) * QUIET_BLOCK, var.len() * QUIET_BLOCK))
 }
 
 /// The streaming analysis (see the module documentation).
@@ -276,7 +367,16 @@ impl Analyzer {
             Phase::Running(r) => r.process(t, a),
             Phase::Preview(buf) => {
                 buf.push(Pending { t, a: *a });
-                if buf.len() >= PREVIEW_ROWS {
+                let more = match self.cfg.floor {
+                    FloorSource::Range(_, to) => t <= to,
+                    _ => false,
+                };
+                if more && buf.len() >= MAX_QUIET_ROWS {
+                    return Err(format!(
+                        "line {line}: --quiet: more than {MAX_QUIET_ROWS} rows before its end: give a shorter quiet stretch"
+                    ));
+                }
+                if buf.len() >= PREVIEW_ROWS && !more {
                     self.start()?;
                 }
             }
@@ -340,9 +440,19 @@ impl Analyzer {
             contact: ContactThresholds::from_breakaway_jump(self.cfg.breakaway_jump_m_s2, fs),
             window_samples: ((0.1 * fs).round() as u32).max(1),
             band_speed_m_s: self.cfg.band_speed_m_s,
+            face_coefficient: self.cfg.face_coefficient,
             ..EstimatorConfig::default()
         };
-        let est = Estimator::new(&ecfg).map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
+        let mut est = Estimator::new(&ecfg).map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
+        let floor = self.design_floor(&buf, fs)?;
+        if let Some(f) = &floor {
+            let th = ContactThresholds::from_noise_floor(
+                f.report.sigma_m_s2[A_REL] as f64,
+                f.quantum_m_s2,
+                fs,
+            );
+            est.set_contact(th, f.report.mean_m_s2[A_REL]);
+        }
         let segment = self.cfg.segment.unwrap_or_else(|| default_segment(fs));
         let mut r = Running {
             fs,
@@ -366,12 +476,63 @@ impl Analyzer {
             onset_last: 0.0,
             first_onset: None,
             at_range: 0,
+            at_range_ch: [0; CH],
+            floor,
         };
         for p in &buf {
             r.process(p.t, &p.a);
         }
         self.phase = Phase::Running(Box::new(r));
         Ok(())
+    }
+
+    /// The noise floor the thresholds come from (`None` for [`FloorSource::Jump`]).
+    fn design_floor(&self, buf: &[Pending], _fs: f64) -> Result<Option<FloorOutcome>, String> {
+        let a_rel = |p: &Pending| {
+            (p.a[1] - p.a[0]) as f32 + self.cfg.face_coefficient * (p.a[3] - p.a[2]) as f32
+        };
+        let (rows, auto): (Vec<&Pending>, bool) = match self.cfg.floor {
+            FloorSource::Jump => return Ok(None),
+            FloorSource::Range(from, to) => (buf.iter().filter(|p| p.t >= from && p.t <= to).collect(), false),
+            FloorSource::Auto => {
+                let rel: Vec<f32> = buf.iter().map(a_rel).collect();
+                match find_quiet(&rel) {
+                    Some((i0, i1)) => (buf[i0..i1].iter().collect(), true),
+                    None => (vec![], true),
+                }
+            }
+        };
+        if rows.len() < MIN_FLOOR_SAMPLES as usize {
+            let what = match self.cfg.floor {
+                FloorSource::Range(from, to) => format!("--quiet {from}:{to}: {} rows in it", rows.len()),
+                _ => format!(
+                    "no quiet stretch of {MIN_FLOOR_SAMPLES} rows in the first {} (the clamped, band-still phase a record should start with)",
+                    buf.len()
+                ),
+            };
+            return Err(format!(
+                "{what}: the noise floor needs at least {MIN_FLOOR_SAMPLES}: give --quiet FROM:TO over a stretch where nothing moves, or --breakaway-jump M_S2 for fixed thresholds"
+            ));
+        }
+        let mut nf = NoiseFloor::new();
+        for p in &rows {
+            nf.add(&p.a.map(|v| v as f32), a_rel(p));
+        }
+        // the quantum: the smallest nonzero step of pad_x and of disc_x over the buffered rows
+        let step = |c: usize| {
+            buf.windows(2)
+                .map(|w| (w[1].a[c] - w[0].a[c]).abs())
+                .filter(|&d| d > 0.0)
+                .fold(f64::INFINITY, f64::min)
+        };
+        let q = [step(1), step(0)].into_iter().filter(|v| v.is_finite()).fold(0.0, f64::max);
+        Ok(Some(FloorOutcome {
+            t_from: rows[0].t,
+            t_to: rows[rows.len() - 1].t,
+            auto,
+            report: nf.report(),
+            quantum_m_s2: q,
+        }))
     }
 
     /// The statistics. Errors (one line, starting with what is wrong): no rows, a single row,
@@ -410,6 +571,35 @@ impl Analyzer {
         let stick_slip_hz = (r.onsets >= 2 && r.onset_last > r.onset_first)
             .then(|| (r.onsets - 1) as f64 / (r.onset_last - r.onset_first));
         let thresholds = *r.est.contact().thresholds();
+        let health: [Vec<&'static str>; CH] = std::array::from_fn(|c| {
+            let mut h = vec![];
+            if channels[c].pp == 0.0 {
+                h.push("flat");
+            }
+            if r.at_range_ch[c] > 0 {
+                h.push("saturated");
+            }
+            if let Some(f) = &r.floor {
+                let sigma = f.report.sigma_m_s2[c] as f64;
+                if sigma > 0.0 && channels[c].rms < 2.0 * sigma {
+                    h.push("noisier than the signal");
+                }
+            }
+            h
+        });
+        // pad_x must carry a signal; disc_x may be flat (a band below one count) but not
+        // saturated or noisy
+        let mut bad = vec![];
+        for (c, name) in [(1usize, "pad_x"), (0, "disc_x")] {
+            for &what in &health[c] {
+                if !(c == 0 && what == "flat") {
+                    bad.push(format!("{name} {what}"));
+                }
+            }
+        }
+        let undecided = (!bad.is_empty()).then(|| {
+            format!("{}: the contact estimate (stick fraction, frequency) would be a guess", bad.join(", "))
+        });
         Ok(Analysis {
             channels,
             stick_fraction: r.stick as f64 / n,
@@ -427,6 +617,10 @@ impl Analyzer {
             samples_at_range: r.at_range,
             thresholds,
             breakaway_jump_m_s2: self.cfg.breakaway_jump_m_s2,
+            floor: r.floor,
+            at_range: r.at_range_ch,
+            undecided,
+            health,
             spectrum,
             envelope: r.envelope.map(Envelope::finish).unwrap_or_default(),
         })

@@ -2,6 +2,7 @@
 //! the help texts state (m/s^2, Hz, s); a value that does not exist is null.
 
 use serde::Serialize;
+use stickslip_model::rig::noise_floor::A_REL;
 use stickslip_model::rig::ACCEL_NAMES;
 
 use super::analysis::{Analysis, ChannelStats};
@@ -76,13 +77,59 @@ pub struct EstimatorJson {
     pub slip_onset_m_s2: f64,
     pub stick_max_m_s2: f64,
     pub setup_rate_hz: f64,
+    /// "floor" (from the noise floor of a quiet stretch) or "jump" (fixed, from the jump).
+    pub thresholds_from: &'static str,
+    pub floor: Option<FloorJson>,
+    /// Why the estimator cannot decide (its stick fraction and frequency are then null).
+    pub undecided: Option<String>,
+    /// Per channel, what is wrong with it ("flat", "saturated", "noisier than the signal").
+    pub health: Channels<Vec<&'static str>>,
+}
+
+#[derive(Serialize)]
+pub struct FloorJson {
+    pub from_s: f64,
+    pub to_s: f64,
+    /// "auto" (the first quiet stretch) or "given" (--quiet).
+    pub chosen: &'static str,
+    pub samples: u32,
+    /// Per channel, then a_rel: sigma [m/s^2].
+    pub sigma_m_s2: Channels<f64>,
+    pub a_rel_sigma_m_s2: f64,
+    pub a_rel_mean_m_s2: f64,
+    pub quantum_m_s2: f64,
+}
+
+impl EstimatorJson {
+    fn new(a: &Analysis) -> Self {
+        EstimatorJson {
+            breakaway_jump_m_s2: a.breakaway_jump_m_s2,
+            slip_onset_m_s2: a.thresholds.slip_onset_m_s2 as f64,
+            stick_max_m_s2: a.thresholds.stick_max_m_s2 as f64,
+            setup_rate_hz: a.setup_rate_hz,
+            thresholds_from: if a.floor.is_some() { "floor" } else { "jump" },
+            floor: a.floor.as_ref().map(|f| FloorJson {
+                from_s: f.t_from,
+                to_s: f.t_to,
+                chosen: if f.auto { "auto" } else { "given" },
+                samples: f.report.samples,
+                sigma_m_s2: Channels::from_fn(|c| f.report.sigma_m_s2[c] as f64),
+                a_rel_sigma_m_s2: f.report.sigma_m_s2[A_REL] as f64,
+                a_rel_mean_m_s2: f.report.mean_m_s2[A_REL] as f64,
+                quantum_m_s2: f.quantum_m_s2,
+            }),
+            undecided: a.undecided.clone(),
+            health: Channels::from_fn(|c| a.health[c].clone()),
+        }
+    }
 }
 
 #[derive(Serialize)]
 pub struct AnalysisJson {
     pub file: String,
     pub channels: Channels<ChannelJson>,
-    pub stick_fraction: f64,
+    /// null where the estimator cannot decide (`estimator.undecided`).
+    pub stick_fraction: Option<f64>,
     pub stick_slip_hz: Option<f64>,
     pub slip_onsets: u64,
     /// Time of the estimator's first slip onset in the whole file [s] (the time column's).
@@ -116,8 +163,8 @@ impl AnalysisJson {
         AnalysisJson {
             file: file.to_string(),
             channels: Channels::from_fn(|c| (&a.channels[c]).into()),
-            stick_fraction: a.stick_fraction,
-            stick_slip_hz: a.stick_slip_hz,
+            stick_fraction: a.undecided.is_none().then_some(a.stick_fraction),
+            stick_slip_hz: a.stick_slip_hz.filter(|_| a.undecided.is_none()),
             slip_onsets: a.slip_onsets,
             first_slip_onset_s: a.first_onset_s,
             sample_rate_hz: a.sample_rate_hz,
@@ -130,12 +177,7 @@ impl AnalysisJson {
             time_resolution_s: a.time_resolution_s,
             samples_at_range: a.samples_at_range,
             spectrum: spectrum_json(a),
-            estimator: EstimatorJson {
-                breakaway_jump_m_s2: a.breakaway_jump_m_s2,
-                slip_onset_m_s2: a.thresholds.slip_onset_m_s2 as f64,
-                stick_max_m_s2: a.thresholds.stick_max_m_s2 as f64,
-                setup_rate_hz: a.setup_rate_hz,
-            },
+            estimator: EstimatorJson::new(a),
         }
     }
 }
@@ -160,13 +202,34 @@ fn estimator_lines(a: &Analysis) -> String {
         None => format!("none ({} slip onset{}: two are needed)", a.slip_onsets, if a.slip_onsets == 1 { "" } else { "s" }),
     };
     let first = a.first_onset_s.map_or("none".into(), |t| format!("t = {} s", num(t)));
-    format!(
-        "Stick fraction: {} and stick-slip frequency: {hz}, from the rig's estimator (breakaway jump {} m/s^2: slip onset above {} m/s^2, stick at most {} m/s^2 of pad_x - disc_x). First slip onset in the whole file: {first}.\n",
-        num(a.stick_fraction),
-        num(a.breakaway_jump_m_s2),
+    let source = match &a.floor {
+        Some(f) => format!(
+            "thresholds from the noise floor of t = {} to {} s ({}, {} rows: a_rel sigma {} m/s^2, quantum {} m/s^2; adaptive up to {}x)",
+            num(f.t_from),
+            num(f.t_to),
+            if f.auto { "the first quiet stretch" } else { "--quiet" },
+            f.report.samples,
+            num(f.report.sigma_m_s2[A_REL] as f64),
+            num(f.quantum_m_s2),
+            num(a.thresholds.onset_max_factor as f64),
+        ),
+        None => format!("fixed thresholds from the breakaway jump {} m/s^2", num(a.breakaway_jump_m_s2)),
+    };
+    let mut s = match &a.undecided {
+        Some(why) => format!("Stick fraction and stick-slip frequency: cannot decide ({why}).\n"),
+        None => format!("Stick fraction: {} and stick-slip frequency: {hz}.\n", num(a.stick_fraction)),
+    };
+    s.push_str(&format!(
+        "The rig's estimator: {source}: slip onset above {} m/s^2, stick at most {} m/s^2 of a_rel = pad_x - disc_x. First slip onset in the whole file: {first}.\n",
         num(a.thresholds.slip_onset_m_s2 as f64),
         num(a.thresholds.stick_max_m_s2 as f64),
-    )
+    ));
+    for (c, h) in a.health.iter().enumerate() {
+        if !h.is_empty() {
+            s.push_str(&format!("Channel {}: {}.\n", ACCEL_NAMES[c], h.join(", ")));
+        }
+    }
+    s
 }
 
 /// The Markdown summary of `analyze`.
@@ -312,7 +375,8 @@ pub fn sil_markdown(r: &SilReport) -> String {
     );
     let chain = match r.sensor {
         crate::recorded::sil::SensorPath::Rig => format!(
-            "rig sensor model (100 mV/g, front-end gain 0.2, noise {} m/s^2 rms seed {}, 700 m/s^2 clipping, 12-bit ADC) -> calibration",
+            "rig sensor model (100 mV/g, front-end gain {}, noise {} m/s^2 rms seed {}, 700 m/s^2 clipping, 12-bit ADC) -> calibration",
+            r.gain.iter().map(|&g| num(g)).collect::<Vec<_>>().join("/"),
             num(r.noise_m_s2),
             r.seed
         ),

@@ -26,11 +26,12 @@ use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
 use stickslip_model::rig::contact::ContactThresholds;
 use stickslip_model::rig::prng::XorShift32;
 use stickslip_model::rig::sensor_model::{
-    Model2Motion, Motion, Noise, SensorModel, SensorModelConfig, SensorModelError,
+    Model2Motion, Motion, Noise, SensorGeometry, SensorModel, SensorModelConfig, SensorModelError,
 };
 use stickslip_model::{Real, Regime};
 
-use super::analysis::{Analysis, AnalysisConfig, Analyzer};
+use super::analysis::{Analysis, AnalysisConfig, Analyzer, FloorSource};
+use stickslip_model::rig::estimator::EstimatorConfig;
 use super::spectrum::CH;
 use crate::error::{HostError, Result};
 use crate::run::{self, Outcome, Precision};
@@ -78,7 +79,18 @@ pub struct SilOptions {
     pub sensor: SensorPath,
     /// Compute the Welch spectra (`AnalysisConfig::spectra`).
     pub spectra: bool,
+    /// The clamped, band-still phase before the run [s]: quiet frames (noise only) written
+    /// before t = 0, from which the estimator measures its noise floor (0: none).
+    pub quiet_s: f64,
+    /// Front-end gain of the accelerometer channels [V/V] (the rig's default 0.2).
+    pub gain: [f64; CH],
 }
+
+/// The rig's accelerometer front-end gains [V/V].
+pub const RIG_GAIN: [f64; CH] = [stickslip_model::rig::calibration::AccelChannel::RIG.front_end_gain; CH];
+
+/// Length of the virtual rig's clamped, band-still phase by default [s].
+pub const DEFAULT_QUIET_S: f64 = 0.1;
 
 /// The breakaway jump the estimator uses for `ns`: `given`, else the scene's
 /// (mu_s - mu_k) N0 / m; an error if that is not positive (mu_s = mu_k) and none was given.
@@ -99,6 +111,10 @@ pub fn breakaway_jump(ns: &NamedScene, given: Option<f64>) -> Result<f64> {
         )))
     }
 }
+
+/// The starting jump of a scene without one (mu_s = mu_k) when the floor designs the
+/// thresholds anyway [m/s^2] (`contact::MIN_DESIGN_JUMP_M_S2`).
+pub const NO_JUMP_START_M_S2: f64 = stickslip_model::rig::contact::MIN_DESIGN_JUMP_M_S2;
 
 /// The model's own statistics over the analysed samples.
 #[derive(Clone, Copy, Debug, Default)]
@@ -129,6 +145,8 @@ pub struct SilReport {
     pub halt_t_s: Option<f64>,
     pub noise_m_s2: f64,
     pub seed: u32,
+    /// The accelerometers' front-end gains [V/V].
+    pub gain: [f64; CH],
     pub sensor: SensorPath,
     /// Frames with an accelerometer at its range or at an ADC rail.
     pub saturated_frames: u64,
@@ -160,6 +178,8 @@ pub fn analysis_config(scene: &stickslip_model::Scene, from_s: f64, segment: Opt
         from_s,
         segment,
         breakaway_jump_m_s2: ContactThresholds::breakaway_jump(scene),
+        floor: FloorSource::Jump,
+        face_coefficient: EstimatorConfig::face_coefficient_for(scene, &SensorGeometry::RIG) as f32,
         band_speed_m_s: scene.v,
         figures,
         spectra: true,
@@ -183,8 +203,14 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     if !(opts.noise_m_s2.is_finite() && opts.noise_m_s2 >= 0.0) {
         return Err(bad_option("--noise", opts.noise_m_s2, "must be >= 0 m/s^2"));
     }
+    if !(opts.quiet_s.is_finite() && opts.quiet_s >= 0.0) {
+        return Err(bad_option("--quiet-lead", opts.quiet_s, "must be >= 0 s"));
+    }
     let mut cfg = SensorModelConfig::RIG;
     cfg.noise = Noise { accel_rms_m_s2: opts.noise_m_s2, pressure_rms_bar: 0.0, seed: opts.seed };
+    for (c, g) in cfg.calibration.accel.iter_mut().zip(opts.gain) {
+        c.front_end_gain = g;
+    }
     let to_input = |e: SensorModelError| {
         HostError::Input(match e {
             SensorModelError::Scene(s) => format!("{}: {s}", ns.origin_label()),
@@ -210,7 +236,11 @@ fn sample_run<T: Real, M: Motion<T>>(
     mut sensor: SensorModel<T, M>,
 ) -> Result<SilReport> {
     let scene = &ns.scene;
-    let cal = Calibrator::new(&RIG_CALIBRATION).map_err(|e| HostError::Input(format!("virtual rig: {e}")))?;
+    let mut calibration = RIG_CALIBRATION;
+    for (c, g) in calibration.accel.iter_mut().zip(opts.gain) {
+        c.front_end_gain = g;
+    }
+    let cal = Calibrator::new(&calibration).map_err(|e| HostError::Input(format!("virtual rig: {e}")))?;
     let mut out = match csv {
         Some(p) => {
             let path = p.display().to_string();
@@ -225,7 +255,13 @@ fn sample_run<T: Real, M: Motion<T>>(
     let from_eff = scene.stats_from - 0.25 * dt;
     let mut acfg = analysis_config(scene, scene.stats_from, opts.segment, opts.figures);
     acfg.spectra = opts.spectra;
-    acfg.breakaway_jump_m_s2 = breakaway_jump(ns, opts.breakaway_jump_m_s2)?;
+    acfg.breakaway_jump_m_s2 = breakaway_jump(ns, opts.breakaway_jump_m_s2).unwrap_or(crate::recorded::sil::NO_JUMP_START_M_S2);
+    if opts.breakaway_jump_m_s2.is_some() || opts.quiet_s == 0.0 {
+        // fixed thresholds: the given jump, or the scene's without a quiet phase to measure
+        acfg.breakaway_jump_m_s2 = breakaway_jump(ns, opts.breakaway_jump_m_s2)?;
+    } else {
+        acfg.floor = FloorSource::Auto;
+    }
     let mut analyzer = Analyzer::new(acfg);
     let steps_planned = run::planned_steps(scene);
     let mut truth = Truth::default();
@@ -237,6 +273,23 @@ fn sample_run<T: Real, M: Motion<T>>(
     // the ideal path's noise: its own stream of the same generator and seed
     let mut rng = XorShift32::new(opts.seed);
     let sigma = opts.noise_m_s2;
+    // the clamped, band-still phase: quiet frames at t <= 0
+    let quiet = (opts.quiet_s / dt).round() as u64;
+    for q in 0..quiet {
+        let frame = sensor.quiet_frame();
+        let t = -((quiet - 1 - q) as f64) * dt;
+        let a: [f64; CH] = match opts.sensor {
+            SensorPath::Rig => cal.calibrate(&frame).accel_m_s2.map(|v| v as f64),
+            SensorPath::Ideal if sigma > 0.0 => [(); CH].map(|_| sigma * rng.unit_noise::<f64>()),
+            SensorPath::Ideal => [0.0; CH],
+        };
+        if let Some(o) = &mut out {
+            writeln!(o.w, "{t},{},{},{},{}", a[0], a[1], a[2], a[3]).map_err(|e| o.err(e))?;
+        }
+        analyzer
+            .push(q + 2, t, 0.0, &a)
+            .map_err(|m| HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
+    }
     for i in 0..steps_planned {
         let frame = match sensor.next_frame() {
             Ok(f) => f,
@@ -268,7 +321,7 @@ fn sample_run<T: Real, M: Motion<T>>(
             writeln!(o.w, "{t},{},{},{},{}", a[0], a[1], a[2], a[3]).map_err(|e| o.err(e))?;
         }
         analyzer
-            .push(i + 2, t, 0.0, &a)
+            .push(quiet + i + 2, t, 0.0, &a)
             .map_err(|m| HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
         if t >= from_eff {
             let tr = sensor.truth();
@@ -319,10 +372,11 @@ fn sample_run<T: Real, M: Motion<T>>(
         halt_t_s: outcome.halt_time(),
         noise_m_s2: opts.noise_m_s2,
         seed: opts.seed,
+        gain: opts.gain,
         sensor: opts.sensor,
         saturated_frames,
         pp_bound_m_s2: match opts.sensor {
-            SensorPath::Rig => pp_error_bound(&RIG_CALIBRATION, opts.noise_m_s2),
+            SensorPath::Rig => pp_error_bound(&calibration, opts.noise_m_s2),
             SensorPath::Ideal => [2.0 * stickslip_model::rig::prng::UNIT_NOISE_BOUND * opts.noise_m_s2; CH],
         },
         truth,

@@ -27,9 +27,11 @@ use super::bandpass::{BandPass, SectionState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use super::calibration::Calibrated;
 use super::contact::{ContactEstimator, ContactEventKind, ContactSample, ContactThresholds};
 use super::lockstep::{LockstepModel, ModelSample};
+use super::noise_floor::{FloorReport, NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
 use super::pneumatics::RIG_PISTON_AREA_M2;
+use super::sensor_model::SensorGeometry;
 use super::window::{SampleStats, WindowAccumulator, WindowReport, DEFAULT_WINDOW_SAMPLES};
-use super::{check, ConfigError, ACCEL_CHANNELS, DISC_X, PAD_X, SAMPLE_RATE_HZ};
+use super::{check, ConfigError, ACCEL_CHANNELS, DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X, SAMPLE_RATE_HZ};
 use crate::scene::{Scene, SceneError, DEFAULT_SCENE};
 use crate::stickslip::Regime;
 
@@ -51,6 +53,12 @@ pub struct EstimatorConfig {
     pub piston_area_m2: f64,
     /// Band speed for the lockstep model [m/s] (the rig does not measure it).
     pub band_speed_m_s: f64,
+    /// Friction-face term of the relative acceleration [-]: a_rel = pad_x - disc_x +
+    /// `face_coefficient` (pad_lead - pad_trail). With face kinematics the face slides at
+    /// x' + s w phi' against the band, and phi'' = (pad_lead - pad_trail) / (r_lead - r_trail)
+    /// from the edge sensors (a floating pad's y'' cancels in the difference), so the
+    /// coefficient is s w / (r_lead - r_trail); 0 without the face (the thesis's pivot).
+    pub face_coefficient: f32,
 }
 
 impl EstimatorConfig {
@@ -64,6 +72,21 @@ impl EstimatorConfig {
             groan_band_hz: GROAN_BAND_HZ,
             piston_area_m2: RIG_PISTON_AREA_M2,
             band_speed_m_s: scene.v,
+            face_coefficient: Self::face_coefficient_for(scene, &SensorGeometry::RIG) as f32,
+        }
+    }
+
+    /// s w / (r_lead - r_trail) for a scene with face kinematics and rotation, 0 otherwise (or
+    /// where the sensors' geometry is invalid for the scene, or both sit at one lever arm).
+    pub fn face_coefficient_for(scene: &Scene, geometry: &SensorGeometry) -> f64 {
+        if !(scene.face && scene.rotation) {
+            return 0.0;
+        }
+        match geometry.arms(scene) {
+            Ok((r_trail, r_lead)) if r_lead != r_trail => {
+                crate::coefficients::Coefficients::of(scene).s * scene.w / (r_lead - r_trail)
+            }
+            _ => 0.0,
         }
     }
 
@@ -90,6 +113,30 @@ impl EstimatorConfig {
             "contact.bias_gain",
             "must satisfy 0 <= gain < 1",
             c.bias_gain as f64,
+        )?;
+        check(
+            c.onset_fraction.is_finite() && c.onset_fraction >= 0.0 && c.onset_fraction < 1.0,
+            "contact.onset_fraction",
+            "must satisfy 0 <= fraction < 1",
+            c.onset_fraction as f64,
+        )?;
+        check(
+            c.onset_max_factor.is_finite() && c.onset_max_factor >= 1.0,
+            "contact.onset_max_factor",
+            "must be >= 1",
+            c.onset_max_factor as f64,
+        )?;
+        check(
+            c.stick_ratio.is_finite() && c.stick_ratio > 0.0 && c.stick_ratio <= 1.0,
+            "contact.stick_ratio",
+            "must satisfy 0 < ratio <= 1",
+            c.stick_ratio as f64,
+        )?;
+        check(
+            self.face_coefficient.is_finite(),
+            "face_coefficient",
+            "must be finite",
+            self.face_coefficient as f64,
         )?;
         check(self.window_samples >= 1, "window_samples", "must be >= 1", self.window_samples as f64)?;
         check(
@@ -140,6 +187,9 @@ pub struct Estimator {
     window: WindowAccumulator,
     model: LockstepModel,
     model_halt_seen: bool,
+    /// The noise floor being measured (between [`Estimator::start_floor`] and
+    /// [`Estimator::finish_floor`]).
+    floor: Option<NoiseFloor>,
     sample: u64,
 }
 
@@ -168,13 +218,14 @@ impl Estimator {
         Estimator {
             cfg: *cfg,
             contact: ContactEstimator::new(cfg.contact, cfg.fs_hz),
-            last_contact: ContactSample { regime: Regime::Stick, v_r_m_s: 0.0, a_rel_m_s2: 0.0, event: None },
+            last_contact: ContactSample { regime: Regime::Stick, v_r_m_s: 0.0, a_rel_m_s2: 0.0, event: None, lead_samples: 0 },
             groan,
             groan_state: [[SectionState::default(); GROAN_SECTIONS]; ACCEL_CHANNELS],
             last_groan: [0.0; ACCEL_CHANNELS],
             window: WindowAccumulator::new(cfg.window_samples, cfg.fs_hz),
             model: LockstepModel::stopped(),
             model_halt_seen: false,
+            floor: None,
             sample: 0,
         }
     }
@@ -209,6 +260,47 @@ impl Estimator {
         self.model_halt_seen = false;
         self.window.set_model_halt(None);
         self.model.start(template, actuator_bar, self.cfg.piston_area_m2, self.cfg.band_speed_m_s, self.cfg.fs_hz)
+    }
+
+    /// Starts measuring the noise floor (the clamped, band-still phase): every valid sample
+    /// until [`Self::finish_floor`] adds to it. Restarts a floor already under way.
+    pub fn start_floor(&mut self) {
+        self.floor = Some(NoiseFloor::new());
+    }
+
+    /// The floor under way, if any.
+    pub fn floor(&self) -> Option<&NoiseFloor> {
+        self.floor.as_ref()
+    }
+
+    /// Ends the floor and, if it has at least [`MIN_FLOOR_SAMPLES`], designs the contact
+    /// thresholds from it ([`ContactThresholds::from_noise_floor`] with a_rel's sigma and
+    /// `quantum_m_s2`, the larger count of pad_x and disc_x [m/s^2]; 0 for a continuous
+    /// input), restarts the contact estimator in stick with a_rel's mean as its bias, and
+    /// returns the floor with the thresholds. `None` (nothing changed) without a floor or with
+    /// too few samples. Takes a square root per value and a few divisions: between samples.
+    pub fn finish_floor(&mut self, quantum_m_s2: f32) -> Option<(FloorReport, ContactThresholds)> {
+        let f = self.floor.take()?;
+        if f.samples() < MIN_FLOOR_SAMPLES {
+            return None;
+        }
+        let r = f.report();
+        let th = ContactThresholds::from_noise_floor(r.sigma_m_s2[A_REL] as f64, quantum_m_s2 as f64, self.cfg.fs_hz);
+        self.set_contact(th, r.mean_m_s2[A_REL]);
+        Some((r, th))
+    }
+
+    /// Replaces the contact thresholds and restarts the contact estimator in stick with
+    /// `bias_m_s2` as the bias of a_rel.
+    pub fn set_contact(&mut self, th: ContactThresholds, bias_m_s2: f32) {
+        self.cfg.contact = th;
+        self.contact = ContactEstimator::new(th, self.cfg.fs_hz);
+        self.contact.set_bias_m_s2(bias_m_s2);
+    }
+
+    /// Drops the floor under way, if any (the clamped phase ended without the band starting).
+    pub fn cancel_floor(&mut self) {
+        self.floor = None;
     }
 
     /// Stops the lockstep model.
@@ -246,7 +338,11 @@ impl Estimator {
             contact.event = None;
             return EstimatorSample { sample, fault: true, contact, model, window_ready: ready };
         }
-        let contact = self.contact.update(a[PAD_X] - a[DISC_X]);
+        let a_rel = a[PAD_X] - a[DISC_X] + self.cfg.face_coefficient * (a[PAD_LEAD] - a[PAD_TRAIL]);
+        if let Some(f) = &mut self.floor {
+            f.add(a, a_rel);
+        }
+        let contact = self.contact.update(a_rel);
         self.last_contact = contact;
         let mut groan = [0.0f32; ACCEL_CHANNELS];
         for (i, g) in groan.iter_mut().enumerate() {
@@ -261,6 +357,7 @@ impl Estimator {
             groan_m_s2: &groan,
             stick: contact.regime == Regime::Stick,
             slip_onset: onset,
+            onset_lead: contact.lead_samples,
             saturated: c.saturation.any_accel(),
             model: model.as_ref(),
         });

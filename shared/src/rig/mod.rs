@@ -28,6 +28,8 @@
 //! - [`bandpass`]: Butterworth band-pass as a biquad cascade (bilinear transform).
 //! - [`contact`]: stick/slip decision and relative velocity from the accelerations.
 //! - [`lockstep`]: the model stepped alongside the measurement, its residual.
+//! - [`noise_floor`]: each channel's bias and noise while nothing moves; the contact
+//!   thresholds designed from it.
 //! - [`window`]: per-window statistics.
 //! - [`estimator`]: the per-sample analysis (contact, band-pass, lockstep, window).
 //! - [`sequencer`]: the valve sequencer and its faults.
@@ -39,6 +41,7 @@ pub mod calibration;
 pub mod contact;
 pub mod estimator;
 pub mod lockstep;
+pub mod noise_floor;
 pub mod pipeline;
 pub mod pneumatics;
 pub mod prng;

@@ -4,6 +4,11 @@
 //! everything the firmware needs for that sample: the calibrated values, the estimate and the
 //! valve outputs. The sequencer ticks once per sample, so its durations are in samples.
 //!
+//! The contact thresholds come from the measurement: while the sequencer is in Clamp (the pad
+//! clamped, the band still) the estimator measures the noise floor; when Clamp ends into Drive
+//! it designs the thresholds from it (`Estimator::finish_floor`, with the larger count of
+//! pad_x and disc_x as the quantum) and reports them in that tick's [`TickOutput::floor`].
+//!
 //! The lockstep model is tied to the record: when the sequencer enters Record, the model is
 //! built from the mean actuator pressure measured during Drive (the clamp load the band starts
 //! under; the current sample's if Drive had none) and the configured band speed; it stops when
@@ -13,7 +18,9 @@
 use super::calibration::{Calibrated, Calibration, Calibrator, Frame};
 use super::estimator::{Estimator, EstimatorConfig, EstimatorSample};
 use super::sequencer::{Command, SeqState, Sequencer, SequencerConfig, SequencerInputs, SequencerOutput};
-use super::{ConfigError, ACTUATOR, BAND};
+use super::contact::ContactThresholds;
+use super::noise_floor::FloorReport;
+use super::{ConfigError, ACTUATOR, BAND, DISC_X, PAD_X};
 use crate::scene::{Scene, SceneError};
 
 /// Everything the rig needs to run.
@@ -43,6 +50,10 @@ pub struct TickOutput {
     /// The lockstep model could not be started at the record's start (the measured load gave
     /// an invalid scene, e.g. a negative pressure): the reason.
     pub model_refused: Option<SceneError>,
+    /// The clamped phase ended into Drive with this sample: the noise floor it measured and
+    /// the contact thresholds designed from it (`None` if it was too short: the thresholds
+    /// stay as configured).
+    pub floor: Option<(FloorReport, ContactThresholds)>,
 }
 
 /// Calibration + estimator + sequencer.
@@ -93,6 +104,7 @@ impl Rig {
         let before = self.sequencer.state();
         let sequencer = self.sequencer.tick(&inputs, command);
         let mut model_refused = None;
+        let mut floor = None;
         if sequencer.state == SeqState::Drive {
             if before != SeqState::Drive {
                 self.drive_bar_sum = 0.0;
@@ -104,6 +116,16 @@ impl Rig {
             }
         }
         if sequencer.changed {
+            if sequencer.state == SeqState::Clamp {
+                self.estimator.start_floor();
+            } else if before == SeqState::Clamp {
+                if sequencer.state == SeqState::Drive {
+                    let sc = self.calibrator.scale();
+                    floor = self.estimator.finish_floor(sc[PAD_X].max(sc[DISC_X]));
+                } else {
+                    self.estimator.cancel_floor();
+                }
+            }
             if sequencer.state == SeqState::Record {
                 let bar = if self.drive_samples > 0 {
                     self.drive_bar_sum as f64 / self.drive_samples as f64
@@ -117,6 +139,6 @@ impl Rig {
                 self.estimator.stop_model();
             }
         }
-        TickOutput { calibrated, estimate, sequencer, model_refused }
+        TickOutput { calibrated, estimate, sequencer, model_refused, floor }
     }
 }

@@ -420,7 +420,22 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
             accel[PAD_LEAD] = accel[PAD_LEAD] + self.y_polarity * ydd;
         }
         self.truth = Truth { accel_m_s2: accel, pressure_bar: self.pressure, regime: Some(regime) };
+        Ok(self.counts_of_truth())
+    }
 
+    /// A frame of the clamped, band-still phase before the run: nothing moves (accelerations
+    /// 0, the model not stepped, regime stick), the sensors' noise and the converter as in
+    /// [`Self::next_frame`] (the noise stream goes on, so a run after quiet frames sees other
+    /// noise than one without).
+    pub fn quiet_frame(&mut self) -> Frame {
+        self.truth = Truth { accel_m_s2: [T::zero(); ACCEL_CHANNELS], pressure_bar: self.pressure, regime: Some(Regime::Stick) };
+        self.counts_of_truth()
+    }
+
+    /// The frame of `self.truth`: noise, the sensors' range, the converter.
+    #[allow(clippy::needless_range_loop)] // parallel per-channel arrays
+    fn counts_of_truth(&mut self) -> Frame {
+        let accel = self.truth.accel_m_s2;
         let k = &self.to_counts;
         let mut frame = Frame::default();
         for i in 0..ACCEL_CHANNELS {
@@ -440,7 +455,7 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
             let c = ACCEL_CHANNELS + j;
             frame.counts[c] = Self::count(k.offset[c] + p * k.gain[c], k.max_count);
         }
-        Ok(frame)
+        frame
     }
 
     /// Nearest count (half up), clamped to [0, max].

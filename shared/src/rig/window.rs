@@ -112,6 +112,10 @@ pub struct SampleStats<'a> {
     pub groan_m_s2: &'a [f32; ACCEL_CHANNELS],
     pub stick: bool,
     pub slip_onset: bool,
+    /// At a slip onset: the samples before it that already belonged to the slip
+    /// (`ContactSample::lead_samples`): they leave the stick count (as far as this window
+    /// counted them) and the onset is dated back by them.
+    pub onset_lead: u32,
     pub saturated: bool,
     pub model: Option<&'a ModelSample>,
 }
@@ -276,7 +280,9 @@ impl WindowAccumulator {
             w.stick += 1;
         }
         if s.slip_onset {
-            w.onsets.add(at);
+            let lead = s.onset_lead.min(w.stick);
+            w.stick -= lead;
+            w.onsets.add(at.saturating_sub(s.onset_lead));
         }
         if s.saturated {
             w.saturated += 1;

@@ -174,6 +174,7 @@ fn run_core(scene: &Scene, noise: &Noise, cfg: &CoreConfig, estop: bool) -> Resu
             estimate: out.estimate,
             sequencer: out.sequencer,
             model_refused: None,
+            floor: out.floor,
         };
         digest_tick(&mut d, &tick);
         d.write_u8(out.before.code());

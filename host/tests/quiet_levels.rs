@@ -1,0 +1,91 @@
+//! The estimator at Table 3.1's signal levels (issue 13): the six `rig_quiet_*` cases (pad_x
+//! peak-to-peak 2.1 to 3.7 m/s^2) through the virtual rig with the front-end gain 10 (7.9
+//! mm/s^2 per count) and the thresholds the estimator designs itself from the noise floor of
+//! the clamped, band-still phase; and `analyze` with no flag but the file on a
+//! high-resolution recording. Reference: the model's own regime and transition times (never
+//! the estimator's output).
+
+use std::process::Command;
+
+use serde_json::Value;
+
+fn stickslip(args: &[&str]) -> Value {
+    let out = Command::new(env!("CARGO_BIN_EXE_stickslip")).args(args).output().expect("runs");
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
+
+const CASES: [&str; 6] = ["push_trail", "push_center", "push_lead", "pull_trail", "pull_center", "pull_lead"];
+
+#[test]
+fn six_quiet_cases_at_gain_10_with_thresholds_from_the_floor() {
+    for case in CASES {
+        let v = stickslip(&["sil", &format!("rig_quiet_{case}"), "--gain", "10", "--json"]);
+        let pp = v["channels"]["pad_x"]["pp"]["true"].as_f64().unwrap();
+        assert!((1.0..=4.0).contains(&pp), "{case}: pad_x pp {pp} is not at Table 3.1's levels");
+        let sf = &v["stick_fraction"];
+        let (est, tru) = (sf["estimated"].as_f64().unwrap(), sf["true"].as_f64().unwrap());
+        let hz = &v["stick_slip_hz"];
+        let (he, ht) = (hz["estimated"].as_f64().unwrap(), hz["true"].as_f64().unwrap());
+        eprintln!("{case}: pad_x pp {pp:.3}, stick {est:.4} vs {tru:.4}, {he:.3} vs {ht:.3} Hz");
+        assert!((est - tru).abs() <= 0.02, "{case}: stick fraction {est} vs true {tru}");
+        assert!((he / ht - 1.0).abs() <= 0.01, "{case}: stick-slip frequency {he} vs true {ht}");
+    }
+}
+
+#[test]
+fn at_the_rigs_gain_0_2_the_quiet_levels_are_a_few_counts() {
+    // the same case at the rig's default gain: the floor is flat (no count changes), the
+    // thresholds come from the quantum (2 counts = 0.79 m/s^2), and the estimate is far off:
+    // this is why the gain is a calibration setting
+    let v = stickslip(&["sil", "rig_quiet_push_center", "--json"]);
+    let sf = &v["stick_fraction"];
+    let (est, tru) = (sf["estimated"].as_f64().unwrap(), sf["true"].as_f64().unwrap());
+    assert!((est - tru).abs() > 0.02, "stick fraction {est} vs {tru}: expected the 12-bit front end at gain 0.2 to fail");
+}
+
+#[test]
+fn analyze_with_no_flag_on_a_high_resolution_recording() {
+    let dir = std::env::temp_dir().join(format!("stickslip-quiet-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for case in ["push_trail", "pull_lead"] {
+        let csv = dir.join(format!("{case}.csv"));
+        let csv_s = csv.to_str().unwrap();
+        let scene = format!("rig_quiet_{case}");
+        // truth over the whole run (stats from 0); the recording adds 0.1 s of quiet stick
+        let v = stickslip(&["sil", &scene, "--front-end", "ideal", "--stats-from", "0", "--csv", csv_s, "--json"]);
+        let n_run = v["samples"].as_f64().unwrap();
+        let n_quiet = (0.1f64 * 25_600.0).round();
+        let tru = (v["stick_fraction"]["true"].as_f64().unwrap() * n_run + n_quiet) / (n_run + n_quiet);
+        let ht = v["stick_slip_hz"]["true"].as_f64().unwrap();
+        let a = stickslip(&["analyze", csv_s, "--json"]);
+        assert_eq!(a["estimator"]["thresholds_from"], "floor", "{case}");
+        assert!(a["estimator"]["undecided"].is_null(), "{case}: {}", a["estimator"]["undecided"]);
+        let est = a["stick_fraction"].as_f64().unwrap();
+        let he = a["stick_slip_hz"].as_f64().unwrap();
+        eprintln!("{case}: analyze stick {est:.4} vs {tru:.4}, {he:.3} vs {ht:.3} Hz, floor {}", a["estimator"]["floor"]);
+        assert!((est - tru).abs() <= 0.02, "{case}: stick fraction {est} vs true {tru}");
+        assert!((he / ht - 1.0).abs() <= 0.01, "{case}: frequency {he} vs true {ht}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_dead_pad_x_is_reported_and_the_estimator_does_not_decide() {
+    let dir = std::env::temp_dir().join(format!("stickslip-dead-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("dead.csv");
+    let mut s = String::from("t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2\n");
+    for i in 0..8000 {
+        let t = i as f64 / 25_600.0;
+        let w = (2.0 * std::f64::consts::PI * 120.0 * t).sin();
+        s.push_str(&format!("{t},{},0,{},{}\n", 0.3 * w, 0.1 * w, 0.2 * w));
+    }
+    std::fs::write(&csv, s).unwrap();
+    let a = stickslip(&["analyze", csv.to_str().unwrap(), "--json", "--quiet", "0:0.05"]);
+    assert!(a["stick_fraction"].is_null());
+    let why = a["estimator"]["undecided"].as_str().unwrap();
+    assert!(why.contains("pad_x flat"), "{why}");
+    assert_eq!(a["estimator"]["health"]["pad_x"][0], "flat");
+    let _ = std::fs::remove_dir_all(&dir);
+}
