@@ -257,10 +257,12 @@ pub struct SampleOut {
     pub sequencer: SequencerOutput,
     /// This sample entered Record: the estimator was replaced by a fresh one with the model.
     pub record_started: bool,
-    /// This sample ended Clamp into Drive: the noise floor measured while clamped and the
-    /// contact thresholds designed from it (they hold from here on, and in every record until
-    /// the next clamp measures again).
-    pub floor: Option<(FloorReport, ContactThresholds)>,
+    /// This sample ended Clamp into Drive with a floor long enough to design from: the noise
+    /// floor measured while clamped and the contact thresholds designed from it (they hold
+    /// from here on, and in every record until the next clamp measures again) wait for
+    /// [`RigCore::take_floor`]. A flag, not the floor itself: the 100 bytes of the floor copied
+    /// out with every sample cost 160 instructions per sample (the `memcpy`).
+    pub floor_ready: bool,
 }
 
 /// The command the single start/stop/reset button gives in a state: start from Idle, stop
@@ -303,6 +305,8 @@ pub struct RigCore {
     /// The contact thresholds and a_rel bias the last clamp's noise floor designed (each
     /// record's estimator starts with them).
     floor_design: Option<(ContactThresholds, f32)>,
+    /// The last floor and its design, until [`RigCore::take_floor`].
+    floor_out: Option<(FloorReport, ContactThresholds)>,
 }
 
 impl RigCore {
@@ -358,6 +362,7 @@ impl RigCore {
             addr_of_mut!((*p).pending).write(None);
             addr_of_mut!((*p).model_scene).write(model_scene);
             addr_of_mut!((*p).floor_design).write(None);
+            addr_of_mut!((*p).floor_out).write(None);
             write_new_estimator(addr_of_mut!((*p).estimator), &ecfg)?;
             copy_estimator(addr_of_mut!((*p).armed), addr_of_mut!((*p).estimator));
             start_model(&mut (*p).armed, &cfg.model_template, setpoint).map_err(CoreError::Model)?;
@@ -388,6 +393,7 @@ impl RigCore {
             pending: _,
             model_scene: _,
             floor_design: _,
+            floor_out: _,
         } = self;
     }
 
@@ -487,13 +493,13 @@ impl RigCore {
         };
         let sequencer = self.sequencer.tick(&inputs, command);
         let mut record_started = false;
-        let mut floor = None;
+        let mut floor_ready = false;
         if sequencer.changed {
             self.ticks_in_state = 1;
             if sequencer.state == SeqState::Clamp {
                 self.estimator.start_floor();
             } else if before == SeqState::Clamp {
-                floor = self.end_floor(sequencer.state == SeqState::Drive);
+                floor_ready = self.end_floor(sequencer.state == SeqState::Drive);
             }
             if sequencer.state == SeqState::Record {
                 self.start_record();
@@ -504,23 +510,30 @@ impl RigCore {
         } else {
             self.ticks_in_state = self.ticks_in_state.saturating_add(1);
         }
-        SampleOut { calibrated, estimate, before, sequencer, record_started, floor }
+        SampleOut { calibrated, estimate, before, sequencer, record_started, floor_ready }
     }
 
     /// Clamp ended: into Drive, the floor designs the contact thresholds (kept for the
-    /// records' estimators); otherwise it is dropped.
+    /// records' estimators, and for [`Self::take_floor`]); otherwise it is dropped. True if a
+    /// design was made.
     #[inline(never)]
-    fn end_floor(&mut self, into_drive: bool) -> Option<(FloorReport, ContactThresholds)> {
+    fn end_floor(&mut self, into_drive: bool) -> bool {
         if !into_drive {
             self.estimator.cancel_floor();
-            return None;
+            return false;
         }
         let sc = self.calibrator.scale();
         let design = self.estimator.finish_floor(sc[PAD_X].max(sc[DISC_X]));
         if let Some((r, th)) = design {
             self.floor_design = Some((th, r.mean_m_s2[A_REL]));
         }
-        design
+        self.floor_out = design;
+        design.is_some()
+    }
+
+    /// The last floor designed (see [`SampleOut::floor_ready`]), once.
+    pub fn take_floor(&mut self) -> Option<(FloorReport, ContactThresholds)> {
+        self.floor_out.take()
     }
 
     /// The running estimator gives way to a copy of the armed one; a window it closed and

@@ -280,7 +280,7 @@ impl ContactEstimator {
     }
 
     /// Takes one sample of a_rel = pad_x - disc_x [m/s^2] (finite: the caller checks).
-    #[inline]
+    #[inline(always)] // the per-sample path: compiled where it is called (see Estimator::update)
     pub fn update(&mut self, a_rel_m_s2: f32) -> ContactSample {
         let th = &self.th;
         let a = a_rel_m_s2 - self.bias;

@@ -187,6 +187,22 @@ pub fn digest_tick(d: &mut Fnv1a64, out: &TickOutput) {
     d.write_u8(s.command.map_or(0, |r| r.code()));
     d.write_u8(s.changed as u8);
     d.write_u8(out.model_refused.is_some() as u8);
+    d.write_u32(e.contact.lead_samples);
+    match &out.floor {
+        None => d.write_u8(0),
+        Some((r, th)) => {
+            d.write_u8(1);
+            d.write_u32(r.samples);
+            for group in [&r.mean_m_s2, &r.sigma_m_s2, &r.pp_m_s2] {
+                for v in group {
+                    d.write_f32(*v);
+                }
+            }
+            for v in [th.slip_onset_m_s2, th.stick_max_m_s2, th.v_tol_m_s, th.v_reversal_m_s] {
+                d.write_f32(v);
+            }
+        }
+    }
 }
 
 /// Feeds one window report (item 5 of the module documentation).

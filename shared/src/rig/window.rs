@@ -260,7 +260,7 @@ impl WindowAccumulator {
 
     /// Adds a valid sample; returns true when it closes the window (its report is then
     /// waiting in [`Self::take_report`]).
-    #[inline]
+    #[inline(always)] // the per-sample path: compiled where it is called (see Estimator::update)
     pub fn add(&mut self, s: &SampleStats<'_>) -> bool {
         let w = &mut self.sums;
         let at = w.n;

@@ -169,12 +169,13 @@ fn run_core(scene: &Scene, noise: &Noise, cfg: &CoreConfig, estop: bool) -> Resu
         let command: Option<Command> =
             if i == 0 || (estop && i == 11_000) { Some(button_command(core.state())) } else { None };
         let out = core.sample(&frame, &digital, command);
+        let floor = if out.floor_ready { core.take_floor() } else { None };
         let tick = TickOutput {
             calibrated: out.calibrated,
             estimate: out.estimate,
             sequencer: out.sequencer,
             model_refused: None,
-            floor: out.floor,
+            floor,
         };
         digest_tick(&mut d, &tick);
         d.write_u8(out.before.code());
