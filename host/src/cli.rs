@@ -110,10 +110,20 @@ one bin; groan-band RMS [m/s^2]: RMS of the rig's 100-500 Hz
 band-pass (4th-order Butterworth) output. Stick fraction [-] and stick-slip frequency [Hz]:
 from the rig's estimator (shared::rig::estimator, the firmware's code) fed every row as
 calibrated accelerations: samples estimated in stick / samples; (n - 1) / (t_last onset -
-t_first onset) over its n stick-to-slip onsets (null with fewer than two). Its thresholds come
-from a breakaway jump J (slip onset above J/2, stick at most J/4 of pad_x - disc_x):
---breakaway-jump, else (mu_s - mu_k) N0 / m of --scene (push_center: 33.2 m/s^2). A recording
-whose pad_x swings less than J/2 is all stick: set J to the breakaway jump seen in pad_x.
+t_first onset) over its n stick-to-slip onsets (null with fewer than two); each onset dated
+back to where a_rel first left the noise. Its thresholds come from the noise floor of a quiet
+stretch (nothing moves): --quiet FROM:TO, else the first run of 256 rows or more in the first
+4096 whose variance (blocks of 32 rows) is at most 4 x the smallest block's. Slip onset =
+max(6 sigma of a_rel = pad_x - disc_x (+ the face term), 2 counts, 1e-4 m/s^2), stick at half
+of it, then adaptive: 1/16 of the slips' mean peak |a_rel|, at most 4 x the designed onset
+(shared::rig::contact). Without a quiet stretch, or with --breakaway-jump J: fixed thresholds
+from J (onset J/2, stick J/4; J = (mu_s - mu_k) N0 / m of --scene, push_center: 33.2 m/s^2).
+
+Channel health (the rig's rule, shared::rig::health): a channel is flat (no sample changed),
+saturated (samples at the range), or noisier than the signal (RMS about the floor's mean below
+2 sigma of its floor; never said of disc_x, which has no signal of its own when the band runs
+steadily). With pad_x any of these, or disc_x saturated, the estimator cannot decide: the
+summary says why and the stick fraction and frequency are null.
 
 --json prints {\"file\", \"channels\": {\"disc_x\": {\"pp\", \"rms\", \"peak_hz\", \"groan_rms\",
 \"mean\", \"min\", \"max\"}, \"pad_x\": ..., \"pad_trail\": ..., \"pad_lead\": ...},
@@ -122,7 +132,10 @@ whose pad_x swings less than J/2 is all stick: set J to the breakaway jump seen 
 \"time_resolution_s\" (printed resolution of the time column), \"samples_at_range\" (any channel
 at or beyond 700 m/s^2), \"spectrum\": {\"method\", \"window\", \"overlap\", \"segment_samples\",
 \"segments\", \"resolution_hz\"}, \"estimator\": {\"breakaway_jump_m_s2\", \"slip_onset_m_s2\",
-\"stick_max_m_s2\", \"setup_rate_hz\"}}; m/s^2, Hz, s.
+\"stick_max_m_s2\", \"setup_rate_hz\", \"thresholds_from\" (\"floor\" or \"jump\"), \"floor\": null or
+{\"from_s\", \"to_s\", \"chosen\" (\"auto\" or \"given\"), \"samples\", \"sigma_m_s2\" (per channel),
+\"a_rel_sigma_m_s2\", \"a_rel_mean_m_s2\", \"quantum_m_s2\"}, \"undecided\" (null or why),
+\"health\" (per channel, a list of words)}}; m/s^2, Hz, s.
 
 --plots DIR writes disc_x.svg, pad_x.svg, pad_trail.svg, pad_lead.svg (acceleration [m/s^2]
 against time [s], like the thesis's Fig. 3.2 to 3.5) and spectra.svg (the four PSDs
@@ -139,9 +152,11 @@ default dt): the model's motion gives pad_x = x'', pad_trail and pad_lead = r ph
 it floats, k_pivot finite), disc_x = the band's x_b'' (band = true; else 0: the band runs at
 constant speed); then seeded white noise (--noise, bounded at 3.46 sigma), clipping at +-700
 m/s^2, 100 mV/g through a front-end gain of 0.2 into the 12-bit ADC (0.395 m/s^2 per count),
-calibration back to m/s^2, and the same analysis as `analyze` (the rig's estimator with the
-scene's breakaway jump, or --breakaway-jump). Statistics over t >= stats_from (default 0.5 s
-of a 1 s run). A scene with mu_s = mu_k has no breakaway jump: give --breakaway-jump.
+calibration back to m/s^2, and the same analysis as `analyze` (the rig's estimator with its
+thresholds from the noise floor of the --quiet-lead phase, default 0.1 s of quiet frames before
+t = 0; with --quiet-lead 0, the scene's breakaway jump; --breakaway-jump fixes them).
+--gain sets the front-end gain per channel (the amplifier option of the rig's wiring: the
+calibration divides it out). Statistics over t >= stats_from (default 0.5 s of a 1 s run).
 
 Truth from the model run itself: its regime at each sample (stick fraction), the exact times
 of its stick-to-slip transitions ((n - 1) / (t_n - t_1)), the noise-free accelerations before

@@ -117,7 +117,7 @@ fn expected(timestamp_us: u64, r: &Record<'_>) -> Expected {
             "boot",
             vec![
                 ("fw", s(b.fw)),
-                ("schema", V::U(1)),
+                ("schema", V::U(2)),
                 ("reset", s(b.reset.name())),
                 ("sysclk_hz", V::U(b.sysclk_hz.into())),
                 ("fs_hz", V::F32(b.fs_hz)),
@@ -255,6 +255,32 @@ fn expected(timestamp_us: u64, r: &Record<'_>) -> Expected {
                 ],
             )
         }
+        Record::Floor { n, record, floor: f, onset_m_s2, stick_m_s2 } => (
+            "info",
+            "floor",
+            vec![
+                ("n", V::U(n)),
+                ("rec", V::U(record.into())),
+                ("samples", V::U(f.samples.into())),
+                ("mean", V::F32s(f.mean_m_s2.to_vec())),
+                ("sigma", V::F32s(f.sigma_m_s2.to_vec())),
+                ("pp", V::F32s(f.pp_m_s2.to_vec())),
+                ("onset", V::F32(onset_m_s2)),
+                ("stick", V::F32(stick_m_s2)),
+            ],
+        ),
+        Record::Health { n, record, index, flat, noisy, undecided } => (
+            "warn",
+            "health",
+            vec![
+                ("n", V::U(n)),
+                ("rec", V::U(record.into())),
+                ("idx", V::U(index.into())),
+                ("flat", V::U(flat.into())),
+                ("noisy", V::U(noisy.into())),
+                ("undecided", V::B(undecided)),
+            ],
+        ),
         Record::Overrun { n, count } => ("warn", "overrun", vec![("n", V::U(n)), ("count", V::U(count.into()))]),
         Record::Stall { n, ms, adc_ovr } => {
             ("error", "stall", vec![("n", V::U(n)), ("ms", V::U(ms.into())), ("adc_ovr", V::B(adc_ovr))])
@@ -368,6 +394,8 @@ fn the_firmware_log_decodes_to_the_records_the_host_computes() {
         assert_eq!(count(k), n, "{k} records");
     }
     assert!(count("window") >= 4, "windows: {}", count("window"));
+    assert_eq!(count("floor"), 1, "floor records");
+    assert!(count("health") >= 1, "health records: {}", count("health"));
     assert!(count("event") >= 20, "events: {}", count("event"));
     assert!(count("command") >= 2 && count("state") >= 5, "commands {} states {}", count("command"), count("state"));
     let kinds: Vec<&str> = want.iter().filter(|e| e.kind == "state").map(|e| match &e.fields[3].1 {
@@ -385,8 +413,34 @@ fn the_session_makes_every_record_the_schema_needs() {
     let recs = host_session();
     let kinds: Vec<&str> = recs.iter().map(|r| r.kind).collect();
     assert_eq!(&kinds[..5], ["boot", "config_error", "boot", "armed", "start"]);
+    eprintln!("record kinds: {:?}", {
+        let mut k = kinds.clone();
+        k.sort();
+        k.dedup();
+        k.iter().map(|x| (*x, kinds.iter().filter(|y| *y == x).count())).collect::<Vec<_>>()
+    });
     // the refused configuration names the field
     assert!(matches!(&recs[1].fields[0].1, V::S(f) if f == "beta"), "{:?}", recs[1].fields);
+    // the floor: 6 batches of the clamp (the first sample of Clamp is its entering tick),
+    // a_rel's onset from its sigma (6 sigma of two channels of 0.5 m/s^2 noise: about 4 m/s^2)
+    let floor = recs.iter().find(|r| r.kind == "floor").expect("a floor record");
+    let fget = |k: &str| floor.fields.iter().find(|(n, _)| *n == k).map(|(_, v)| v.clone()).unwrap();
+    assert!(matches!(fget("samples"), V::U(n) if (256..=384).contains(&n)), "{:?}", fget("samples"));
+    match (fget("sigma"), fget("onset")) {
+        (V::F32s(sig), V::F32(onset)) => {
+            assert!(sig[..4].iter().all(|s| (0.35..0.65).contains(s)), "sigmas {sig:?}");
+            assert!((onset - 6.0 * sig[4]).abs() <= 1e-4 * onset, "onset {onset} vs 6 sigma {}", 6.0 * sig[4]);
+        }
+        other => panic!("floor fields {other:?}"),
+    }
+    // the dead trailing-edge sensor, and only it, is reported flat after every record window;
+    // it does not stop the contact decision
+    for h in recs.iter().filter(|r| r.kind == "health") {
+        let hget = |k: &str| h.fields.iter().find(|(n, _)| *n == k).map(|(_, v)| v.clone()).unwrap();
+        assert!(matches!(hget("flat"), V::U(4)), "{:?}", h.fields);
+        assert!(matches!(hget("noisy"), V::U(4)), "a flat channel has no signal either: {:?}", h.fields);
+        assert!(matches!(hget("undecided"), V::B(false)), "{:?}", h.fields);
+    }
     // timestamps never go back
     assert!(recs.windows(2).all(|w| w[0].timestamp_us <= w[1].timestamp_us));
     // each window's events: logged ones plus dropped ones (the limit is never reached here)

@@ -204,6 +204,26 @@ pub fn log(r: &Record<'_>) {
                 x.batch_cycles_budget
             );
         }
+        Record::Floor { n, record, floor: f, onset_m_s2, stick_m_s2 } => info!(
+            "floor n={=u64} rec={=u32} samples={=u32} mean={} sigma={} pp={} onset={=f32} stick={=f32}",
+            n,
+            record,
+            f.samples,
+            f.mean_m_s2,
+            f.sigma_m_s2,
+            f.pp_m_s2,
+            onset_m_s2,
+            stick_m_s2
+        ),
+        Record::Health { n, record, index, flat, noisy, undecided } => warn!(
+            "health n={=u64} rec={=u32} idx={=u32} flat={=u8} noisy={=u8} undecided={=bool}",
+            n,
+            record,
+            index,
+            flat,
+            noisy,
+            undecided
+        ),
         Record::Overrun { n, count } => warn!("overrun n={=u64} count={=u32}", n, count),
         Record::Stall { n, ms, adc_ovr } => error!("stall n={=u64} ms={=u32} adc_ovr={=bool}", n, ms, adc_ovr),
         Record::Input { name, active } => warn!("input name={=str} active={=bool}", name, active),

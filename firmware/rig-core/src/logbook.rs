@@ -12,13 +12,15 @@
 //! `crate::` paths.
 
 use stickslip_model::rig::contact::ContactEvent;
+use stickslip_model::rig::health::ChannelHealth;
+use stickslip_model::rig::noise_floor::FloorReport;
 use stickslip_model::rig::sequencer::{Command, CommandResult, SeqState, Valves};
 
 use super::rig_core::{ClosedWindow, RigCore, SampleOut};
 
 /// Version of the record layout, printed in the `boot` record. Keep names, field names and
 /// field order stable; add fields only at the end of a record and bump this when one changes.
-pub const SCHEMA: u32 = 1;
+pub const SCHEMA: u32 = 2;
 
 /// Why the chip last reset (the firmware reads RCC_CSR once at boot).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -101,6 +103,14 @@ pub enum Record<'a> {
     Event { n: u64, record: u32, event: ContactEvent, v_r_m_s: f32, a_rel_m_s2: f32 },
     /// The statistics of one window.
     Window { window: &'a ClosedWindow, extras: WindowExtras },
+    /// The clamped phase ended into Drive: the noise floor it measured (per accelerometer and
+    /// a_rel: mean, sigma and peak-to-peak [m/s^2] over `samples`) and the contact thresholds
+    /// designed from it (slip onset and stick level [m/s^2]), in force from here on.
+    Floor { n: u64, record: u32, floor: FloorReport, onset_m_s2: f32, stick_m_s2: f32 },
+    /// A window of a record on which an accelerometer is flat or noisier than the signal
+    /// (masks: bit i for channel i, in the order disc_x, pad_x, pad_trail, pad_lead);
+    /// `undecided`: the window's stick fraction and frequency are a guess.
+    Health { n: u64, record: u32, index: u32, flat: u8, noisy: u8, undecided: bool },
     /// The DMA ring was overwritten before it was read (`count` since boot).
     Overrun { n: u64, count: u32 },
     /// No frames for `ms` milliseconds: valves vented, the watchdog will reset the chip.
@@ -196,11 +206,22 @@ impl Logbook {
         sink.record(&Record::Overrun { n: self.n, count: self.overruns });
     }
 
-    /// After a batch of frames that took `cycles` core cycles: the record of every window the
-    /// batch closed (their divisions and square roots are done here, outside the per-sample
-    /// loop). The event rate limit and the batch maximum restart with each window.
+    /// After a batch of frames that took `cycles` core cycles: the floor record if the batch
+    /// ended a clamp into Drive, and the record of every window the batch closed (their
+    /// divisions and square roots are done here, outside the per-sample loop), with a health
+    /// record after a record's window on which a channel is flat or noisier than the signal.
+    /// The event rate limit and the batch maximum restart with each window.
     pub fn end_batch<S: RecordSink>(&mut self, sink: &mut S, core: &mut RigCore, cycles: u32) {
         self.batch_cycles_max = self.batch_cycles_max.max(cycles);
+        if let Some((floor, th)) = core.take_floor() {
+            sink.record(&Record::Floor {
+                n: self.n,
+                record: core.record(),
+                floor,
+                onset_m_s2: th.slip_onset_m_s2,
+                stick_m_s2: th.stick_max_m_s2,
+            });
+        }
         while let Some(w) = core.take_window() {
             let extras = WindowExtras {
                 n: self.n,
@@ -212,6 +233,19 @@ impl Logbook {
                 batch_cycles_budget: self.batch_cycles_budget,
             };
             sink.record(&Record::Window { window: &w, extras });
+            if core.state() == SeqState::Record {
+                let h = core.window_health(&w.report);
+                if !h.ok() {
+                    sink.record(&Record::Health {
+                        n: self.n,
+                        record: w.record,
+                        index: w.report.index,
+                        flat: h.mask(ChannelHealth::FLAT),
+                        noisy: h.mask(ChannelHealth::NOISY),
+                        undecided: h.undecidable(),
+                    });
+                }
+            }
             self.events_logged = 0;
             self.events_dropped = 0;
             self.batch_cycles_max = 0;

@@ -37,6 +37,7 @@ use stickslip_model::rig::pipeline::DigitalInputs;
 use stickslip_model::rig::sequencer::{
     Command, RecordEnd, SeqState, Sequencer, SequencerConfig, SequencerInputs, SequencerOutput,
 };
+use stickslip_model::rig::health::{ChannelHealth, HealthReport};
 use stickslip_model::rig::noise_floor::{FloorReport, A_REL};
 use stickslip_model::rig::window::WindowReport;
 use stickslip_model::rig::{ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, DISC_X, PAD_X, PRESSURE_CHANNELS};
@@ -307,6 +308,8 @@ pub struct RigCore {
     floor_design: Option<(ContactThresholds, f32)>,
     /// The last floor and its design, until [`RigCore::take_floor`].
     floor_out: Option<(FloorReport, ContactThresholds)>,
+    /// The last floor designed from (for the channels' health in the records' windows).
+    floor_last: Option<FloorReport>,
 }
 
 impl RigCore {
@@ -363,6 +366,7 @@ impl RigCore {
             addr_of_mut!((*p).model_scene).write(model_scene);
             addr_of_mut!((*p).floor_design).write(None);
             addr_of_mut!((*p).floor_out).write(None);
+            addr_of_mut!((*p).floor_last).write(None);
             write_new_estimator(addr_of_mut!((*p).estimator), &ecfg)?;
             copy_estimator(addr_of_mut!((*p).armed), addr_of_mut!((*p).estimator));
             start_model(&mut (*p).armed, &cfg.model_template, setpoint).map_err(CoreError::Model)?;
@@ -394,6 +398,7 @@ impl RigCore {
             model_scene: _,
             floor_design: _,
             floor_out: _,
+            floor_last: _,
         } = self;
     }
 
@@ -526,6 +531,7 @@ impl RigCore {
         let design = self.estimator.finish_floor(sc[PAD_X].max(sc[DISC_X]));
         if let Some((r, th)) = design {
             self.floor_design = Some((th, r.mean_m_s2[A_REL]));
+            self.floor_last = Some(r);
         }
         self.floor_out = design;
         design.is_some()
@@ -534,6 +540,17 @@ impl RigCore {
     /// The last floor designed (see [`SampleOut::floor_ready`]), once.
     pub fn take_floor(&mut self) -> Option<(FloorReport, ContactThresholds)> {
         self.floor_out.take()
+    }
+
+    /// The accelerometers' health over a closed window ([`stickslip_model::rig::health`]):
+    /// flat channels, and, once a clamp has measured the floor, channels noisier than the
+    /// signal. Saturation is not judged here: on the rig it is a sequencer fault (valves
+    /// vented, a `state` record with cause `accel_saturation`).
+    pub fn window_health(&self, w: &WindowReport) -> HealthReport {
+        let floor = self.floor_last.as_ref();
+        HealthReport::new(core::array::from_fn(|c| {
+            ChannelHealth::assess(w.pp_m_s2[c], w.rms_m_s2[c], false, floor.map(|f| (f.mean_m_s2[c], f.sigma_m_s2[c])))
+        }))
     }
 
     /// The running estimator gives way to a copy of the armed one; a window it closed and

@@ -33,7 +33,9 @@ use stickslip_model::rig::bandpass::GROAN_BAND_HZ;
 use stickslip_model::rig::calibration::{Calibrated, Saturation};
 use stickslip_model::rig::contact::{ContactEventKind, ContactThresholds};
 use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
+use stickslip_model::rig::health::{ChannelHealth, HealthReport};
 use stickslip_model::rig::noise_floor::{NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
+use stickslip_model::rig::{DISC_X, PAD_X};
 use stickslip_model::Regime;
 
 use super::envelope::{Bucket, Envelope};
@@ -571,33 +573,26 @@ impl Analyzer {
         let stick_slip_hz = (r.onsets >= 2 && r.onset_last > r.onset_first)
             .then(|| (r.onsets - 1) as f64 / (r.onset_last - r.onset_first));
         let thresholds = *r.est.contact().thresholds();
-        let health: [Vec<&'static str>; CH] = std::array::from_fn(|c| {
-            let mut h = vec![];
-            if channels[c].pp == 0.0 {
-                h.push("flat");
-            }
-            if r.at_range_ch[c] > 0 {
-                h.push("saturated");
-            }
-            if let Some(f) = &r.floor {
-                let sigma = f.report.sigma_m_s2[c] as f64;
-                if sigma > 0.0 && channels[c].rms < 2.0 * sigma {
-                    h.push("noisier than the signal");
+        // the rig's rule (stickslip_model::rig::health): flat, saturated, noisier than the
+        // signal; pad_x must carry a signal, disc_x must not be saturated
+        let verdict = HealthReport::new(std::array::from_fn(|c| {
+            ChannelHealth::assess(
+                channels[c].pp as f32,
+                channels[c].rms as f32,
+                r.at_range_ch[c] > 0,
+                r.floor.as_ref().map(|f| (f.report.mean_m_s2[c], f.report.sigma_m_s2[c])),
+            )
+        }));
+        let health: [Vec<&'static str>; CH] = std::array::from_fn(|c| verdict.channels[c].words().collect());
+        let undecided = verdict.undecidable().then(|| {
+            let mut bad = vec![];
+            for (c, name) in [(PAD_X, "pad_x"), (DISC_X, "disc_x")] {
+                for what in verdict.channels[c].words() {
+                    if !(c == DISC_X && what == "flat") {
+                        bad.push(format!("{name} {what}"));
+                    }
                 }
             }
-            h
-        });
-        // pad_x must carry a signal; disc_x may be flat (a band below one count) but not
-        // saturated or noisy
-        let mut bad = vec![];
-        for (c, name) in [(1usize, "pad_x"), (0, "disc_x")] {
-            for &what in &health[c] {
-                if !(c == 0 && what == "flat") {
-                    bad.push(format!("{name} {what}"));
-                }
-            }
-        }
-        let undecided = (!bad.is_empty()).then(|| {
             format!("{}: the contact estimate (stick fraction, frequency) would be a guess", bad.join(", "))
         });
         Ok(Analysis {

@@ -40,6 +40,7 @@ pub mod bandpass;
 pub mod calibration;
 pub mod contact;
 pub mod estimator;
+pub mod health;
 pub mod lockstep;
 pub mod noise_floor;
 pub mod pipeline;

@@ -14,7 +14,11 @@
 //!    `boot`, `config_error`;
 //! 2. the rig's boot: `boot`, `armed`, `start`;
 //! 3. [`BATCHES`] batches of [`BATCH_FRAMES`] frames (half a DMA ring each, as the firmware
-//!    reads them): the button in batch 0 (start: clamp, drive, record), the half-ring of batch
+//!    reads them): the button in batch 0 (start: clamp), [`CLAMP_BATCHES`] batches of the
+//!    clamped, band-still phase while the actuator line fills (quiet frames, the actuator's
+//!    pressure channel at 0 bar: the noise floor, a `floor` record), then the run (drive,
+//!    record) with the trailing-edge accelerometer dead ([`DEAD_CHANNEL`] reads a constant
+//!    count: a `health` record after each window of the record), the half-ring of batch
 //!    [`OVERRUN_BATCH`] lost to an overrun (its frames are drawn and never processed, as when
 //!    the ring is overwritten), the e-stop pressed over batches [`ESTOP_BATCHES`] (a fault that
 //!    vents), the button again in batch [`RESET_BATCH`] (reset). States, commands, contact
@@ -44,6 +48,11 @@ pub const SYSCLK_HZ: u32 = 168_000_000;
 pub const BATCH_FRAMES: u32 = 64;
 /// Batches in the session: 200 x 64 frames = 12 800 frames, 0.5 s.
 pub const BATCHES: u32 = 200;
+/// Batches of the clamped phase (the floor: 6 x 64 = 384 samples, at least the 256 a design
+/// needs).
+pub const CLAMP_BATCHES: u32 = 6;
+/// The accelerometer that is dead in the run (pad_trail): a constant count.
+pub const DEAD_CHANNEL: usize = stickslip_model::rig::PAD_TRAIL;
 /// The batch whose half-ring is lost to an overrun.
 pub const OVERRUN_BATCH: u32 = 100;
 /// The batches over which the e-stop is held.
@@ -157,6 +166,9 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
     let scene = Scene::case(Caliper::Push, 0.040);
     let mut sensor = SensorModel::<f32>::new(&scene, &sensor_cfg).map_err(|_| "the sensor model was refused")?;
 
+    // the count of 0 bar on the actuator line: the line still filling
+    let cal = &cfg.calibration;
+    let filling = cal.pressure[stickslip_model::rig::ACTUATOR].count_for(&cal.adc, 0.0);
     let mut book = Logbook::new(0, EVENT_LOGS_PER_WINDOW);
     let mut converted: u64 = 0;
     for b in 0..BATCHES {
@@ -179,7 +191,15 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
         let digital = DigitalInputs { estop: ESTOP_BATCHES.contains(&b), end_of_stroke: false };
         let mut press = b == 0 || b == RESET_BATCH;
         for _ in 0..BATCH_FRAMES {
-            let frame = sensor.next_frame().map_err(|_| "the sensor model halted")?;
+            let frame = if b < CLAMP_BATCHES {
+                let mut f = sensor.quiet_frame();
+                f.counts[stickslip_model::rig::ACTUATOR + stickslip_model::rig::ACCEL_CHANNELS] = filling;
+                f
+            } else {
+                let mut f = sensor.next_frame().map_err(|_| "the sensor model halted")?;
+                f.counts[DEAD_CHANNEL] = 2048;
+                f
+            };
             let command = if press {
                 press = false;
                 Some(button_command(core.state()))
