@@ -11,12 +11,21 @@ use stickslip_model::rig::CHANNELS;
 /// Core clock set by [`clock_config`] [Hz].
 pub const SYSCLK_HZ: u32 = 168_000_000;
 
-/// Sampling rate per channel [Hz]: one scan of all channels per TIM3 update. TIM3 counts the
-/// 84 MHz APB1 timer clock, so the period is the nearest whole number of clocks: 25 600 Hz
-/// asks for 3 281.25 clocks and gets 3 281, i.e. 25 601.95 Hz (+76 ppm). The firmware runs the
-/// estimator and the lockstep model at the rate it really gets (logged at boot); the HSI
-/// oscillator's own tolerance (1 %) is larger than that rounding.
+/// Sampling rate per channel [Hz]: one frame of all channels per [`OVERSAMPLE`] TIM3 updates.
+/// TIM3 counts the 84 MHz APB1 timer clock and triggers one scan per update, so the scan period
+/// is the nearest whole number of clocks: 102 400 Hz asks for 820.3 clocks and gets 820, i.e.
+/// a frame rate of 25 609.76 Hz (+381 ppm). The firmware runs the estimator and the lockstep
+/// model at the rate it really gets (logged at boot); the HSI oscillator's own tolerance (1 %)
+/// is larger than that rounding.
 pub const SAMPLE_RATE_HZ: u32 = 25_600;
+
+/// Scans per frame (the calibration's `adc.oversample`): each channel is converted this many
+/// times per frame and the frame's count is their sum (`RigCore::frame`: a boxcar of 4 at
+/// 102.4 kHz, then one sample in 4; stickslip_model::rig::calibration states the filter). The
+/// anti-alias ahead of it: the accelerometers' 8 kHz bandwidth and the front end's low-pass.
+/// The sum has 14 bits; it resolves finer than one 12-bit count where the converter's own
+/// noise dithers the four conversions (`sil --oversample 4 --adc-noise C` measures it).
+pub const OVERSAMPLE: usize = 4;
 
 /// Channels in the ADC's regular sequence: the four accelerometers, then the two pressures.
 #[cfg(feature = "pressure")]
@@ -25,22 +34,28 @@ pub const ADC_CHANNELS: usize = CHANNELS;
 #[cfg(not(feature = "pressure"))]
 pub const ADC_CHANNELS: usize = ACCEL_CHANNELS;
 
-/// Sampling time of every channel: 84 ADC clocks (+ 12 for the conversion) at 21 MHz
-/// (PCLK2 84 MHz / 4) = 4.57 us per channel, 27.4 us for six, within the 39 us period.
-pub const ADC_SAMPLE_TIME: SampleTime = SampleTime::CYCLES84;
+/// Sampling time of every channel: 15 ADC clocks (+ 12 for the conversion) at 21 MHz
+/// (PCLK2 84 MHz / 4) = 1.29 us per channel, 7.7 us for six, within the 9.76 us scan period
+/// (the next longer sampling time, 28 clocks, would take 11.4 us). 15 clocks of sampling
+/// (0.71 us) need a low source impedance: the front end's op-amp driver (RM0090 / the
+/// datasheet's R_AIN table: below about 1.5 kOhm for 12 bits at 15 cycles).
+pub const ADC_SAMPLE_TIME: SampleTime = SampleTime::CYCLES15;
 /// ADC clocks per conversion with [`ADC_SAMPLE_TIME`], and the ADC clock [Hz].
-const ADC_CLOCKS_PER_CONVERSION: u32 = 84 + 12;
+const ADC_CLOCKS_PER_CONVERSION: u32 = 15 + 12;
 const ADC_CLOCK_HZ: u32 = 21_000_000;
 const _: () = assert!(
-    (ADC_CHANNELS as u32) * ADC_CLOCKS_PER_CONVERSION * SAMPLE_RATE_HZ < ADC_CLOCK_HZ,
-    "the regular sequence does not fit in one sampling period: shorten ADC_SAMPLE_TIME"
+    (ADC_CHANNELS as u32) * ADC_CLOCKS_PER_CONVERSION * SAMPLE_RATE_HZ * (OVERSAMPLE as u32) < ADC_CLOCK_HZ,
+    "the regular sequence does not fit in one scan period: shorten ADC_SAMPLE_TIME or OVERSAMPLE"
 );
 
 /// Frames per half of the DMA ring: the estimator task wakes once per half (2.5 ms at
-/// 25.6 kHz) and processes this many frames; a frame is [`ADC_CHANNELS`] u16 words.
+/// 25.6 kHz) and processes this many frames; a frame is [`OVERSAMPLE`] scans of
+/// [`ADC_CHANNELS`] u16 words.
 pub const FRAMES_PER_HALF: usize = 64;
+/// Words of one frame.
+pub const FRAME_WORDS: usize = OVERSAMPLE * ADC_CHANNELS;
 /// Words in the DMA ring (two halves).
-pub const RING_WORDS: usize = 2 * FRAMES_PER_HALF * ADC_CHANNELS;
+pub const RING_WORDS: usize = 2 * FRAMES_PER_HALF * FRAME_WORDS;
 
 /// Independent watchdog timeout [us] (LSI 32 kHz nominal, 17 to 47 kHz: 68 to 188 ms real).
 /// The estimator task feeds it after every half-ring of frames it received, so it runs out

@@ -48,7 +48,7 @@ use stickslip_model::rig::pipeline::DigitalInputs;
 use stickslip_model::rig::sequencer::Valves;
 
 use crate::config::{
-    ADC_CHANNELS, ADC_SAMPLE_TIME, EVENT_LOGS_PER_WINDOW, FRAMES_PER_HALF, RING_WORDS, SAMPLE_RATE_HZ,
+    ADC_CHANNELS, ADC_SAMPLE_TIME, EVENT_LOGS_PER_WINDOW, FRAMES_PER_HALF, FRAME_WORDS, OVERSAMPLE, RING_WORDS, SAMPLE_RATE_HZ,
     STALL_TIMEOUT_MS, SYSCLK_HZ, WATCHDOG_TIMEOUT_US,
 };
 use crate::records::{log, read_reset_cause, Boot, Defmt, Logbook, Record};
@@ -95,12 +95,15 @@ async fn main(spawner: Spawner) {
     // The trigger timer: TIM3 update event -> TRGO -> ADC1 regular sequence. Not started yet.
     let timer = HwTimer::new(p.TIM3);
     let f_tim = timer.get_clock_frequency().0;
-    let clocks = (f_tim + SAMPLE_RATE_HZ / 2) / SAMPLE_RATE_HZ;
+    // one scan per update, OVERSAMPLE scans per frame
+    let scan_hz = SAMPLE_RATE_HZ * OVERSAMPLE as u32;
+    let clocks = (f_tim + scan_hz / 2) / scan_hz;
     timer.set_period_clocks(clocks as u64, RoundTo::Faster);
     timer.set_master_mode(MasterMode::UPDATE);
-    let fs_hz = f_tim as f64 / clocks as f64;
+    let fs_hz = f_tim as f64 / (clocks as f64 * OVERSAMPLE as f64);
 
-    let cfg = CoreConfig::rig(fs_hz, cfg!(feature = "pressure"), cfg!(feature = "end-of-stroke"));
+    let mut cfg = CoreConfig::rig(fs_hz, cfg!(feature = "pressure"), cfg!(feature = "end-of-stroke"));
+    cfg.calibration.adc.oversample = OVERSAMPLE as u32;
     log(&Record::Boot(Boot {
         fw: env!("CARGO_PKG_VERSION"),
         reset,
@@ -112,6 +115,7 @@ async fn main(spawner: Spawner) {
         batch_frames: FRAMES_PER_HALF as u32,
         pressure: cfg.has_pressure,
         end_of_stroke: cfg.has_end_of_stroke,
+        oversample: OVERSAMPLE as u32,
     }));
 
     // The slow part: the estimator, the sequencer and the armed lockstep model (f64 set-up),
@@ -178,7 +182,7 @@ async fn main(spawner: Spawner) {
     let (stack_used, stack_size) = stack::used();
     log(&Record::Start { watchdog_us: WATCHDOG_TIMEOUT_US, stack_used, stack_size });
 
-    let batch_budget = (SYSCLK_HZ as u64 * clocks as u64 * FRAMES_PER_HALF as u64 / f_tim as u64) as u32;
+    let batch_budget = (SYSCLK_HZ as u64 * clocks as u64 * (OVERSAMPLE * FRAMES_PER_HALF) as u64 / f_tim as u64) as u32;
     let sampler = Sampler { adc, timer, watchdog, valves, core, half, batch_budget };
     spawner.spawn(estimator_task(sampler).expect("estimator task spawned once"));
 }
@@ -232,7 +236,7 @@ async fn estimator_task(s: Sampler) {
         let estop_edge = inputs::take_estop_edge();
         let eos_edge = inputs::take_end_of_stroke_edge();
         let mut press = inputs::take_button();
-        for words in half.chunks_exact(ADC_CHANNELS) {
+        for words in half.chunks_exact(FRAME_WORDS) {
             let estop = estop_edge || inputs::estop_active();
             let digital = DigitalInputs { estop, end_of_stroke: eos_edge || inputs::end_of_stroke_active() };
             let command = if press {

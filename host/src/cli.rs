@@ -249,6 +249,14 @@ pub struct SilNoise {
     /// whose noise floor sets the contact thresholds (0: none, the scene's breakaway jump)
     #[arg(long, value_name = "S", default_value_t = crate::recorded::sil::DEFAULT_QUIET_S, allow_hyphen_values = true)]
     pub quiet_lead: f64,
+    /// Conversions summed per frame, 1 to 16 (the firmware's oversampling: 4; 1: none): each
+    /// frame count is the sum of N conversions of the same frame
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub oversample: u32,
+    /// The converter's own noise on each conversion [counts rms] (0: none; it dithers the
+    /// oversampled conversions, the sensor's noise is drawn once per frame)
+    #[arg(long, value_name = "COUNTS", default_value_t = 0.0, allow_hyphen_values = true)]
+    pub adc_noise: f64,
 }
 
 #[derive(Debug, Args)]

@@ -386,6 +386,11 @@ pub fn analyze(a: &crate::cli::AnalyzeArgs) -> Result<String> {
         _ => sil::breakaway_jump(&ns, None).unwrap_or(sil::NO_JUMP_START_M_S2),
     };
     let an = recorded::analyze_path(&a.file, cfg)?;
+    if an.floor.is_none() {
+        // no quiet stretch before a signal: the thresholds came from the jump, which a scene
+        // with mu_s = mu_k does not have
+        sil::breakaway_jump(&ns, a.record.breakaway_jump)?;
+    }
     if let Some(dir) = &a.plots {
         let n = figures::write_all(dir, &a.file, &an)?.len();
         eprintln!("stickslip: wrote {n} SVG figures to {}", dir.display());
@@ -413,6 +418,8 @@ fn sil_options(
         spectra: true,
         quiet_s: noise.quiet_lead,
         gain: gains(&noise.gain)?,
+        oversample: noise.oversample,
+        adc_noise_counts: noise.adc_noise,
     })
 }
 

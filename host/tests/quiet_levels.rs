@@ -89,3 +89,33 @@ fn a_dead_pad_x_is_reported_and_the_estimator_does_not_decide() {
     assert_eq!(a["estimator"]["health"]["pad_x"][0], "flat");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The oversampling's effective resolution (issue 13, item 3) against closed forms: a
+/// converter error uniform over one count (quantisation of a dithered input) has an RMS of
+/// 1/sqrt(12) count; with the converter's own noise sigma per conversion the error of one
+/// conversion has an RMS of sqrt(sigma^2 + 1/12) counts, and the mean of N independent ones
+/// 1/sqrt(N) of it. Measured by `sil` as RMS(calibrated - converter input), per channel.
+#[test]
+fn oversampling_resolution_against_closed_forms() {
+    let counts = |v: &Value| -> Vec<f64> {
+        ["disc_x", "pad_x", "pad_trail", "pad_lead"]
+            .iter()
+            .map(|c| v["channels"][c]["converter_rms_counts"].as_f64().unwrap())
+            .collect()
+    };
+    // the sensor noise (0.5 m/s^2 = 1.3 counts) dithers the single conversion
+    let q = 1.0 / 12f64.sqrt();
+    for (n, adc, want) in [("1", "0", q), ("1", "1", (1.0 + 1.0 / 12.0f64).sqrt()), ("4", "1", (1.0 + 1.0 / 12.0f64).sqrt() / 2.0)] {
+        let v = stickslip(&["sil", "push_center", "--noise", "0.5", "--oversample", n, "--adc-noise", adc, "--json"]);
+        for (c, got) in counts(&v).iter().enumerate() {
+            eprintln!("oversample {n}, converter noise {adc} counts: channel {c} {got:.4} counts (closed form {want:.4})");
+            assert!((got / want - 1.0).abs() < 0.05, "oversample {n}, adc noise {adc}: channel {c} {got} vs {want}");
+        }
+    }
+    // without the converter's noise the N conversions of a frame are equal: no gain
+    let one = counts(&stickslip(&["sil", "push_center", "--noise", "0.5", "--json"]));
+    let four = counts(&stickslip(&["sil", "push_center", "--noise", "0.5", "--oversample", "4", "--json"]));
+    for c in 0..4 {
+        assert!((four[c] - one[c]).abs() <= 1e-9, "channel {c}: {} vs {}", four[c], one[c]);
+    }
+}

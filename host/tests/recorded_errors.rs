@@ -120,7 +120,8 @@ fn options_and_files_that_do_not_exist() {
     bad(&["analyze", &f, "--breakaway-jump", "-1"], &["--breakaway-jump -1"]);
     bad(&["compare", "push_center", "/nonexistent/rec.csv"], &["/nonexistent/rec.csv"]);
     bad(&["sil", "push_center", "--noise", "-1"], &["--noise -1"]);
-    // mu_s = mu_k: no breakaway jump for the estimator's thresholds
-    bad(&["sil", "thesis-mu"], &["thesis-mu", "not positive", "--breakaway-jump"]);
+    // mu_s = mu_k: no breakaway jump for the estimator's thresholds, and no clamped phase to
+    // measure a floor in (with one, the floor sets them)
+    bad(&["sil", "thesis-mu", "--quiet-lead", "0"], &["thesis-mu", "not positive", "--breakaway-jump"]);
     bad(&["analyze", &f, "--scene", "thesis-mu"], &["thesis-mu", "--breakaway-jump"]);
 }

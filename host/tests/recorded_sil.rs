@@ -100,8 +100,13 @@ fn markdown_and_the_csv_it_writes() {
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2"));
-    let rows: Vec<&str> = lines.collect();
-    assert_eq!(rows.len(), 15_360, "0.6 s at 25.6 kHz");
+    let all: Vec<&str> = lines.collect();
+    // the clamped, band-still phase first (--quiet-lead, 0.1 s: 2 560 rows at t <= 0), then
+    // the run
+    assert_eq!(all.len(), 2_560 + 15_360, "0.1 s of quiet lead and 0.6 s at 25.6 kHz");
+    assert!(all[0].starts_with("-0.0999609375,"), "{}", all[0]);
+    assert!(all[2_559].starts_with("0,") || all[2_559].starts_with("-0,"), "{}", all[2_559]);
+    let rows = &all[2_560..];
     assert!(rows[0].starts_with("0.0000390625,"), "{}", rows[0]);
     // every value is a whole number of ADC counts (0.395 m/s^2) from zero
     for r in rows.iter().step_by(997) {

@@ -170,7 +170,7 @@ fn six_cases_with_a_little_noise() {
     for caliper in [Caliper::Push, Caliper::Pull] {
         for (name, beta) in CASE_BETAS {
             let s = Scene::case(caliper, beta);
-            let noise = Noise { accel_rms_m_s2: sigma, pressure_rms_bar: 0.005, seed: 0xC0FFEE };
+            let noise = Noise { accel_rms_m_s2: sigma, pressure_rms_bar: 0.005, seed: 0xC0FFEE, adc_rms_counts: 0.0 };
             let o = run(&s, noise, &EstimatorConfig::for_scene(&s), 0.0);
             let label = format!("{}_{name}", caliper.name());
             let (sf, hz) = check(&label, &o, sigma);
@@ -191,7 +191,7 @@ fn fixed_thresholds_work_for_every_case() {
     for caliper in [Caliper::Push, Caliper::Pull] {
         for (name, beta) in CASE_BETAS {
             let s = Scene::case(caliper, beta);
-            let noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.0, seed: 99 };
+            let noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.0, seed: 99, adc_rms_counts: 0.0 };
             let o = run(&s, noise, &cfg, 0.0);
             check(&format!("{}_{name} fixed", caliper.name()), &o, 0.5);
         }

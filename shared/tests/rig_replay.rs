@@ -11,7 +11,7 @@ use stickslip_model::rig::sequencer::{Command, FaultCause, SeqState, Valves};
 use stickslip_model::rig::{estimator::Estimator, pipeline::RigConfig};
 use stickslip_model::{Caliper, Regime, Scene};
 
-const NOISE: Noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024 };
+const NOISE: Noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024, adc_rms_counts: 0.0 };
 
 #[test]
 fn the_digest_is_a_pure_function_of_its_inputs() {

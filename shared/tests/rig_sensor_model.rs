@@ -114,7 +114,7 @@ fn noise_is_white_enough_bounded_and_repeatable() {
     let s = Scene::case(Caliper::Push, 0.040);
     let sigma = 1.0;
     let mut cfg = SensorModelConfig::RIG;
-    cfg.noise = Noise { accel_rms_m_s2: sigma, pressure_rms_bar: 0.0, seed: 12345 };
+    cfg.noise = Noise { accel_rms_m_s2: sigma, pressure_rms_bar: 0.0, seed: 12345, adc_rms_counts: 0.0 };
     let cal = Calibrator::new(&RIG_CALIBRATION).unwrap();
     let lsb = 1.0 / COUNTS_PER_M_S2;
     let run = |seed: u32| {

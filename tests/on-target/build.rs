@@ -28,7 +28,7 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
 
     let mut cfg = SensorModelConfig::RIG;
-    cfg.noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024 };
+    cfg.noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024, adc_rms_counts: 0.0 };
     let scene = Scene::case(Caliper::Push, 0.040);
     let mut sensor = SensorModel::<f32>::new(&scene, &cfg).expect("the default scene makes frames");
     let mut bytes = Vec::with_capacity(RIG_COUNT_FRAMES * 12);

@@ -127,6 +127,7 @@ fn expected(timestamp_us: u64, r: &Record<'_>) -> Expected {
                 ("batch_frames", V::U(b.batch_frames.into())),
                 ("pressure", V::B(b.pressure)),
                 ("end_of_stroke", V::B(b.end_of_stroke)),
+                ("oversample", V::U(b.oversample.into())),
             ],
         ),
         Record::Armed { build_us, caliper, beta_m, f_n_n, v_m_s, n0_n } => (
@@ -449,7 +450,8 @@ fn the_session_makes_every_record_the_schema_needs() {
     for w in &windows {
         let get = |k: &str| w.fields.iter().find(|(n, _)| *n == k).map(|(_, v)| v.clone()).unwrap();
         assert!(matches!(get("events_dropped"), V::U(0)));
-        assert!(matches!(get("samples"), V::U(2560)), "{:?}", get("samples"));
+        // 0.1 s at the firmware's rate: 84 MHz / (820 x 4) = 25 609.76 Hz, 2 561 samples
+        assert!(matches!(get("samples"), V::U(2561)), "{:?}", get("samples"));
         // the overrun shows in every window after it
         if let (V::U(n), V::U(o)) = (get("n"), get("overruns")) {
             let expect = u64::from(n > 100 * 64);

@@ -116,7 +116,7 @@ pub const fn valve_bits(v: Valves) -> u8 {
 pub fn log(r: &Record<'_>) {
     match *r {
         Record::Boot(b) => info!(
-            "boot fw={=str} schema={=u32} reset={=str} sysclk_hz={=u32} fs_hz={=f32} timer_clocks={=u32} adc_channels={=u32} window_samples={=u32} batch_frames={=u32} pressure={=bool} end_of_stroke={=bool}",
+            "boot fw={=str} schema={=u32} reset={=str} sysclk_hz={=u32} fs_hz={=f32} timer_clocks={=u32} adc_channels={=u32} window_samples={=u32} batch_frames={=u32} pressure={=bool} end_of_stroke={=bool} oversample={=u32}",
             b.fw,
             SCHEMA,
             b.reset.name(),
@@ -127,7 +127,8 @@ pub fn log(r: &Record<'_>) {
             b.window_samples,
             b.batch_frames,
             b.pressure,
-            b.end_of_stroke
+            b.end_of_stroke,
+            b.oversample
         ),
         Record::Armed { build_us, caliper, beta_m, f_n_n, v_m_s, n0_n } => info!(
             "armed build_us={=u32} caliper={=str} beta={=f32} f_n={=f32} v={=f32} n0={=f32}",

@@ -58,7 +58,7 @@ pub struct Boot {
     pub sysclk_hz: u32,
     /// The actual sampling rate per channel [Hz].
     pub fs_hz: f32,
-    /// Trigger timer clocks per sample.
+    /// Trigger timer clocks per scan (`oversample` scans per sample).
     pub timer_clocks: u32,
     pub adc_channels: u32,
     pub window_samples: u32,
@@ -66,6 +66,8 @@ pub struct Boot {
     pub batch_frames: u32,
     pub pressure: bool,
     pub end_of_stroke: bool,
+    /// Scans summed per frame (the calibration's `adc.oversample`).
+    pub oversample: u32,
 }
 
 /// What the estimator task adds to a window record.

@@ -123,7 +123,13 @@ impl CoreConfig {
         }
     }
 
-    /// ADC words per frame: six, or the four accelerometers without pressure transducers.
+    /// ADC words per frame: the calibration's `adc.oversample` scans of [`Self::adc_channels`]
+    /// words.
+    pub fn frame_words(&self) -> usize {
+        self.calibration.adc.oversample as usize * self.adc_channels()
+    }
+
+    /// ADC words per scan: six, or the four accelerometers without pressure transducers.
     pub fn adc_channels(&self) -> usize {
         if self.has_pressure {
             CHANNELS
@@ -289,6 +295,8 @@ pub struct RigCore {
     has_end_of_stroke: bool,
     /// The counts of 0 bar, standing in for the pressure channels that are not sampled.
     zero_bar_counts: [u16; PRESSURE_CHANNELS],
+    /// Scans summed per frame (the calibration's `adc.oversample`).
+    oversample: usize,
     clamp_setpoint_bar: f32,
     drive_start_bar: f32,
     clamp_settle_ticks: u32,
@@ -334,9 +342,10 @@ impl RigCore {
         let new_sequencer: fn(&SequencerConfig) -> Result<Sequencer, ConfigError> = cold(Sequencer::new);
         let start_model: fn(&mut Estimator, &Scene, f64) -> Result<(), SceneError> = cold(Estimator::start_model);
         let adc = &cfg.calibration.adc;
+        // frame counts: the sum of the oversampled conversions
         let zero_bar_counts = [
-            count_for(&cfg.calibration.pressure[ACTUATOR], adc, 0.0),
-            count_for(&cfg.calibration.pressure[BAND], adc, 0.0),
+            adc.frame_count(count_for(&cfg.calibration.pressure[ACTUATOR], adc, 0.0)),
+            adc.frame_count(count_for(&cfg.calibration.pressure[BAND], adc, 0.0)),
         ];
         let model_scene = scene(&cfg.model_template, setpoint, ecfg.piston_area_m2, ecfg.band_speed_m_s, ecfg.fs_hz);
         let calibrator = new_calibrator(&cfg.calibration)?;
@@ -354,6 +363,7 @@ impl RigCore {
             addr_of_mut!((*p).has_pressure).write(cfg.has_pressure);
             addr_of_mut!((*p).has_end_of_stroke).write(cfg.has_end_of_stroke);
             addr_of_mut!((*p).zero_bar_counts).write(zero_bar_counts);
+            addr_of_mut!((*p).oversample).write(cfg.calibration.adc.oversample as usize);
             addr_of_mut!((*p).clamp_setpoint_bar).write(scfg.clamp_setpoint_bar);
             addr_of_mut!((*p).drive_start_bar).write(scfg.drive_start_bar);
             addr_of_mut!((*p).clamp_settle_ticks).write(cfg.ticks(cfg.timing.clamp_settle_s));
@@ -386,6 +396,7 @@ impl RigCore {
             has_pressure: _,
             has_end_of_stroke: _,
             zero_bar_counts: _,
+            oversample: _,
             clamp_setpoint_bar: _,
             drive_start_bar: _,
             clamp_settle_ticks: _,
@@ -432,15 +443,28 @@ impl RigCore {
         self.armed.model().map_or(0.0, |m| m.normal_force())
     }
 
-    /// One frame from the ADC words of one scan (`adc_channels()` words, frame order): without
-    /// pressure transducers the pressure channels read 0 bar.
+    /// One frame from the ADC words of one frame: `oversample` scans of `adc_channels()` words
+    /// each (frame order), summed channel by channel (the decimation, see
+    /// [`stickslip_model::rig::calibration`]: a boxcar of N; N - 1 additions per channel);
+    /// without pressure transducers the pressure channels read 0 bar. A 12-bit word summed
+    /// 16 times at most cannot overflow (the calibration's validation).
     #[inline]
     pub fn frame(&self, words: &[u16]) -> Frame {
         let mut counts = [0u16; CHANNELS];
         if self.has_pressure {
             counts.copy_from_slice(&words[..CHANNELS]);
+            for scan in words[CHANNELS..].chunks_exact(CHANNELS).take(self.oversample - 1) {
+                for (c, w) in counts.iter_mut().zip(scan) {
+                    *c = c.wrapping_add(*w);
+                }
+            }
         } else {
             counts[..ACCEL_CHANNELS].copy_from_slice(&words[..ACCEL_CHANNELS]);
+            for scan in words[ACCEL_CHANNELS..].chunks_exact(ACCEL_CHANNELS).take(self.oversample - 1) {
+                for (c, w) in counts[..ACCEL_CHANNELS].iter_mut().zip(scan) {
+                    *c = c.wrapping_add(*w);
+                }
+            }
             counts[ACCEL_CHANNELS..].copy_from_slice(&self.zero_bar_counts);
         }
         Frame { counts }
@@ -463,7 +487,7 @@ impl RigCore {
     }
 
     /// What the firmware calls per frame: [`Self::frame`] and [`Self::sample`] of the ADC words
-    /// of one scan. Never inlined: it is compiled (with everything it inlines) in this crate,
+    /// of one frame (`CoreConfig::frame_words`). Never inlined: it is compiled (with everything it inlines) in this crate,
     /// at this crate's optimisation level.
     #[inline(never)]
     pub fn sample_words(&mut self, words: &[u16], digital: &DigitalInputs, command: Option<Command>) -> SampleOut {
@@ -615,16 +639,20 @@ unsafe fn copy_estimator(dst: *mut Estimator, src: *const Estimator) {
     unsafe { core::ptr::copy_nonoverlapping(src, dst, 1) };
 }
 
-/// Calibration of one frame and one estimator update: the per-sample path without the
-/// sequencer and without the lockstep model (the instruction count's path A; `RigCore::sample`
-/// makes the same two calls). Never inlined: compiled in this crate, like `sample_words`.
+/// The decimation of one frame's ADC words ([`RigCore::frame`]), its calibration and one
+/// estimator update: the per-sample path without the sequencer and without the lockstep model
+/// (the instruction count's path A; `RigCore::sample_words` makes the same calls). `core` only
+/// lends its frame layout (oversampling, pressure channels). Never inlined: compiled in this
+/// crate, like `sample_words`.
 #[inline(never)]
 pub fn calibrate_estimate(
+    core: &RigCore,
     calibrator: &Calibrator,
     estimator: &mut Estimator,
-    frame: &Frame,
+    words: &[u16],
 ) -> (Calibrated, EstimatorSample) {
-    let calibrated = calibrator.calibrate(frame);
+    let frame = core.frame(words);
+    let calibrated = calibrator.calibrate(&frame);
     let estimate = estimator.update(&calibrated);
     (calibrated, estimate)
 }

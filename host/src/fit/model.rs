@@ -87,6 +87,8 @@ pub fn statistics(name: &str, scene: &Scene, jump_m_s2: f64, segment: Option<usi
         breakaway_jump_m_s2: Some(jump_m_s2),
         quiet_s: 0.0,
         gain: crate::recorded::sil::RIG_GAIN,
+        oversample: 1,
+        adc_noise_counts: 0.0,
         sensor: SensorPath::Ideal,
         spectra,
     };

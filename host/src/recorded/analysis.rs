@@ -43,6 +43,12 @@ use super::spectrum::{default_segment, Spectrum, Welch, CH};
 
 /// Rows read before the sample rate is fixed for the estimator.
 pub const PREVIEW_ROWS: usize = 4096;
+/// With the floor found automatically, the rows held back until a quiet stretch before a signal
+/// shows (10.2 s at 25.6 kHz, about 10 MB): a recording without one is analysed with the
+/// fixed thresholds of the breakaway jump.
+pub const MAX_AUTO_PREVIEW_ROWS: usize = 1 << 18;
+/// [`find_quiet`]: a block is loud with a variance above this times the quietest block's.
+pub const QUIET_LOUD_FACTOR: f64 = 16.0;
 /// Allowed deviation of one interval from the mean interval [-].
 pub const RATE_TOLERANCE: f64 = 0.01;
 /// The accelerometers' measuring range [m/s^2] (Type 4508: 700): samples at or beyond it are
@@ -284,6 +290,11 @@ impl Running {
     }
 }
 
+/// a_rel of a buffered row: pad_x - disc_x + the face term.
+fn a_rel_of(p: &Pending, face_coefficient: f32) -> f32 {
+    (p.a[1] - p.a[0]) as f32 + face_coefficient * (p.a[3] - p.a[2]) as f32
+}
+
 enum Phase {
     Preview(Vec<Pending>),
     Running(Box<Running>),
@@ -294,7 +305,10 @@ enum Phase {
 /// variance is at most 4 times the smallest (its RMS at most twice), or 0 where the smallest is
 /// 0 (a record whose quiet rows do not change by a count); the stretch is the first run of
 /// consecutive quiet blocks at least [`MIN_FLOOR_SAMPLES`] rows long. In stick a_rel is 0 up to
-/// noise like in the clamped phase: a stick longer than the run qualifies too.
+/// noise like in the clamped phase: a stick longer than the run qualifies too. `None` as well
+/// when no block is loud, with a variance above [`QUIET_LOUD_FACTOR`] times the smallest (its
+/// RMS above 4 times): a stretch is quiet only against a signal (a recording of steady
+/// sines, or one that is still quiet at the end of the rows given, has none).
 pub fn find_quiet(a_rel: &[f32]) -> Option<(usize, usize)> {
     let var: Vec<f64> = a_rel
         .chunks_exact(QUIET_BLOCK)
@@ -304,7 +318,8 @@ pub fn find_quiet(a_rel: &[f32]) -> Option<(usize, usize)> {
         })
         .collect();
     let vmin = var.iter().copied().fold(f64::INFINITY, f64::min);
-    if !vmin.is_finite() {
+    let vmax = var.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !vmin.is_finite() || !(vmax > QUIET_LOUD_FACTOR * vmin) {
         return None;
     }
     let need = (MIN_FLOOR_SAMPLES as usize).div_ceil(QUIET_BLOCK);
@@ -369,11 +384,20 @@ impl Analyzer {
             Phase::Running(r) => r.process(t, a),
             Phase::Preview(buf) => {
                 buf.push(Pending { t, a: *a });
+                let c = self.cfg.face_coefficient;
                 let more = match self.cfg.floor {
                     FloorSource::Range(_, to) => t <= to,
+                    // until a quiet stretch before a signal shows (checked every PREVIEW_ROWS)
+                    FloorSource::Auto => {
+                        buf.len() < MAX_AUTO_PREVIEW_ROWS
+                            && (buf.len() % PREVIEW_ROWS != 0 || {
+                                let rel: Vec<f32> = buf.iter().map(|p| a_rel_of(p, c)).collect();
+                                find_quiet(&rel).is_none()
+                            })
+                    }
                     _ => false,
                 };
-                if more && buf.len() >= MAX_QUIET_ROWS {
+                if more && matches!(self.cfg.floor, FloorSource::Range(..)) && buf.len() >= MAX_QUIET_ROWS {
                     return Err(format!(
                         "line {line}: --quiet: more than {MAX_QUIET_ROWS} rows before its end: give a shorter quiet stretch"
                     ));
@@ -490,9 +514,7 @@ impl Analyzer {
 
     /// The noise floor the thresholds come from (`None` for [`FloorSource::Jump`]).
     fn design_floor(&self, buf: &[Pending], _fs: f64) -> Result<Option<FloorOutcome>, String> {
-        let a_rel = |p: &Pending| {
-            (p.a[1] - p.a[0]) as f32 + self.cfg.face_coefficient * (p.a[3] - p.a[2]) as f32
-        };
+        let a_rel = |p: &Pending| a_rel_of(p, self.cfg.face_coefficient);
         let (rows, auto): (Vec<&Pending>, bool) = match self.cfg.floor {
             FloorSource::Jump => return Ok(None),
             FloorSource::Range(from, to) => (buf.iter().filter(|p| p.t >= from && p.t <= to).collect(), false),
@@ -500,7 +522,8 @@ impl Analyzer {
                 let rel: Vec<f32> = buf.iter().map(a_rel).collect();
                 match find_quiet(&rel) {
                     Some((i0, i1)) => (buf[i0..i1].iter().collect(), true),
-                    None => (vec![], true),
+                    // no quiet stretch against a signal: the fixed thresholds of the jump
+                    None => return Ok(None),
                 }
             }
         };

@@ -213,7 +213,10 @@ fn estimator_lines(a: &Analysis) -> String {
             num(f.quantum_m_s2),
             num(a.thresholds.onset_max_factor as f64),
         ),
-        None => format!("fixed thresholds from the breakaway jump {} m/s^2", num(a.breakaway_jump_m_s2)),
+        None => format!(
+            "fixed thresholds from the breakaway jump {} m/s^2 (--breakaway-jump, or no quiet stretch before a signal in the first rows: give --quiet FROM:TO)",
+            num(a.breakaway_jump_m_s2)
+        ),
     };
     let mut s = match &a.undecided {
         Some(why) => format!("Stick fraction and stick-slip frequency: cannot decide ({why}).\n"),
@@ -293,6 +296,10 @@ pub struct SilChannelJson {
     pub pp: VsTruth,
     /// Hard bound of |pp estimated - pp true| [m/s^2]: one ADC count plus the noise's bound.
     pub pp_bound: f64,
+    /// The converter's error: RMS of calibrated minus the converter's input [m/s^2] and in
+    /// counts of one conversion (null on the ideal front end).
+    pub converter_rms: Option<f64>,
+    pub converter_rms_counts: Option<f64>,
     pub rms: Option<f64>,
     pub peak_hz: Option<f64>,
     pub groan_rms: Option<f64>,
@@ -311,6 +318,9 @@ pub struct SilJson {
     pub halt_t_s: Option<f64>,
     pub noise_m_s2: f64,
     pub seed: u32,
+    pub gain: Channels<f64>,
+    pub oversample: u32,
+    pub adc_noise_counts: f64,
     /// "rig" (noise, clipping, 12-bit ADC, calibration) or "ideal" (noise only).
     pub front_end: &'static str,
     pub saturated_frames: u64,
@@ -346,6 +356,9 @@ impl SilJson {
             halt_t_s: r.halt_t_s,
             noise_m_s2: r.noise_m_s2,
             seed: r.seed,
+            gain: Channels::from_fn(|c| r.gain[c]),
+            oversample: r.oversample,
+            adc_noise_counts: r.adc_noise_counts,
             front_end: r.sensor.name(),
             saturated_frames: r.saturated_frames,
             stick_fraction: sf,
@@ -354,6 +367,8 @@ impl SilJson {
             channels: Channels::from_fn(|c| SilChannelJson {
                 pp: pp[c],
                 pp_bound: r.pp_bound_m_s2[c],
+                converter_rms: r.converter_rms_m_s2.map(|e| e[c]),
+                converter_rms_counts: r.converter_rms_counts.map(|e| e[c]),
                 rms: m.map(|a| a.channels[c].rms),
                 peak_hz: m.and_then(|a| a.channels[c].peak_hz),
                 groan_rms: m.map(|a| a.channels[c].groan_rms),
@@ -375,10 +390,15 @@ pub fn sil_markdown(r: &SilReport) -> String {
     );
     let chain = match r.sensor {
         crate::recorded::sil::SensorPath::Rig => format!(
-            "rig sensor model (100 mV/g, front-end gain {}, noise {} m/s^2 rms seed {}, 700 m/s^2 clipping, 12-bit ADC) -> calibration",
+            "rig sensor model (100 mV/g, front-end gain {}, noise {} m/s^2 rms seed {}, 700 m/s^2 clipping, 12-bit ADC{}) -> calibration",
             r.gain.iter().map(|&g| num(g)).collect::<Vec<_>>().join("/"),
             num(r.noise_m_s2),
-            r.seed
+            r.seed,
+            if r.oversample > 1 || r.adc_noise_counts > 0.0 {
+                format!(", {} conversions summed per frame, converter noise {} counts rms", r.oversample, num(r.adc_noise_counts))
+            } else {
+                String::new()
+            }
         ),
         crate::recorded::sil::SensorPath::Ideal => format!(
             "ideal front end (noise {} m/s^2 rms seed {}, no clipping, no ADC: a high-resolution logger)",
@@ -425,6 +445,12 @@ pub fn sil_markdown(r: &SilReport) -> String {
          bound of a peak-to-peak: one ADC count (each extreme rounded by at most half a count) plus twice the \
          noise's hard bound; a channel whose peak-to-peak spans few counts cannot be estimated closer.\n",
     );
+    if let (Some(e), Some(k)) = (r.converter_rms_m_s2, r.converter_rms_counts) {
+        s.push_str(&format!(
+            "\nEffective resolution (RMS of calibrated minus the converter's input: quantisation and the converter's noise): {}.\n",
+            (0..4).map(|c| format!("{} {} m/s^2 = {} counts", ACCEL_NAMES[c], num(e[c]), num(k[c]))).collect::<Vec<_>>().join(", ")
+        ));
+    }
     if r.saturated_frames > 0 {
         s.push_str(&format!("{} frames had an accelerometer at its range or an ADC rail.\n", r.saturated_frames));
     }

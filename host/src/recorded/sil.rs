@@ -84,6 +84,10 @@ pub struct SilOptions {
     pub quiet_s: f64,
     /// Front-end gain of the accelerometer channels [V/V] (the rig's default 0.2).
     pub gain: [f64; CH],
+    /// Conversions summed per frame (the firmware's oversampling; 1: none).
+    pub oversample: u32,
+    /// The converter's own noise per conversion [counts rms] (0: none).
+    pub adc_noise_counts: f64,
 }
 
 /// The rig's accelerometer front-end gains [V/V].
@@ -147,6 +151,16 @@ pub struct SilReport {
     pub seed: u32,
     /// The accelerometers' front-end gains [V/V].
     pub gain: [f64; CH],
+    /// Conversions summed per frame, and the converter's noise per conversion [counts rms].
+    pub oversample: u32,
+    pub adc_noise_counts: f64,
+    /// The converter's error per accelerometer over the statistics window: RMS of calibrated
+    /// minus what reached the converter (the truth with the sensors' noise, clipped) [m/s^2],
+    /// and the same in counts of one conversion (the effective resolution of the chain:
+    /// quantisation and the converter's noise, after the oversampling's sum). `None` on the
+    /// ideal front end.
+    pub converter_rms_m_s2: Option<[f64; CH]>,
+    pub converter_rms_counts: Option<[f64; CH]>,
     pub sensor: SensorPath,
     /// Frames with an accelerometer at its range or at an ADC rail.
     pub saturated_frames: u64,
@@ -206,11 +220,13 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     if !(opts.quiet_s.is_finite() && opts.quiet_s >= 0.0) {
         return Err(bad_option("--quiet-lead", opts.quiet_s, "must be >= 0 s"));
     }
-    let mut cfg = SensorModelConfig::RIG;
-    cfg.noise = Noise { accel_rms_m_s2: opts.noise_m_s2, pressure_rms_bar: 0.0, seed: opts.seed };
-    for (c, g) in cfg.calibration.accel.iter_mut().zip(opts.gain) {
-        c.front_end_gain = g;
+    if !(opts.adc_noise_counts.is_finite() && opts.adc_noise_counts >= 0.0) {
+        return Err(bad_option("--adc-noise", opts.adc_noise_counts, "must be >= 0 counts"));
     }
+    let mut cfg = SensorModelConfig::RIG;
+    cfg.noise =
+        Noise { accel_rms_m_s2: opts.noise_m_s2, pressure_rms_bar: 0.0, seed: opts.seed, adc_rms_counts: opts.adc_noise_counts };
+    cfg.calibration = rig_calibration(opts);
     let to_input = |e: SensorModelError| {
         HostError::Input(match e {
             SensorModelError::Scene(s) => format!("{}: {s}", ns.origin_label()),
@@ -228,6 +244,16 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     }
 }
 
+/// The rig's calibration with the options' front-end gains and oversampling.
+pub fn rig_calibration(opts: &SilOptions) -> stickslip_model::rig::calibration::Calibration {
+    let mut calibration = RIG_CALIBRATION;
+    for (c, g) in calibration.accel.iter_mut().zip(opts.gain) {
+        c.front_end_gain = g;
+    }
+    calibration.adc.oversample = opts.oversample;
+    calibration
+}
+
 /// The virtual rig's run: frames from the sensor model into the analysis, and the truth beside.
 fn sample_run<T: Real, M: Motion<T>>(
     ns: &NamedScene,
@@ -236,10 +262,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     mut sensor: SensorModel<T, M>,
 ) -> Result<SilReport> {
     let scene = &ns.scene;
-    let mut calibration = RIG_CALIBRATION;
-    for (c, g) in calibration.accel.iter_mut().zip(opts.gain) {
-        c.front_end_gain = g;
-    }
+    let calibration = rig_calibration(opts);
     let cal = Calibrator::new(&calibration).map_err(|e| HostError::Input(format!("virtual rig: {e}")))?;
     let mut out = match csv {
         Some(p) => {
@@ -270,6 +293,8 @@ fn sample_run<T: Real, M: Motion<T>>(
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
     let mut saturated_frames = 0;
+    // the converter's error: sum of (calibrated - converter input)^2 per channel
+    let mut conv_sq = [0.0f64; CH];
     // the ideal path's noise: its own stream of the same generator and seed
     let mut rng = XorShift32::new(opts.seed);
     let sigma = opts.noise_m_s2;
@@ -324,6 +349,13 @@ fn sample_run<T: Real, M: Motion<T>>(
             .push(quiet + i + 2, t, 0.0, &a)
             .map_err(|m| HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
         if t >= from_eff {
+            if opts.sensor == SensorPath::Rig {
+                let input = sensor.converter_input_m_s2();
+                for ch in 0..CH {
+                    let e = a[ch] - input[ch].to_f64();
+                    conv_sq[ch] += e * e;
+                }
+            }
             let tr = sensor.truth();
             truth.samples += 1;
             if tr.regime == Some(Regime::Stick) {
@@ -359,6 +391,13 @@ fn sample_run<T: Real, M: Motion<T>>(
         Err(_) if outcome != Outcome::Completed => None,
         Err(m) => return Err(HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label()))),
     };
+    // no floor measured (no quiet stretch before a signal): the thresholds came from the jump,
+    // which a scene with mu_s = mu_k does not have
+    if opts.breakaway_jump_m_s2.is_none() && measured.as_ref().is_some_and(|a| a.floor.is_none()) {
+        breakaway_jump(ns, None)?;
+    }
+    let converter_rms = (opts.sensor == SensorPath::Rig && truth.samples > 0)
+        .then(|| conv_sq.map(|q| (q / truth.samples as f64).sqrt()));
     Ok(SilReport {
         name: ns.name.clone(),
         stepper: if scene.uses_model2() { "model-2 stepper" } else { "exact stepper" },
@@ -373,10 +412,15 @@ fn sample_run<T: Real, M: Motion<T>>(
         noise_m_s2: opts.noise_m_s2,
         seed: opts.seed,
         gain: opts.gain,
+        oversample: opts.oversample,
+        adc_noise_counts: opts.adc_noise_counts,
+        converter_rms_m_s2: converter_rms,
+        converter_rms_counts: converter_rms
+            .map(|e| std::array::from_fn(|c| e[c] * calibration.accel[c].counts_per_m_s2(&calibration.adc))),
         sensor: opts.sensor,
         saturated_frames,
         pp_bound_m_s2: match opts.sensor {
-            SensorPath::Rig => pp_error_bound(&calibration, opts.noise_m_s2),
+            SensorPath::Rig => pp_error_bound(&calibration, opts.noise_m_s2, opts.adc_noise_counts),
             SensorPath::Ideal => [2.0 * stickslip_model::rig::prng::UNIT_NOISE_BOUND * opts.noise_m_s2; CH],
         },
         truth,
@@ -386,11 +430,10 @@ fn sample_run<T: Real, M: Motion<T>>(
 
 /// The hard error bound of a peak-to-peak through the virtual rig, per accelerometer [m/s^2]:
 /// one ADC count (`1 / counts_per_m_s2`: the two extremes each rounded by at most half a
-/// count) plus `2 UNIT_NOISE_BOUND sigma` (the two extremes each moved by at most the
-/// noise's bound). Valid while no sample clips.
-pub fn pp_error_bound(cal: &stickslip_model::rig::calibration::Calibration, noise_m_s2: f64) -> [f64; CH] {
-    std::array::from_fn(|c| {
-        1.0 / cal.accel[c].counts_per_m_s2(&cal.adc)
-            + 2.0 * stickslip_model::rig::prng::UNIT_NOISE_BOUND * noise_m_s2
-    })
+/// count; with oversampling each is the mean of N conversions rounded so) plus
+/// `2 UNIT_NOISE_BOUND` times the sensor noise and the converter's noise (in counts, each
+/// extreme moved by at most their bounds). Valid while no sample clips.
+pub fn pp_error_bound(cal: &stickslip_model::rig::calibration::Calibration, noise_m_s2: f64, adc_noise_counts: f64) -> [f64; CH] {
+    let b = stickslip_model::rig::prng::UNIT_NOISE_BOUND;
+    std::array::from_fn(|c| (1.0 + 2.0 * b * adc_noise_counts) / cal.accel[c].counts_per_m_s2(&cal.adc) + 2.0 * b * noise_m_s2)
 }

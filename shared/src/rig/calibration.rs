@@ -28,6 +28,18 @@
 //! produce). With the default front-end gain the ADC spans about +-809 m/s^2, so the range flag
 //! fires before the rails; with a higher gain (more resolution) the rails come first and the
 //! range flag can never fire.
+//!
+//! **Oversampling** ([`Adc::oversample`] = N, 1 to 16). The firmware converts each channel N
+//! times per frame (the regular sequence triggered at N fs) and a frame's count is the *sum* of
+//! the N conversions (the decimation: a boxcar of N at N fs, then one sample in N; its first
+//! null is at fs, its gain at 500 Hz is 1 - 2e-4 for N = 4 at fs = 25.6 kHz; the anti-alias is
+//! the sensors' own 8 kHz bandwidth and the front end's low-pass below fs / 2). A frame count
+//! spans 0 to N (2^b - 1); every formula above holds for it with the count and the offset
+//! multiplied by N: the calibrator uses N offset and scale / N, the range flags N times a
+//! conversion's range count, the rails 0 and N (2^b - 1). With N = 1 (the default) nothing
+//! changes, bit for bit. The sum gains resolution only where the converter's own noise dithers
+//! the N conversions (the sensor's noise, band-limited to 8 kHz, is nearly the same in all N):
+//! `sil --oversample N --adc-noise C` measures it.
 
 use super::{check, ConfigError, ACCEL_CHANNELS, CHANNELS, PRESSURE_CHANNELS};
 
@@ -90,15 +102,32 @@ pub struct Adc {
     pub vref_v: f64,
     /// Resolution [bits], 1..=16.
     pub bits: u32,
+    /// Conversions summed per frame, 1..=16, with oversample (2^bits - 1) <= 65535 (see the
+    /// module documentation; 1: none).
+    pub oversample: u32,
 }
 
 impl Adc {
     /// The rig's STM32F4 ADC: 12 bits on a 3.3 V reference.
-    pub const RIG: Adc = Adc { vref_v: 3.3, bits: 12 };
+    pub const RIG: Adc = Adc { vref_v: 3.3, bits: 12, oversample: 1 };
 
     pub fn validate(&self) -> Result<(), ConfigError> {
         check(self.vref_v.is_finite() && self.vref_v > 0.0, "adc.vref_v", "reference must be > 0 V", self.vref_v)?;
-        check(self.bits >= 1 && self.bits <= 16, "adc.bits", "resolution must be 1..=16 bits", self.bits as f64)
+        check(self.bits >= 1 && self.bits <= 16, "adc.bits", "resolution must be 1..=16 bits", self.bits as f64)?;
+        check(
+            self.oversample >= 1 && self.oversample <= 16 && self.oversample * self.max_count() as u32 <= u16::MAX as u32,
+            "adc.oversample",
+            "must be 1..=16 with oversample x (2^bits - 1) <= 65535",
+            self.oversample as f64,
+        )
+    }
+    /// The top of a frame count (the sum of `oversample` conversions at the upper rail).
+    pub fn frame_max_count(&self) -> u16 {
+        (self.oversample.clamp(1, 16) * self.max_count() as u32).min(u16::MAX as u32) as u16
+    }
+    /// The frame count of `oversample` equal conversions of `count`.
+    pub fn frame_count(&self, count: u16) -> u16 {
+        (self.oversample.clamp(1, 16) * count as u32).min(u16::MAX as u32) as u16
     }
     /// Volts per count, V_ref / 2^bits [V].
     pub fn volts_per_count(&self) -> f64 {
@@ -280,26 +309,28 @@ impl Calibrator {
         cal.validate()?;
         let adc = &cal.adc;
         let vpc = adc.volts_per_count();
+        // frame counts are sums of n conversions (1: the conversions themselves, bit for bit)
+        let n = adc.oversample as f64;
         let mut offset = [0.0f32; CHANNELS];
         let mut scale = [0.0f32; CHANNELS];
         let mut range_hi = [0i32; ACCEL_CHANNELS];
         let mut range_lo = [0i32; ACCEL_CHANNELS];
         for (i, a) in cal.accel.iter().enumerate() {
             let cpu = a.counts_per_m_s2(adc);
-            offset[i] = a.offset_counts as f32;
-            scale[i] = (1.0 / cpu) as f32;
-            // the counts of +-range, rounded like the ADC rounds (half up)
-            range_hi[i] = libm::floor(a.offset_counts + a.range_m_s2 * cpu + 0.5) as i32;
-            range_lo[i] = libm::floor(a.offset_counts - a.range_m_s2 * cpu + 0.5) as i32;
+            offset[i] = (n * a.offset_counts) as f32;
+            scale[i] = (1.0 / (n * cpu)) as f32;
+            // the counts of +-range, rounded like the ADC rounds (half up), n of them
+            range_hi[i] = adc.oversample as i32 * libm::floor(a.offset_counts + a.range_m_s2 * cpu + 0.5) as i32;
+            range_lo[i] = adc.oversample as i32 * libm::floor(a.offset_counts - a.range_m_s2 * cpu + 0.5) as i32;
         }
         for (j, p) in cal.pressure.iter().enumerate() {
-            offset[ACCEL_CHANNELS + j] = p.zero_counts(adc) as f32;
-            scale[ACCEL_CHANNELS + j] = (vpc / p.pin_volts_per_bar()) as f32;
+            offset[ACCEL_CHANNELS + j] = (n * p.zero_counts(adc)) as f32;
+            scale[ACCEL_CHANNELS + j] = (vpc / (n * p.pin_volts_per_bar())) as f32;
         }
-        Ok(Calibrator { offset, scale, range_hi, range_lo, max_count: adc.max_count() })
+        Ok(Calibrator { offset, scale, range_hi, range_lo, max_count: adc.frame_max_count() })
     }
 
-    /// m/s^2 (accelerometers) or bar (pressures) per count, per frame channel.
+    /// m/s^2 (accelerometers) or bar (pressures) per frame count, per frame channel.
     pub fn scale(&self) -> &[f32; CHANNELS] {
         &self.scale
     }

@@ -229,10 +229,15 @@ pub struct Noise {
     pub pressure_rms_bar: f64,
     /// Seed of the generator.
     pub seed: u32,
+    /// The converter's own noise on each conversion [counts rms] (0: none): independent from
+    /// one conversion to the next, unlike the sensors' noise, which is drawn once per frame
+    /// (band-limited to 8 kHz, it is nearly the same in the conversions of one frame). With
+    /// [`super::calibration::Adc::oversample`] N > 1 it dithers the N conversions a frame sums.
+    pub adc_rms_counts: f64,
 }
 
 impl Noise {
-    pub const NONE: Noise = Noise { accel_rms_m_s2: 0.0, pressure_rms_bar: 0.0, seed: 1 };
+    pub const NONE: Noise = Noise { accel_rms_m_s2: 0.0, pressure_rms_bar: 0.0, seed: 1, adc_rms_counts: 0.0 };
 }
 
 /// Everything the sensor model needs besides the scene.
@@ -316,9 +321,15 @@ pub struct SensorModel<T: Real, M: Motion<T> = ThesisMotion<T>> {
     pressure: [T; PRESSURE_CHANNELS],
     accel_sigma: T,
     pressure_sigma: T,
+    /// The converter's noise per conversion [counts], and the conversions per frame.
+    adc_sigma: T,
+    oversample: u32,
     rng: XorShift32,
     to_counts: ToCounts<T>,
     truth: Truth<T>,
+    /// What reached the converter in the last frame: the accelerations with the sensors' noise,
+    /// clipped at their range [m/s^2].
+    converter_input: [T; ACCEL_CHANNELS],
 }
 
 impl<T: Real> SensorModel<T> {
@@ -361,6 +372,12 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
             "must be >= 0",
             n.pressure_rms_bar,
         )?;
+        check(
+            n.adc_rms_counts.is_finite() && n.adc_rms_counts >= 0.0,
+            "noise.adc_rms_counts",
+            "must be >= 0",
+            n.adc_rms_counts,
+        )?;
         let t = T::from_f64;
         let adc = &cal.adc;
         let mut offset = [T::zero(); CHANNELS];
@@ -386,9 +403,12 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
             pressure,
             accel_sigma: t(n.accel_rms_m_s2),
             pressure_sigma: t(n.pressure_rms_bar),
+            adc_sigma: t(n.adc_rms_counts),
+            oversample: adc.oversample,
             rng: XorShift32::new(n.seed),
             to_counts: ToCounts { offset, gain, range, max_count: t(adc.max_count() as f64) },
             truth: Truth::default(),
+            converter_input: [T::zero(); ACCEL_CHANNELS],
         })
     }
 
@@ -400,6 +420,14 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
     /// The noise-free physical values of the last frame.
     pub fn truth(&self) -> &Truth<T> {
         &self.truth
+    }
+
+    /// The accelerations the converter was given in the last frame [m/s^2]: the truth with
+    /// the sensors' noise, clipped at their range (what a perfect converter would report; the
+    /// difference from the calibrated frame is the converter's error: quantisation and its own
+    /// noise, after the oversampling's sum).
+    pub fn converter_input_m_s2(&self) -> &[T; ACCEL_CHANNELS] {
+        &self.converter_input
     }
 
     /// Steps the model once and returns the frame of the new state. A halted model (a finding
@@ -436,7 +464,7 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
     #[allow(clippy::needless_range_loop)] // parallel per-channel arrays
     fn counts_of_truth(&mut self) -> Frame {
         let accel = self.truth.accel_m_s2;
-        let k = &self.to_counts;
+        let k = self.to_counts;
         let mut frame = Frame::default();
         for i in 0..ACCEL_CHANNELS {
             let mut a = accel[i];
@@ -445,7 +473,8 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
             }
             // the sensor saturates at its measuring range
             a = a.min(k.range[i]).max(-k.range[i]);
-            frame.counts[i] = Self::count(k.offset[i] + a * k.gain[i], k.max_count);
+            self.converter_input[i] = a;
+            frame.counts[i] = self.convert(k.offset[i] + a * k.gain[i], k.max_count);
         }
         for j in 0..PRESSURE_CHANNELS {
             let mut p = self.pressure[j];
@@ -453,9 +482,24 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
                 p += self.pressure_sigma * self.rng.unit_noise::<T>();
             }
             let c = ACCEL_CHANNELS + j;
-            frame.counts[c] = Self::count(k.offset[c] + p * k.gain[c], k.max_count);
+            frame.counts[c] = self.convert(k.offset[c] + p * k.gain[c], k.max_count);
         }
         frame
+    }
+
+    /// The frame count of a channel whose pin holds `c` counts: `oversample` conversions, each
+    /// with the converter's noise and rounded, summed (one plain rounding without either).
+    #[inline(always)]
+    fn convert(&mut self, c: T, max: T) -> u16 {
+        if self.oversample <= 1 && !(self.adc_sigma > T::zero()) {
+            return Self::count(c, max);
+        }
+        let mut sum = 0u32;
+        for _ in 0..self.oversample.max(1) {
+            let ci = if self.adc_sigma > T::zero() { c + self.adc_sigma * self.rng.unit_noise::<T>() } else { c };
+            sum += Self::count(ci, max) as u32;
+        }
+        sum.min(u16::MAX as u32) as u16
     }
 
     /// Nearest count (half up), clamped to [0, max].

@@ -32,6 +32,7 @@
 //! firmware's sampling rate ([`uptime_us`]), with the set-up taking no time.
 
 use stickslip_model::rig::pipeline::DigitalInputs;
+use stickslip_model::rig::CHANNELS;
 use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::{Caliper, Scene};
 
@@ -40,8 +41,10 @@ use super::rig_core::{button_command, CoreConfig, CoreError, RigCore};
 
 /// The trigger timer's clock [Hz] (TIM3 on APB1 x 2 at 168 MHz SYSCLK: firmware/src/config.rs).
 pub const TIMER_HZ: u32 = 84_000_000;
-/// Timer clocks per sample: 84 MHz / 25.6 kHz, rounded, as the firmware sets it.
-pub const TIMER_CLOCKS: u32 = 3_281;
+/// Timer clocks per scan: 84 MHz / (4 x 25.6 kHz), rounded, as the firmware sets it.
+pub const TIMER_CLOCKS: u32 = 820;
+/// Scans per frame, as the firmware takes them (`config::OVERSAMPLE`).
+pub const OVERSAMPLE: u32 = 4;
 /// SYSCLK [Hz], as the `boot` record reports it.
 pub const SYSCLK_HZ: u32 = 168_000_000;
 /// Frames per batch: half of the firmware's DMA ring (`FRAMES_PER_HALF`).
@@ -75,12 +78,19 @@ pub trait SessionOut: RecordSink {
 /// The uptime [us] after `frames` frames at the firmware's rate (`TIMER_CLOCKS` clocks of
 /// `TIMER_HZ` each), rounded down.
 pub const fn uptime_us(frames: u64) -> u64 {
-    frames * TIMER_CLOCKS as u64 * 1_000_000 / TIMER_HZ as u64
+    frames * (TIMER_CLOCKS * OVERSAMPLE) as u64 * 1_000_000 / TIMER_HZ as u64
 }
 
 /// The sampling rate the firmware gets [Hz].
 pub fn fs_hz() -> f64 {
-    TIMER_HZ as f64 / TIMER_CLOCKS as f64
+    TIMER_HZ as f64 / (TIMER_CLOCKS as f64 * OVERSAMPLE as f64)
+}
+
+/// The rig's configuration as the firmware makes it: oversampled.
+fn rig_config() -> CoreConfig {
+    let mut cfg = CoreConfig::rig(fs_hz(), true, true);
+    cfg.calibration.adc.oversample = OVERSAMPLE;
+    cfg
 }
 
 /// What the session did.
@@ -117,6 +127,7 @@ fn boot_record(cfg: &CoreConfig) -> Record<'static> {
         batch_frames: BATCH_FRAMES,
         pressure: cfg.has_pressure,
         end_of_stroke: cfg.has_end_of_stroke,
+        oversample: cfg.calibration.adc.oversample,
     })
 }
 
@@ -136,7 +147,7 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
     log.out.at_frame(0);
 
     // Boot 1: a configuration with the load beyond the pad's leading edge.
-    let mut bad = CoreConfig::rig(fs_hz(), true, true);
+    let mut bad = rig_config();
     bad.model_template.beta = 0.095;
     log.record(&boot_record(&bad));
     match build(&bad) {
@@ -145,7 +156,7 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
     }
 
     // Boot 2: the rig's configuration, both features.
-    let cfg = CoreConfig::rig(fs_hz(), true, true);
+    let cfg = rig_config();
     log.record(&boot_record(&cfg));
     let mut slot = core::mem::MaybeUninit::uninit();
     let core = RigCore::init(&mut slot, &cfg).map_err(|_| "the rig's configuration was refused")?;
@@ -162,13 +173,16 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
     log.record(&Record::Start { watchdog_us: WATCHDOG_US, stack_used, stack_size });
 
     let mut sensor_cfg = SensorModelConfig::RIG;
-    sensor_cfg.noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024 };
+    sensor_cfg.calibration = cfg.calibration;
+    sensor_cfg.noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024, adc_rms_counts: 0.0 };
     let scene = Scene::case(Caliper::Push, 0.040);
     let mut sensor = SensorModel::<f32>::new(&scene, &sensor_cfg).map_err(|_| "the sensor model was refused")?;
 
     // the count of 0 bar on the actuator line: the line still filling
     let cal = &cfg.calibration;
-    let filling = cal.pressure[stickslip_model::rig::ACTUATOR].count_for(&cal.adc, 0.0);
+    let filling = cal.adc.frame_count(cal.pressure[stickslip_model::rig::ACTUATOR].count_for(&cal.adc, 0.0));
+    // a dead sensor: the front end's mid-scale, 0 m/s^2 for ever
+    let dead = cal.adc.frame_count(2048);
     let mut book = Logbook::new(0, EVENT_LOGS_PER_WINDOW);
     let mut converted: u64 = 0;
     for b in 0..BATCHES {
@@ -197,7 +211,7 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
                 f
             } else {
                 let mut f = sensor.next_frame().map_err(|_| "the sensor model halted")?;
-                f.counts[DEAD_CHANNEL] = 2048;
+                f.counts[DEAD_CHANNEL] = dead;
                 f
             };
             let command = if press {
@@ -206,7 +220,11 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
             } else {
                 None
             };
-            let o = core.sample_words(&frame.counts, &digital, command);
+            // the sensor model gives the frame's sum of the four conversions: the first scan
+            // carries it, the other three read 0 (the same sum through the decimation)
+            let mut words = [0u16; OVERSAMPLE as usize * CHANNELS];
+            words[..CHANNELS].copy_from_slice(&frame.counts);
+            let o = core.sample_words(&words, &digital, command);
             book.sample(&mut log, core, command, &o);
         }
         book.end_batch(&mut log, core, 0);

@@ -35,7 +35,7 @@ pub const RIG_FRAMES: u64 = 12_800;
 
 /// The noise of the noisy cases: 0.5 m/s^2 rms on each accelerometer (1.3 counts), 0.005 bar
 /// on each pressure.
-pub const NOISY: Noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024 };
+pub const NOISY: Noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024, adc_rms_counts: 0.0 };
 
 /// Which pipeline a case runs.
 #[derive(Clone, Copy, PartialEq, Eq)]

@@ -2,9 +2,10 @@
 //! `scripts/count-instructions.sh`.
 //!
 //! Two paths, measured on every frame of a fixed sequence (see below):
-//! - **A**, calibration of the six channels + `Estimator::update` (contact estimate, groan
-//!   band-pass, window statistics; no lockstep model): `stickslip_rig_core::calibrate_estimate`
-//!   with a calibrator and an estimator of its own;
+//! - **A**, the decimation of the frame's four scans (the firmware's oversampling,
+//!   `RigCore::frame`), calibration of the six channels + `Estimator::update` (contact
+//!   estimate, groan band-pass, window statistics; no lockstep model):
+//!   `stickslip_rig_core::calibrate_estimate` with a calibrator and an estimator of its own;
 //! - **B**, the firmware's whole per-sample call, `RigCore::sample_words` (`firmware/rig-core`,
 //!   the crate the firmware links): frame, calibration, estimator with the lockstep model during
 //!   the record, sequencer, and the firmware's glue. The button's start at frame 0 takes the
@@ -30,6 +31,8 @@
 //!
 //! Window 0 is empty (class `baseline`): the markers' calling glue, subtracted by the script.
 //!
+//! The configuration is the firmware's: the rig's, with [`OVERSAMPLE`] scans per frame. Each
+//! frame's counts are taken as the four conversions of its scans (sum: four times the count).
 //! The frames are made on the host by this crate's build script (push caliper, load at the
 //! pad centre, 0.5 m/s^2 and 0.005 bar of noise, seed 2024): running the sensor model here
 //! would add its own f64 set-up (some 13 million instructions) to the trace. The program prints
@@ -44,13 +47,16 @@ use core::ptr::addr_of_mut;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
-use stickslip_model::rig::calibration::{Calibrator, Frame, RIG_CALIBRATION};
+use stickslip_model::rig::calibration::Calibrator;
 use stickslip_model::rig::estimator::Estimator;
 use stickslip_model::rig::pipeline::DigitalInputs;
 use stickslip_model::rig::sequencer::{Command, SeqState};
 use stickslip_model::rig::CHANNELS;
 use stickslip_model::Regime;
 use stickslip_on_target::rig_core::{calibrate_estimate, CoreConfig, RigCore};
+
+/// Scans per frame, as the firmware takes them (firmware/src/config.rs, `OVERSAMPLE`).
+const OVERSAMPLE: usize = 4;
 
 /// Six little-endian u16 counts per frame, made by build.rs.
 static FRAMES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/rig_count_frames.bin"));
@@ -106,7 +112,7 @@ class_markers!(
 /// Everything the measured calls touch, reached through a pointer the optimiser must assume
 /// the markers can see: no part of a measured call moves out of its window.
 struct Bench {
-    frame: Frame,
+    words: [u16; OVERSAMPLE * CHANNELS],
     calibrator: Calibrator,
     estimator: Estimator,
     core: &'static mut RigCore,
@@ -126,8 +132,9 @@ static mut SLOT: MaybeUninit<RigCore> = MaybeUninit::uninit();
 
 #[entry]
 fn main() -> ! {
-    let cfg = CoreConfig::rig(25_600.0, true, true);
-    let calibrator = match Calibrator::new(&RIG_CALIBRATION) {
+    let mut cfg = CoreConfig::rig(25_600.0, true, true);
+    cfg.calibration.adc.oversample = OVERSAMPLE as u32;
+    let calibrator = match Calibrator::new(&cfg.calibration) {
         Ok(c) => c,
         Err(_) => fail("calibration refused"),
     };
@@ -142,7 +149,7 @@ fn main() -> ! {
         Err(_) => fail("rig core refused"),
     };
     let mut bench = Bench {
-        frame: Frame::default(),
+        words: [0; OVERSAMPLE * CHANNELS],
         calibrator,
         estimator,
         core,
@@ -158,15 +165,16 @@ fn main() -> ! {
 
     let n = FRAMES.len() / (2 * CHANNELS);
     for (i, bytes) in FRAMES.chunks_exact(2 * CHANNELS).enumerate() {
-        for (j, c) in b.frame.counts.iter_mut().enumerate() {
-            *c = u16::from_le_bytes([bytes[2 * j], bytes[2 * j + 1]]);
+        for (j, c) in b.words.iter_mut().enumerate() {
+            let k = j % CHANNELS;
+            *c = u16::from_le_bytes([bytes[2 * k], bytes[2 * k + 1]]);
         }
 
-        // Path A: calibrate + estimator (window statistics included). The result is handed to
+        // Path A: decimate + calibrate + estimator (window statistics included). The result is handed to
         // black_box by reference before the end marker: it is complete in memory there, and
         // nothing is copied for the harness.
         stickslip_mark_begin();
-        let (cal, a) = calibrate_estimate(&b.calibrator, &mut b.estimator, &b.frame);
+        let (cal, a) = calibrate_estimate(b.core, &b.calibrator, &mut b.estimator, &b.words);
         black_box(&cal);
         black_box(&a);
         stickslip_mark_end();
@@ -183,7 +191,7 @@ fn main() -> ! {
         // Path B: the firmware's per-sample call.
         b.command = if i == 0 { Some(Command::Start) } else { None };
         stickslip_mark_begin();
-        let o = b.core.sample_words(&b.frame.counts, &b.digital, b.command);
+        let o = b.core.sample_words(&b.words, &b.digital, b.command);
         black_box(&o);
         stickslip_mark_end();
         let model_transition = b.core.estimator().model().and_then(|m| m.stepper()).is_some_and(|s| !s.transitions().is_empty());
