@@ -27,6 +27,12 @@ pub const SAMPLE_RATE_HZ: u32 = 25_600;
 /// noise dithers the four conversions (`sil --oversample 4 --adc-noise C` measures it).
 pub const OVERSAMPLE: usize = 4;
 
+/// Front-end gain of each accelerometer channel [V/V] (disc_x, pad_x, pad_trail, pad_lead):
+/// 0.2 spans +-809 m/s^2 at 0.395 m/s^2 per count (the nominal front end); the amplifier
+/// option for Table 3.1's levels is 10 (+-16 m/s^2 at 7.9 mm/s^2 per count, README.md,
+/// "Wiring notes"). The calibration divides it out.
+pub const ACCEL_FRONT_END_GAIN: [f64; 4] = [0.2; 4];
+
 /// Channels in the ADC's regular sequence: the four accelerometers, then the two pressures.
 #[cfg(feature = "pressure")]
 pub const ADC_CHANNELS: usize = CHANNELS;

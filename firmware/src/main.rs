@@ -48,7 +48,7 @@ use stickslip_model::rig::pipeline::DigitalInputs;
 use stickslip_model::rig::sequencer::Valves;
 
 use crate::config::{
-    ADC_CHANNELS, ADC_SAMPLE_TIME, EVENT_LOGS_PER_WINDOW, FRAMES_PER_HALF, FRAME_WORDS, OVERSAMPLE, RING_WORDS, SAMPLE_RATE_HZ,
+    ACCEL_FRONT_END_GAIN, ADC_CHANNELS, ADC_SAMPLE_TIME, EVENT_LOGS_PER_WINDOW, FRAMES_PER_HALF, FRAME_WORDS, OVERSAMPLE, RING_WORDS, SAMPLE_RATE_HZ,
     STALL_TIMEOUT_MS, SYSCLK_HZ, WATCHDOG_TIMEOUT_US,
 };
 use crate::records::{log, read_reset_cause, Boot, Defmt, Logbook, Record};
@@ -104,6 +104,9 @@ async fn main(spawner: Spawner) {
 
     let mut cfg = CoreConfig::rig(fs_hz, cfg!(feature = "pressure"), cfg!(feature = "end-of-stroke"));
     cfg.calibration.adc.oversample = OVERSAMPLE as u32;
+    for (a, g) in cfg.calibration.accel.iter_mut().zip(ACCEL_FRONT_END_GAIN) {
+        a.front_end_gain = g;
+    }
     log(&Record::Boot(Boot {
         fw: env!("CARGO_PKG_VERSION"),
         reset,

@@ -100,7 +100,8 @@ The time column must increase strictly and be nearly uniform: each interval with
 mean interval of the rows before it, plus twice the time's printed resolution. The sample rate
 is (rows - 1) / (t_last - t_first); it must exceed 1000 Hz (the groan band's 500 Hz edge).
 Memory does not grow with the file: running statistics, the estimator per sample, Welch
-spectra over fixed segments, a 2048-bucket envelope for the figures.
+spectra over fixed segments, a 2048-bucket envelope for the figures; only the rows before the
+estimator starts are held (until a quiet stretch before a signal shows, at most 2^18 rows).
 
 Per channel, over the rows at t >= --from: peak-to-peak (max - min, as in the thesis's Table
 3.1) and RMS (about zero) [m/s^2]; spectral peak [Hz]: the largest bin above 0 Hz of a Welch
@@ -112,8 +113,9 @@ from the rig's estimator (shared::rig::estimator, the firmware's code) fed every
 calibrated accelerations: samples estimated in stick / samples; (n - 1) / (t_last onset -
 t_first onset) over its n stick-to-slip onsets (null with fewer than two); each onset dated
 back to where a_rel first left the noise. Its thresholds come from the noise floor of a quiet
-stretch (nothing moves): --quiet FROM:TO, else the first run of 256 rows or more in the first
-4096 whose variance (blocks of 32 rows) is at most 4 x the smallest block's. Slip onset =
+stretch (nothing moves): --quiet FROM:TO, else the first run of 256 rows or more whose
+variance (blocks of 32 rows) is at most 4 x the smallest block's, once a block 16 x louder
+than that has followed (checked every 4096 rows, up to 2^18). Slip onset =
 max(6 sigma of a_rel = pad_x - disc_x (+ the face term), 2 counts, 1e-4 m/s^2), stick at half
 of it, then adaptive: 1/16 of the slips' mean peak |a_rel|, at most 4 x the designed onset
 (shared::rig::contact). Without a quiet stretch, or with --breakaway-jump J: fixed thresholds
@@ -224,7 +226,8 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "SCENE|FILE", default_value = "push_center")]
     pub scene: String,
     /// The quiet stretch (nothing moves) whose noise floor sets the contact thresholds, on the
-    /// file's time axis [s] (default: the first quiet stretch in the first 4096 rows)
+    /// file's time axis [s] (default: the first quiet stretch before a signal, found in the
+    /// first 2^18 rows; none: the scene's breakaway jump)
     #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
     pub quiet: Option<String>,
     #[command(flatten)]
@@ -300,7 +303,8 @@ pub struct CompareArgs {
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub from: Option<f64>,
     /// The quiet stretch (nothing moves) whose noise floor sets the contact thresholds, on the
-    /// file's time axis [s] (default: the first quiet stretch in the first 4096 rows)
+    /// file's time axis [s] (default: the first quiet stretch before a signal, found in the
+    /// first 2^18 rows; none: the scene's breakaway jump)
     #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
     pub quiet: Option<String>,
     #[command(flatten)]
