@@ -19,8 +19,14 @@ const CASES: [&str; 6] = ["push_trail", "push_center", "push_lead", "pull_trail"
 
 #[test]
 fn six_quiet_cases_at_gain_10_with_thresholds_from_the_floor() {
-    for case in CASES {
-        let v = stickslip(&["sil", &format!("rig_quiet_{case}"), "--gain", "10", "--json"]);
+    // the 12-bit converter alone, and the firmware's setting: 4 conversions summed per frame,
+    // with 1 count of the converter's own noise on each
+    let settings: [&[&str]; 2] = [&[], &["--oversample", "4", "--adc-noise", "1"]];
+    for (case, extra) in CASES.iter().flat_map(|c| settings.iter().map(move |e| (*c, *e))) {
+        let mut args = vec!["sil".to_string(), format!("rig_quiet_{case}"), "--gain".into(), "10".into(), "--json".into()];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let v = stickslip(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        let case = format!("{case} {extra:?}");
         let pp = v["channels"]["pad_x"]["pp"]["true"].as_f64().unwrap();
         assert!((1.0..=4.0).contains(&pp), "{case}: pad_x pp {pp} is not at Table 3.1's levels");
         let sf = &v["stick_fraction"];
