@@ -95,6 +95,18 @@ fn a_cost_profile_has_its_minimum_at_the_truth() {
         assert!(cost[6 - i] > cost[5 - i], "falls toward the truth from above: {cost:?}");
     }
     assert!(cost[3] < 0.01 * cost[2].min(cost[4]), "the truth fits far better than 3 % off: {cost:?}");
+
+    // the weights scale the cost, not the log ratios: every weight x 4 gives 4 x the cost and
+    // the same RMS log ratio at every point
+    let mut heavy = req.clone();
+    heavy.weights = vec!["pp=4,rms=4,groan_rms=4,stick_fraction=4,stick_slip_hz=4,first_slip_s=4".into()];
+    let q = fit::run_profile(named("oracle_stribeck", start), &heavy, "mu_k=0.4:0.484:7").expect("the profile runs");
+    for (a, b) in p.points.iter().zip(&q.points) {
+        let (ca, cb) = (a.cost.unwrap(), b.cost.unwrap());
+        assert!((cb - 4.0 * ca).abs() <= 1e-9 * cb, "mu_k {}: cost {cb} vs 4 x {ca}", a.value);
+        let (ra, rb) = (a.rms_log_ratio.unwrap(), b.rms_log_ratio.unwrap());
+        assert!((rb - ra).abs() <= 1e-12 * ra.max(1e-300), "mu_k {}: RMS log ratio {rb} vs {ra}", a.value);
+    }
 }
 
 #[test]

@@ -426,6 +426,7 @@ pub struct ProfilePoint {
     pub value: f64,
     /// Cost = sum r^2 / 2; `None` where the model is rejected (`error`).
     pub cost: Option<f64>,
+    /// RMS of the fitted statistics' log ratios ln(model / measured), unweighted.
     pub rms_log_ratio: Option<f64>,
     /// The statistic with the largest weighted log ratio and that ratio.
     pub worst: Option<(String, f64)>,
@@ -486,13 +487,14 @@ pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Pro
             u[k] = (v / start).ln();
             match problem.residuals(&u) {
                 Ok(r) => {
-                    let weighted: Vec<(usize, f64)> =
-                        r.iter().enumerate().filter(|(j, _)| problem.rows[*j].weight > 0.0).map(|(j, x)| (j, *x)).collect();
-                    let rms = (weighted.iter().map(|(_, x)| x * x).sum::<f64>() / weighted.len().max(1) as f64).sqrt();
-                    let worst = weighted
-                        .iter()
-                        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-                        .map(|(j, x)| (problem.rows[*j].key.label(), *x / problem.rows[*j].weight.sqrt()));
+                    // every row has weight > 0 (setup keeps only those): r_j = sqrt(w_j) ln(model /
+                    // measured); the RMS is of the log ratios themselves, as the fit's
+                    // `rms_log_ratio` (a statistic the model lacks counts as MISSING_LOG_RATIO)
+                    let ratio = |j: usize| r[j] / problem.rows[j].weight.sqrt();
+                    let rms = (r.iter().enumerate().map(|(j, _)| ratio(j).powi(2)).sum::<f64>() / r.len().max(1) as f64).sqrt();
+                    let worst = (0..r.len())
+                        .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
+                        .map(|j| (problem.rows[j].key.label(), ratio(j)));
                     ProfilePoint { value: v, cost: Some(solve::cost_of(&r)), rms_log_ratio: Some(rms), worst, error: None }
                 }
                 Err(e) => ProfilePoint { value: v, cost: None, rms_log_ratio: None, worst: None, error: Some(e) },

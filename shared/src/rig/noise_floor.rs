@@ -82,6 +82,7 @@ impl NoiseFloor {
     /// Never inlined: it runs only in the clamped phase, and inlined into the per-sample path
     /// it cost 0.6 KB of flash there.
     #[inline(never)]
+    #[allow(clippy::needless_range_loop)] // parallel per-value arrays
     pub fn add(&mut self, accel_m_s2: &[f32; ACCEL_CHANNELS], a_rel_m_s2: f32) {
         let v = [accel_m_s2[0], accel_m_s2[1], accel_m_s2[2], accel_m_s2[3], a_rel_m_s2];
         if self.n == 0 {
