@@ -459,3 +459,41 @@ fn the_session_makes_every_record_the_schema_needs() {
         }
     }
 }
+
+/// The firmware's decimation (`RigCore::frame`): four scans of distinct words summed channel by
+/// channel, with and without the pressure channels (then 0 bar's count, times four), against
+/// sums taken here.
+#[test]
+fn the_decimation_sums_the_scans_of_a_frame() {
+    use stickslip_model::rig::{ACCEL_CHANNELS, CHANNELS};
+    for has_pressure in [true, false] {
+        let mut cfg = rig_core::CoreConfig::rig(25_600.0, has_pressure, true);
+        cfg.calibration.adc.oversample = 4;
+        let core = rig_core::RigCore::new(&cfg).expect("the rig's configuration");
+        let ch = cfg.adc_channels();
+        assert_eq!(cfg.frame_words(), 4 * ch);
+        let words: Vec<u16> = (0..4 * ch).map(|i| (1000 + 37 * i * i % 3000) as u16).collect();
+        let f = core.frame(&words);
+        for c in 0..ch {
+            let want: u32 = (0..4).map(|k| words[k * ch + c] as u32).sum();
+            assert_eq!(f.counts[c] as u32, want, "channel {c}, pressure {has_pressure}");
+        }
+        if !has_pressure {
+            let p = &cfg.calibration.pressure;
+            for j in 0..2 {
+                let zero = 4 * p[j].count_for(&cfg.calibration.adc, 0.0) as u32;
+                assert_eq!(f.counts[ACCEL_CHANNELS + j] as u32, zero, "pressure channel {j} at 0 bar");
+            }
+        }
+        // the calibration of the sum reads what one scan of the same counts reads
+        let cal = stickslip_model::rig::calibration::Calibrator::new(&cfg.calibration).unwrap();
+        let one = stickslip_model::rig::calibration::Calibrator::new(&rig_core::CoreConfig::rig(25_600.0, true, true).calibration).unwrap();
+        let scan: [u16; CHANNELS] = [2100, 1990, 2048, 3000, 900, 1500];
+        let frame4 = stickslip_model::rig::calibration::Frame { counts: scan.map(|c| 4 * c) };
+        let frame1 = stickslip_model::rig::calibration::Frame { counts: scan };
+        let (a4, a1) = (cal.calibrate(&frame4), one.calibrate(&frame1));
+        for c in 0..ACCEL_CHANNELS {
+            assert!((a4.accel_m_s2[c] - a1.accel_m_s2[c]).abs() <= 1e-5 * a1.accel_m_s2[c].abs().max(1.0), "channel {c}");
+        }
+    }
+}
