@@ -414,12 +414,6 @@ fn the_session_makes_every_record_the_schema_needs() {
     let recs = host_session();
     let kinds: Vec<&str> = recs.iter().map(|r| r.kind).collect();
     assert_eq!(&kinds[..5], ["boot", "config_error", "boot", "armed", "start"]);
-    eprintln!("record kinds: {:?}", {
-        let mut k = kinds.clone();
-        k.sort();
-        k.dedup();
-        k.iter().map(|x| (*x, kinds.iter().filter(|y| *y == x).count())).collect::<Vec<_>>()
-    });
     // the refused configuration names the field
     assert!(matches!(&recs[1].fields[0].1, V::S(f) if f == "beta"), "{:?}", recs[1].fields);
     // the floor: 6 batches of the clamp (the first sample of Clamp is its entering tick),

@@ -40,7 +40,7 @@ use stickslip_model::rig::sequencer::{
 use stickslip_model::rig::health::{ChannelHealth, HealthReport};
 use stickslip_model::rig::noise_floor::{FloorReport, A_REL};
 use stickslip_model::rig::window::WindowReport;
-use stickslip_model::rig::{ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, DISC_X, PAD_X, PRESSURE_CHANNELS};
+use stickslip_model::rig::{ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, PRESSURE_CHANNELS};
 use stickslip_model::{Scene, SceneError};
 
 /// `f` (a function pointer), through a value the optimiser cannot see through: a call of the
@@ -551,8 +551,7 @@ impl RigCore {
             self.estimator.cancel_floor();
             return false;
         }
-        let sc = self.calibrator.scale();
-        let design = self.estimator.finish_floor(sc[PAD_X].max(sc[DISC_X]));
+        let design = self.estimator.finish_floor(self.calibrator.a_rel_quantum_m_s2());
         if let Some((r, th)) = design {
             self.floor_design = Some((th, r.mean_m_s2[A_REL]));
             self.floor_last = Some(r);

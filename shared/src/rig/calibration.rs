@@ -334,6 +334,11 @@ impl Calibrator {
     pub fn scale(&self) -> &[f32; CHANNELS] {
         &self.scale
     }
+    /// The resolution of a_rel = pad_x - disc_x [m/s^2]: the larger count of the two (what
+    /// [`super::estimator::Estimator::finish_floor`] designs the onset's floor of 2 quanta from).
+    pub fn a_rel_quantum_m_s2(&self) -> f32 {
+        self.scale[super::PAD_X].max(self.scale[super::DISC_X])
+    }
     /// Counts at zero, per frame channel.
     pub fn offset(&self) -> &[f32; CHANNELS] {
         &self.offset

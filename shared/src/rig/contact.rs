@@ -262,17 +262,9 @@ impl ContactEstimator {
     pub fn thresholds(&self) -> &ContactThresholds {
         &self.th
     }
-    /// The slip-onset level in force [m/s^2]: the thresholds' raised by the adaptation.
-    pub fn slip_onset_m_s2(&self) -> f32 {
-        self.onset
-    }
     /// The stick level in force [m/s^2].
     pub fn stick_max_m_s2(&self) -> f32 {
         self.stick_max
-    }
-    /// Running mean of the peak |a_rel| of the slips seen so far [m/s^2] (0 before the first).
-    pub fn slip_peak_mean_m_s2(&self) -> f32 {
-        self.a_peak_mean
     }
     pub fn regime(&self) -> Regime {
         self.regime

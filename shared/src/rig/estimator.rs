@@ -268,11 +268,6 @@ impl Estimator {
         self.floor = Some(NoiseFloor::new());
     }
 
-    /// The floor under way, if any.
-    pub fn floor(&self) -> Option<&NoiseFloor> {
-        self.floor.as_ref()
-    }
-
     /// Ends the floor and, if it has at least [`MIN_FLOOR_SAMPLES`], designs the contact
     /// thresholds from it ([`ContactThresholds::from_noise_floor`] with a_rel's sigma and
     /// `quantum_m_s2`, the larger count of pad_x and disc_x [m/s^2]; 0 for a continuous

@@ -35,13 +35,6 @@ pub struct FloorReport {
     pub pp_m_s2: [f32; FLOOR_VALUES],
 }
 
-impl FloorReport {
-    /// Value `i` never changed during the floor.
-    pub fn flat(&self, i: usize) -> bool {
-        i < FLOOR_VALUES && self.pp_m_s2[i] == 0.0
-    }
-}
-
 /// Accumulates a noise floor (see the module documentation).
 #[derive(Clone, Copy, Debug)]
 pub struct NoiseFloor {

@@ -20,7 +20,7 @@ use super::estimator::{Estimator, EstimatorConfig, EstimatorSample};
 use super::sequencer::{Command, SeqState, Sequencer, SequencerConfig, SequencerInputs, SequencerOutput};
 use super::contact::ContactThresholds;
 use super::noise_floor::FloorReport;
-use super::{ConfigError, ACTUATOR, BAND, DISC_X, PAD_X};
+use super::{ConfigError, ACTUATOR, BAND};
 use crate::scene::{Scene, SceneError};
 
 /// Everything the rig needs to run.
@@ -120,8 +120,7 @@ impl Rig {
                 self.estimator.start_floor();
             } else if before == SeqState::Clamp {
                 if sequencer.state == SeqState::Drive {
-                    let sc = self.calibrator.scale();
-                    floor = self.estimator.finish_floor(sc[PAD_X].max(sc[DISC_X]));
+                    floor = self.estimator.finish_floor(self.calibrator.a_rel_quantum_m_s2());
                 } else {
                     self.estimator.cancel_floor();
                 }
