@@ -446,9 +446,16 @@ with that case's caliper and beta, c_phi at SCENE's damping ratio) or SCENE's ow
 The model of each case runs through the virtual rig's ideal sensor path (no noise, no ADC)
 into the same analysis, with the estimator's breakaway jump of SCENE (or --breakaway-jump) on
 both sides. Residual = sqrt(weight) ln(model / measured); default weight 1, peak_hz 0 (one
-Welch bin is too coarse). Search: from each of --starts starts (in parallel) Nelder-Mead
-(argmin) on ln(value), then Levenberg-Marquardt from its best point; the lowest cost wins;
-bounds default to start / 10 .. start x 10.
+Welch bin is too coarse). A recording's pp is fitted only with --weights pp=W: a sampled
+extreme depends on where the samples fall on the waveform's sharpest part (with falling
+friction, the last slip samples before a re-stick), not only on the parameters.
+Search: from each of --starts starts (in parallel) Nelder-Mead (argmin) on ln(value), then
+Levenberg-Marquardt from its best point; the lowest cost wins; bounds default to start / 10 ..
+start x 10. With recordings, the starts first search the recordings' first stretch, from t = 0
+to the first slip onset + the first of --horizons stick-slip periods (each recording in its
+own periods; default 1.5, then 4.5: a horizon in mid-stick, not at an onset), the best point
+goes on to the next horizon, then to the whole record: a record's statistics jump wherever
+the kind of stick-slip cycle changes, its first cycles' do not (--horizons 0: none).
 Standard errors: central-difference Jacobian at the optimum, scaled by the residual variance;
 a direction of the parameters known to no better than about +-35 % is reported as flat (not
 identifiable). Recordings add a bootstrap over 8 windows each (a linearised refit per
@@ -464,7 +471,8 @@ to see a basin's width, a flat direction or a jump where the stick-slip cycle ch
 \"log_ratio\", \"weight\", \"source\"}], \"holdout\": [...], \"converged\", \"identifiable\",
 \"flat_directions\", \"correlation\", \"cost\", \"residual_variance\", \"rms_log_ratio_fitted\",
 \"rms_log_ratio_holdout\", \"weights\", \"breakaway_jump_m_s2\", \"bootstrap_resamples\",
-\"evaluations\", \"seconds\", \"starts\", \"skipped\", \"notes\"}. Progress goes to stderr.
+\"evaluations\", \"seconds\", \"starts\", \"stages\": [{\"cycles\", \"horizons_s\", \"statistics\",
+\"values\", \"cost\", \"converged\"}], \"skipped\", \"notes\"}. Progress goes to stderr.
 Bad targets (unknown case, a free key that is not numeric, a table row with an unknown channel
 or statistic, a recording that does not parse) exit 2 with one line naming them.";
 
@@ -614,6 +622,11 @@ pub struct FitArgs {
     /// Starts of the search (the scene's values, then points spread over +-30 %)
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_STARTS)]
     pub starts: usize,
+    /// Horizon stages before the whole record, in stick-slip periods after each recording's
+    /// first slip onset (0: none): the starts search the recordings' first stretch, from t = 0
+    /// to that horizon, and each stage's best point starts the next (see below)
+    #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS)]
+    pub horizons: Vec<f64>,
     /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its
     /// Levenberg-Marquardt run)
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_MAX_ITERS)]

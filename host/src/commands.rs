@@ -554,7 +554,11 @@ pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
         bootstrap: a.bootstrap,
         seed: a.seed,
         progress: stderr_is_terminal(),
+        horizons: a.horizons.iter().copied().filter(|n| *n != 0.0).collect(),
     };
+    if let Some(n) = a.horizons.iter().find(|n| !(n.is_finite() && **n >= 0.0)) {
+        return Err(HostError::Input(format!("--horizons {n}: a horizon is a number of stick-slip periods, finite and >= 0 (0: none)")));
+    }
     if let Some(spec) = &a.profile {
         if a.out.is_some() || a.plot.is_some() || !a.holdout.is_empty() {
             return Err(HostError::Input("--profile evaluates the cost only: it takes no --out, --plot or --holdout".into()));

@@ -40,6 +40,7 @@ fn assert_recovered(r: &fit::FitReport, truth: &[(&str, f64)]) {
         let k = r.free.iter().position(|f| f.key == *key).expect("a free key");
         let (v, sd) = (r.values[k], r.std[k]);
         let tol = (0.02 * t).max(sd);
+        println!("{key}: fitted {v} +- {sd}, truth {t}: {:+.3} %", 100.0 * (v - t) / t);
         assert!((v - t).abs() <= tol, "{key}: fitted {v} +- {sd}, truth {t}: off by {:.3} %", 100.0 * (v - t) / t);
     }
 }
@@ -75,6 +76,54 @@ fn a_stribeck_oracle_recording_identifies_mu_s_mu_k_and_v_s() {
     assert_recovered(&r, &[("mu_s", truth.mu_s), ("mu_k", truth.mu_k), ("v_s", truth.v_s)]);
 }
 
+/// The rig set's known truth: the six cases of the built-in rig set (model 2: Stribeck
+/// friction, the band as a mass on its drive, a hinged pad) recorded through the rig's chain
+/// (0.005 m/s^2 rms noise, 12-bit ADC at 0.395 m/s^2 per count, 1 s each, `sil --csv`) with
+/// mu_s = 0.5, mu_k = 0.38, v_s = 0.0025 and k_b = 7e5 hidden from the fit, which starts 30 %
+/// off (every key x 0.7, then every key x 1.3) with the default starts and horizon stages and
+/// must recover each key within max(2 %, its standard error). The starts' statistics over the
+/// whole record alone do not lead there (docs/fit.md: a cost that jumps wherever the kind of
+/// stick-slip cycle changes); the horizon stages and their screen do.
+#[test]
+fn the_rig_set_is_recovered_from_30_percent_off() {
+    let dir = scratch("fit-rig-set");
+    let built_in = stickslip::builtin::find("rig_push_center").expect("built-in").scene;
+    let truth_keys = [("mu_s", 0.5), ("mu_k", 0.38), ("v_s", 0.0025), ("k_b", 7e5)];
+    let with = |factor: f64| {
+        let mut s = built_in;
+        for (k, v) in truth_keys {
+            stickslip::scene_file::set_numeric(&mut s, k, v * factor).expect("a numeric key");
+        }
+        s
+    };
+    let truth = named("rig_push_center", with(1.0));
+    let mut recordings = Vec::new();
+    for (i, case) in fit::model::case_names().iter().enumerate() {
+        let scene = fit::model::case_scene(&truth, case).expect("a case");
+        let path = dir.join(format!("{case}.csv"));
+        record(&scene, SensorPath::Rig, 0.005, 11 + i as u32, &path);
+        recordings.push(format!("{case}={}", path.display()));
+    }
+    for factor in [0.7, 1.3] {
+        let req = FitRequest {
+            free: vec!["mu_s,mu_k,v_s,k_b".into()],
+            recordings: recordings.clone(),
+            starts: fit::DEFAULT_STARTS,
+            max_iters: fit::DEFAULT_MAX_ITERS,
+            bootstrap: 0,
+            seed: 1,
+            breakaway_jump_m_s2: Some(8.0),
+            horizons: fit::DEFAULT_HORIZONS.to_vec(),
+            ..FitRequest::default()
+        };
+        let r = fit::run_fit(named("rig_push_center", with(factor)), &req).expect("the fit runs");
+        assert!(r.converged, "start x {factor}: the search converged");
+        assert!(r.identifiable(), "start x {factor}: no flat direction");
+        assert_eq!(r.stages.len(), 2, "start x {factor}: two horizon stages");
+        assert_recovered(&r, &truth_keys);
+    }
+}
+
 /// `--profile`: the cost along mu_k of the Stribeck oracle, the other keys at the truth, is
 /// lowest at the point that is the truth and rises monotonically on both sides (the 1-DOF
 /// oracle's statistics are smooth in mu_k); each point is one evaluation of the fit's cost.
@@ -96,10 +145,11 @@ fn a_cost_profile_has_its_minimum_at_the_truth() {
     }
     assert!(cost[3] < 0.01 * cost[2].min(cost[4]), "the truth fits far better than 3 % off: {cost:?}");
 
-    // the weights scale the cost, not the log ratios: every weight x 4 gives 4 x the cost and
-    // the same RMS log ratio at every point
+    // the weights scale the cost, not the log ratios: every weight in effect x 4 gives 4 x the
+    // cost and the same RMS log ratio at every point (a recording's pp is not fitted unless
+    // weighted: naming it would add its rows)
     let mut heavy = req.clone();
-    heavy.weights = vec!["pp=4,rms=4,groan_rms=4,stick_fraction=4,stick_slip_hz=4,first_slip_s=4".into()];
+    heavy.weights = vec!["rms=4,groan_rms=4,stick_fraction=4,stick_slip_hz=4,first_slip_s=4".into()];
     let q = fit::run_profile(named("oracle_stribeck", start), &heavy, "mu_k=0.4:0.484:7").expect("the profile runs");
     for (a, b) in p.points.iter().zip(&q.points) {
         let (ca, cb) = (a.cost.unwrap(), b.cost.unwrap());

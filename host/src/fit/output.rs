@@ -97,8 +97,22 @@ pub struct FitJson {
     pub evaluations: usize,
     pub seconds: f64,
     pub starts: Vec<StartJson>,
+    /// The horizon stages searched before the whole record, shortest first.
+    pub stages: Vec<StageJson>,
     pub skipped: Vec<String>,
     pub notes: Vec<String>,
+}
+
+/// One horizon stage: `cycles` stick-slip periods after each recording's first slip onset,
+/// the horizon of each case [s], the statistics fitted, and the stage's best point and cost.
+#[derive(Serialize)]
+pub struct StageJson {
+    pub cycles: f64,
+    pub horizons_s: BTreeMap<String, f64>,
+    pub statistics: usize,
+    pub values: BTreeMap<String, f64>,
+    pub cost: Option<f64>,
+    pub converged: bool,
 }
 
 fn finite(v: f64) -> Option<f64> {
@@ -161,6 +175,18 @@ impl FitJson {
                 .starts
                 .iter()
                 .map(|s| StartJson { from: keyed(&s.from), values: keyed(&s.values), cost: s.cost, converged: s.converged })
+                .collect(),
+            stages: r
+                .stages
+                .iter()
+                .map(|st| StageJson {
+                    cycles: st.cycles,
+                    horizons_s: st.horizons.iter().cloned().collect(),
+                    statistics: st.statistics,
+                    values: keyed(&st.result.values),
+                    cost: finite(st.result.cost),
+                    converged: st.result.converged,
+                })
                 .collect(),
             skipped: r.skipped.iter().map(|s| format!("{} ({}): {}", s.key.label(), s.source, s.why)).collect(),
             notes: r.notes.clone(),
@@ -278,10 +304,27 @@ pub fn markdown(r: &FitReport) -> String {
         ));
         s.push_str(&compared_table(&r.holdout));
     }
-    s.push_str("\n## Starts\n\n| start | from | fitted | cost | converged |\n|---:|---|---|---:|---|\n");
     let kv = |v: &[f64]| r.free.iter().zip(v).map(|(f, x)| format!("{} = {}", f.key, num(*x))).collect::<Vec<_>>().join(", ");
+    s.push_str("\n## Starts\n\n| start | from | fitted | cost | converged |\n|---:|---|---|---:|---|\n");
     for (i, st) in r.starts.iter().enumerate() {
         s.push_str(&format!("| {} | {} | {} | {:.4e} | {} |\n", i + 1, kv(&st.from), kv(&st.values), st.cost, st.converged));
+    }
+    if !r.stages.is_empty() {
+        s.push_str(
+            "\n## Horizon stages\n\nEach start is fitted to each recording's start (t = 0 to its first slip onset + the cycles given, in the recording's own stick-slip periods), from there to the next horizon, then to the whole record. The winning start's stages:\n\n| cycles | horizons [s] | statistics | fitted | cost | converged |\n|---:|---|---:|---|---:|---|\n",
+        );
+        for st in &r.stages {
+            let hz = st.horizons.iter().map(|(c, h)| format!("{c} {}", num(*h))).collect::<Vec<_>>().join(", ");
+            s.push_str(&format!(
+                "| {} | {hz} | {} | {} | {:.4e} | {} |\n",
+                num(st.cycles),
+                st.statistics,
+                kv(&st.result.values),
+                st.result.cost,
+                st.result.converged
+            ));
+        }
+        s.push_str(&format!("| whole | - | {} | {} | {:.4e} | {} |\n", r.fitted.len(), kv(&r.values), r.cost, r.converged));
     }
     s.push_str(&format!(
         "\nMethod: residual = sqrt(weight) ln(model / measured) per statistic; weights {}. The model side is the scene's virtual rig on the ideal sensor path (its accelerations at the samples, no noise or ADC) through the analysis `analyze` runs, the estimator's breakaway jump fixed at {} m/s^2 on both sides. Nelder-Mead (argmin) on ln p from each start, then Levenberg-Marquardt from its best point; standard errors from the central-difference Jacobian at the optimum scaled by the residual variance{}.\n",

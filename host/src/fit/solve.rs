@@ -205,20 +205,24 @@ pub struct Solution {
     pub starts: Vec<StartReport>,
 }
 
+/// Bases of the Halton sequence, one per free key.
+const HALTON_BASES: [u32; 12] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37];
+
+/// Element `k` of the Halton sequence in base `b`, in [0, 1).
+fn halton(mut k: u32, b: u32) -> f64 {
+    let (mut f, mut x) = (1.0, 0.0);
+    while k > 0 {
+        f /= b as f64;
+        x += f * (k % b) as f64;
+        k /= b;
+    }
+    x
+}
+
 /// The starting points: the given values (u = 0), then points spread over +-30 % of each
 /// parameter by a Halton sequence (bases 2, 3, 5, ...: no two starts alike, every parameter
 /// above and below its start), inside the bounds.
 pub fn start_points(p: &Problem, starts: usize) -> Vec<Vec<f64>> {
-    const BASES: [u32; 12] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37];
-    let halton = |mut k: u32, b: u32| {
-        let (mut f, mut x) = (1.0, 0.0);
-        while k > 0 {
-            f /= b as f64;
-            x += f * (k % b) as f64;
-            k /= b;
-        }
-        x
-    };
     let span = 0.3f64.ln_1p();
     (0..starts.max(1))
         .map(|k| {
@@ -229,12 +233,44 @@ pub fn start_points(p: &Problem, starts: usize) -> Vec<Vec<f64>> {
                     if k == 0 {
                         return 0.0;
                     }
-                    let u = span * (2.0 * halton(k as u32, BASES[i % BASES.len()]) - 1.0);
+                    let u = span * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0);
                     u.clamp((f.lo / f.start).ln(), (f.hi / f.start).ln())
                 })
                 .collect()
         })
         .collect()
+}
+
+/// Screen of the first horizon stage: this many points per free key, spread over
+/// start / [`SCREEN_FACTOR`] .. start x [`SCREEN_FACTOR`] by a Halton sequence.
+pub const SCREEN_POINTS_PER_KEY: usize = 64;
+/// Half-width of the screen, as a factor on each start value.
+pub const SCREEN_FACTOR: f64 = 2.0;
+
+/// The starts of a search with horizon stages: the scene's values (u = 0) and the
+/// `starts - 1` lowest-cost points of a screen of the first stage ([`SCREEN_POINTS_PER_KEY`]
+/// points per free key over a factor [`SCREEN_FACTOR`] either way of each start, inside the
+/// bounds; the first stage's short runs make it cheap). A local search from 30 % off can end
+/// in a wrong basin even on the first horizon; the screen looks wider first.
+pub fn screened_starts(first: &Problem, starts: usize) -> Vec<Vec<f64>> {
+    let n = first.free.len();
+    let span = SCREEN_FACTOR.ln();
+    let screen: Vec<Vec<f64>> = (1..=SCREEN_POINTS_PER_KEY * n)
+        .map(|k| {
+            first
+                .free
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (span * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0)).clamp((f.lo / f.start).ln(), (f.hi / f.start).ln()))
+                .collect()
+        })
+        .collect();
+    let costs: Vec<f64> = screen.par_iter().map(|u| first.residuals(u).map_or(OUTSIDE, |r| cost_of(&r))).collect();
+    let mut order: Vec<usize> = (0..screen.len()).filter(|&i| costs[i] < OUTSIDE).collect();
+    order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
+    let mut out = vec![vec![0.0; n]];
+    out.extend(order.into_iter().take(starts.max(1) - 1).map(|i| screen[i].clone()));
+    out
 }
 
 /// Nelder-Mead from `u0`: a simplex of `step`, at most `max_iters` iterations, until the
@@ -325,28 +361,60 @@ fn levenberg_marquardt(p: &Problem, u0: &[f64], max_iters: u64) -> (Vec<f64>, f6
     (u, cost, report.termination.was_successful())
 }
 
-/// Searches from each start (Nelder-Mead from a simplex 10 % wide, then Levenberg-Marquardt
-/// from its best point: the simplex finds the basin, the Gauss-Newton steps follow its
-/// valley to the bottom, where a simplex stalls when the parameters are correlated) and keeps
-/// the lowest cost.
-pub fn search(p: &Problem, starts: usize, max_iters: u64) -> Result<Solution, String> {
-    let points = start_points(p, starts);
+/// One start's local search: Nelder-Mead from a simplex 10 % wide, then Levenberg-Marquardt
+/// from its best point (the simplex finds the basin, the Gauss-Newton steps follow its valley
+/// to the bottom, where a simplex stalls when the parameters are correlated). Returns u, the
+/// cost and whether Levenberg-Marquardt converged.
+fn local_search(p: &Problem, u0: &[f64], max_iters: u64) -> Result<(Vec<f64>, f64, bool), String> {
+    let (mut u, mut cost, _) = nelder_mead(p, u0, SIMPLEX_STEP, max_iters)?;
+    let mut converged = false;
+    if cost < OUTSIDE {
+        let (lu, lc, conv) = levenberg_marquardt(p, &u, max_iters);
+        if lc <= cost {
+            u = lu;
+            cost = lc;
+        }
+        converged = conv;
+    }
+    Ok((u, cost, converged))
+}
+
+/// The search's result at one horizon stage (see [`search`]).
+#[derive(Clone, Debug)]
+pub struct StageResult {
+    pub values: Vec<f64>,
+    pub cost: f64,
+    pub converged: bool,
+}
+
+/// Searches `p` from each start and keeps the lowest cost. With horizon stages (`stages`:
+/// the same free keys fitted to the recordings' starts, shortest first), each start is
+/// carried through them before `p`: a [`local_search`] of the first stage (short runs: cheap,
+/// and smooth in the parameters, where the whole record's statistics jump wherever the kind
+/// of stick-slip cycle changes), from its end a local search of the next stage, and so on to
+/// `p` itself: a continuation in the record's length. The starts run in parallel (each
+/// evaluation runs its cases in parallel too); the lowest cost on `p` wins, and its stages are
+/// returned.
+pub fn search(p: &Problem, stages: &[Problem], starts: usize, max_iters: u64) -> Result<(Solution, Vec<StageResult>), String> {
+    let points = match stages.first() {
+        Some(first) => screened_starts(first, starts),
+        None => start_points(p, starts),
+    };
     let total = points.len();
-    // the starts run in parallel (each evaluation runs its cases in parallel too)
-    let runs: Vec<Result<(Vec<f64>, f64, bool, StartReport), String>> = points
+    type Run = (Vec<f64>, f64, bool, StartReport, Vec<StageResult>);
+    let runs: Vec<Result<Run, String>> = points
         .into_par_iter()
         .enumerate()
         .map(|(k, u0)| {
-            let (mut u, mut cost, _) = nelder_mead(p, &u0, SIMPLEX_STEP, max_iters)?;
-            let mut converged = false;
-            if cost < OUTSIDE {
-                let (lu, lc, conv) = levenberg_marquardt(p, &u, max_iters);
-                if lc <= cost {
-                    u = lu;
-                    cost = lc;
-                }
-                converged = conv;
+            let mut u = u0.clone();
+            let mut chain = Vec::new();
+            for (i, st) in stages.iter().enumerate() {
+                let (su, c, conv) = local_search(st, &u, max_iters)?;
+                eprintln!("fit: start {} of {total}, horizon {}: cost {c:.6e}", k + 1, i + 1);
+                chain.push(StageResult { values: st.values(&su), cost: c, converged: conv });
+                u = su;
             }
+            let (u, cost, converged) = local_search(p, &u, max_iters)?;
             let values = p.values(&u);
             eprintln!(
                 "fit: start {} of {total}: cost {cost:.6e} ({}): {}",
@@ -355,23 +423,23 @@ pub fn search(p: &Problem, starts: usize, max_iters: u64) -> Result<Solution, St
                 p.free.iter().zip(&values).map(|(f, v)| format!("{} = {v:.6e}", f.key)).collect::<Vec<_>>().join(", ")
             );
             let report = StartReport { from: p.values(&u0), values, cost, converged };
-            Ok((u, cost, converged, report))
+            Ok((u, cost, converged, report, chain))
         })
         .collect();
     let mut reports = Vec::new();
-    let mut best: Option<(Vec<f64>, f64, bool)> = None;
+    let mut best: Option<(Vec<f64>, f64, bool, Vec<StageResult>)> = None;
     for r in runs {
-        let (u, cost, converged, report) = r?;
+        let (u, cost, converged, report, chain) = r?;
         reports.push(report);
         if best.as_ref().is_none_or(|b| cost < b.1) {
-            best = Some((u, cost, converged));
+            best = Some((u, cost, converged, chain));
         }
     }
-    let (u, cost, converged) = best.expect("at least one start");
+    let (u, cost, converged, chain) = best.expect("at least one start");
     if cost >= OUTSIDE {
         return Err("no start reached a valid scene inside the bounds: every evaluation was rejected".into());
     }
-    Ok(Solution { u, cost, converged, starts: reports })
+    Ok((Solution { u, cost, converged, starts: reports }, chain))
 }
 
 /// d r / d u at `u` by central differences (one-sided where one side is rejected; a zero

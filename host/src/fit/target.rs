@@ -191,6 +191,28 @@ pub fn read_recording(case: &str, path: &str, cfg: &AnalysisConfig) -> Result<Re
 }
 
 impl Recording {
+    /// The end of its horizon `cycles` stick-slip periods after its first slip onset [s]:
+    /// t_first_onset + cycles / stick_slip_hz, `None` where the recording has no onset or no
+    /// frequency, or where the horizon reaches its last row (the whole record, not a start).
+    pub fn horizon_s(&self, cycles: f64) -> Option<f64> {
+        let a = &self.analysis;
+        let h = a.first_onset_s? + cycles / a.stick_slip_hz?;
+        (h > 0.0 && h < a.t_last).then_some(h)
+    }
+
+    /// The recording's start, t = 0 (the band's start, as `sil --csv` writes it) to
+    /// `horizon_s`, analysed with `cfg` (its `from_s` replaced by 0): the rows after the horizon
+    /// are left out as if the file ended there. No windows: a horizon is not bootstrapped.
+    pub fn head(&self, cfg: &AnalysisConfig, horizon_s: f64) -> Result<Recording> {
+        let mut an = Analyzer::new(AnalysisConfig { from_s: 0.0, figures: false, ..cfg.clone() });
+        let end = horizon_s + 0.25 / self.analysis.sample_rate_hz;
+        each_row(&self.path, |line, t, res, a| if t <= end { an.push(line, t, res, a) } else { Ok(()) })?;
+        let analysis = an
+            .finish()
+            .map_err(|m| HostError::Input(format!("{}: its start to t = {horizon_s} s: {m}", self.path)))?;
+        Ok(Recording { case: self.case.clone(), path: self.path.clone(), analysis, windows: Vec::new() })
+    }
+
     /// Whether every window holds at least two slip onsets (a stick-slip cycle or more): only
     /// then do the windows resample the record's statistics.
     pub fn windows_hold_cycles(&self) -> bool {
