@@ -451,11 +451,13 @@ extreme depends on where the samples fall on the waveform's sharpest part (with 
 friction, the last slip samples before a re-stick), not only on the parameters.
 Search: from each of --starts starts (in parallel) Nelder-Mead (argmin) on ln(value), then
 Levenberg-Marquardt from its best point; the lowest cost wins; bounds default to start / 10 ..
-start x 10. With recordings, the starts first search the recordings' first stretch, from t = 0
-to the first slip onset + the first of --horizons stick-slip periods (each recording in its
-own periods; default 1.5, then 4.5: a horizon in mid-stick, not at an onset), the best point
-goes on to the next horizon, then to the whole record: a record's statistics jump wherever
-the kind of stick-slip cycle changes, its first cycles' do not (--horizons 0: none).
+start x 10. With recordings, each start is first fitted to the recordings' first stretch, from
+t = 0 to the first slip onset + the first of --horizons stick-slip periods (each recording in
+its own periods; default 1.5, then 4.5: a horizon in mid-stick, not at an onset), from there
+to the next horizon, then to the whole record: a record's statistics jump wherever the kind of
+stick-slip cycle changes, its first cycles' do not (--horizons 0: none). The starts after
+SCENE's values are then the best of a screen of the first horizon (64 Halton points per free
+key over a factor 2 either way), not the +-30 % spread.
 Standard errors: central-difference Jacobian at the optimum, scaled by the residual variance;
 a direction of the parameters known to no better than about +-35 % is reported as flat (not
 identifiable). Recordings add a bootstrap over 8 windows each (a linearised refit per
@@ -619,12 +621,13 @@ pub struct FitArgs {
     /// Start of a recording's statistics on its time axis [s] (default SCENE's stats_from)
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub from: Option<f64>,
-    /// Starts of the search (the scene's values, then points spread over +-30 %)
+    /// Starts of the search (the scene's values, then points spread over +-30 %; with
+    /// horizon stages, the best points of a screen of the first horizon)
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_STARTS)]
     pub starts: usize,
     /// Horizon stages before the whole record, in stick-slip periods after each recording's
-    /// first slip onset (0: none): the starts search the recordings' first stretch, from t = 0
-    /// to that horizon, and each stage's best point starts the next (see below)
+    /// first slip onset (0: none): each start is fitted to the recordings' first stretch, t = 0
+    /// to the first horizon, then to the next, then to the whole record (see below)
     #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS)]
     pub horizons: Vec<f64>,
     /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its

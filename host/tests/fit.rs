@@ -222,6 +222,7 @@ fn bad_targets_and_keys_exit_2_with_one_line() {
     bad(&["fit", "--scene", "rig_push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--holdout", "push_middle"], &["--holdout push_middle"]);
     bad(&["fit", "--scene", "rig_push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--weights", "pp=-1"], &["--weights pp=-1"]);
     bad(&["fit", "--scene", "rig_push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--bounds", "mu_k=0.4:0.5"], &["--bounds", "outside"]);
+    bad(&["fit", "--scene", "rig_push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--horizons", "1.5,inf"], &["--horizons inf", "stick-slip periods"]);
 }
 
 /// A key that does not act on the scene (v_s under Coulomb friction) is reported as a flat

@@ -248,12 +248,16 @@ pub const SCREEN_POINTS_PER_KEY: usize = 64;
 pub const SCREEN_FACTOR: f64 = 2.0;
 
 /// The starts of a search with horizon stages: the scene's values (u = 0) and the
-/// `starts - 1` lowest-cost points of a screen of the first stage ([`SCREEN_POINTS_PER_KEY`]
+/// `starts - 1` lowest-cost points (no screen for a single start) of a screen of the first stage ([`SCREEN_POINTS_PER_KEY`]
 /// points per free key over a factor [`SCREEN_FACTOR`] either way of each start, inside the
 /// bounds; the first stage's short runs make it cheap). A local search from 30 % off can end
 /// in a wrong basin even on the first horizon; the screen looks wider first.
 pub fn screened_starts(first: &Problem, starts: usize) -> Vec<Vec<f64>> {
     let n = first.free.len();
+    if starts <= 1 {
+        return vec![vec![0.0; n]];
+    }
+    let t0 = std::time::Instant::now();
     let span = SCREEN_FACTOR.ln();
     let screen: Vec<Vec<f64>> = (1..=SCREEN_POINTS_PER_KEY * n)
         .map(|k| {
@@ -268,8 +272,14 @@ pub fn screened_starts(first: &Problem, starts: usize) -> Vec<Vec<f64>> {
     let costs: Vec<f64> = screen.par_iter().map(|u| first.residuals(u).map_or(OUTSIDE, |r| cost_of(&r))).collect();
     let mut order: Vec<usize> = (0..screen.len()).filter(|&i| costs[i] < OUTSIDE).collect();
     order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
+    eprintln!(
+        "fit: screen of the first horizon: {} points in {:.1} s, lowest cost {:.4e}",
+        screen.len(),
+        t0.elapsed().as_secs_f64(),
+        order.first().map_or(f64::NAN, |&i| costs[i])
+    );
     let mut out = vec![vec![0.0; n]];
-    out.extend(order.into_iter().take(starts.max(1) - 1).map(|i| screen[i].clone()));
+    out.extend(order.into_iter().take(starts - 1).map(|i| screen[i].clone()));
     out
 }
 
