@@ -142,8 +142,11 @@ impl FitReport {
     }
 }
 
+/// Each statistic's weight.
+type Weights = Vec<(Stat, f64)>;
+
 /// The weight of every statistic, and which were given (not defaults).
-fn parse_weights(given: &[String]) -> Result<(Vec<(Stat, f64)>, Vec<Stat>)> {
+fn parse_weights(given: &[String]) -> Result<(Weights, Vec<Stat>)> {
     let mut w: Vec<(Stat, f64)> = Stat::ALL.iter().map(|s| (*s, s.default_weight())).collect();
     let mut named = Vec::new();
     for g in given {
@@ -227,8 +230,15 @@ struct Setup {
     free: Vec<FreeKey>,
     jump: f64,
     progress: Option<ProgressBar>,
-    /// The horizon stages' problems, shortest first, and what each is.
-    stages: Vec<(Problem, StageReport)>,
+    /// The horizon stages, shortest first.
+    stages: Vec<Stage>,
+}
+
+/// A horizon stage before the search: its problem, its cycles and each case's horizon [s].
+struct Stage {
+    problem: Problem,
+    cycles: f64,
+    horizons: Vec<(String, f64)>,
 }
 
 /// Reads the targets of `req`, checks the free keys and builds the problem on `base`.
@@ -254,7 +264,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         }
     }
     let mut recs = Vec::new();
-    let mut read: Vec<(target::Recording, crate::recorded::analysis::AnalysisConfig, f64)> = Vec::new();
+    let mut read: Vec<(target::Recording, crate::recorded::analysis::AnalysisConfig)> = Vec::new();
     let pp_from_recordings = weights_given.contains(&Stat::Pp);
     for arg in &req.recordings {
         let (case, file) = target::parse_recording_arg(arg)?;
@@ -282,7 +292,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         if !pp_from_recordings {
             keep.retain(|m| m.key.stat != Stat::Pp);
         }
-        read.push((rec, cfg, scene.dt));
+        read.push((rec, cfg));
         for m in keep {
             if let Some(prev) = measured.iter().find(|p| p.key == m.key) {
                 return Err(HostError::Input(format!("{}: {} is also given by {}", m.source, m.key.label(), prev.source)));
@@ -382,19 +392,19 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
 /// free keys is dropped.
 fn horizon_stages(
     problem: &Problem,
-    read: &[(target::Recording, crate::recorded::analysis::AnalysisConfig, f64)],
+    read: &[(target::Recording, crate::recorded::analysis::AnalysisConfig)],
     horizons: &[f64],
     weight_of: &dyn Fn(Stat) -> f64,
     notes: &mut Vec<String>,
     progress: Option<ProgressBar>,
-) -> Result<Vec<(Problem, StageReport)>> {
+) -> Result<Vec<Stage>> {
     let mut cycles: Vec<f64> = horizons.to_vec();
     cycles.sort_by(f64::total_cmp);
     cycles.dedup();
     let mut out = Vec::new();
     for &n in &cycles {
         let (mut cases, mut rows, mut hz) = (Vec::new(), Vec::new(), Vec::new());
-        for (rec, cfg, dt) in read {
+        for (rec, cfg) in read {
             let Some(ci) = problem.cases.iter().position(|(c, _)| *c == rec.case) else { continue };
             let Some(h) = rec.horizon_s(n) else {
                 notes.push(format!(
@@ -404,6 +414,7 @@ fn horizon_stages(
                 ));
                 continue;
             };
+            let dt = problem.cases[ci].1.dt;
             let h = (h / dt).ceil() * dt;
             let head = rec.head(cfg, h)?;
             let (keep, _) = head.measured();
@@ -423,10 +434,8 @@ fn horizon_stages(
             notes.push(format!("horizon of {n} cycles: {} statistics for {} free keys: stage left out", rows.len(), problem.free.len()));
             continue;
         }
-        let statistics = rows.len();
         let p = Problem::new(problem.free.clone(), cases, rows, problem.jump_m_s2, problem.segment, progress.clone());
-        let report = StageReport { cycles: n, horizons: hz, statistics, result: solve::StageResult { values: Vec::new(), cost: f64::NAN, converged: false } };
-        out.push((p, report));
+        out.push(Stage { problem: p, cycles: n, horizons: hz });
     }
     Ok(out)
 }
@@ -437,11 +446,13 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let Setup { problem, measured, mut skipped, mut notes, holdout_cases, weights, free, jump, progress, stages } = setup(&base, req)?;
     let weight_of = |s: Stat| weights.iter().find(|(k, _)| *k == s).map_or(0.0, |(_, w)| *w);
     let scene_of = |c: &str| model::case_scene(&base, c).expect("checked in setup");
-    let (stage_problems, mut stage_reports): (Vec<Problem>, Vec<StageReport>) = stages.into_iter().unzip();
+    let stage_problems: Vec<&Problem> = stages.iter().map(|st| &st.problem).collect();
     let (sol, stage_results) = solve::search(&problem, &stage_problems, req.starts, req.max_iters).map_err(HostError::Input)?;
-    for (rep, res) in stage_reports.iter_mut().zip(stage_results) {
-        rep.result = res;
-    }
+    let stage_reports: Vec<StageReport> = stages
+        .iter()
+        .zip(stage_results)
+        .map(|(st, result)| StageReport { cycles: st.cycles, horizons: st.horizons.clone(), statistics: st.problem.rows.len(), result })
+        .collect();
     let stage_evals: usize = stage_problems.iter().map(|p| p.evals.load(std::sync::atomic::Ordering::Relaxed)).sum();
     let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
     let j = solve::jacobian(&problem, &sol.u, &r);
@@ -579,7 +590,8 @@ fn parse_profile(spec: &str) -> Result<(String, f64, f64, usize)> {
 pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Profile> {
     let t0 = Instant::now();
     let (key, lo, hi, n) = parse_profile(spec)?;
-    let Setup { mut problem, progress, .. } = setup(&base, req)?;
+    // a profile evaluates the whole record only: no horizon stages to build
+    let Setup { mut problem, progress, .. } = setup(&base, &FitRequest { horizons: Vec::new(), ..req.clone() })?;
     let k = problem.free.iter().position(|f| f.key == key).ok_or_else(|| {
         HostError::Input(format!("--profile {spec}: `{key}` is not a free key (give it in --free)"))
     })?;

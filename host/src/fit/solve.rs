@@ -219,26 +219,25 @@ fn halton(mut k: u32, b: u32) -> f64 {
     x
 }
 
+/// Point `k` (k >= 1) of the Halton sequence over +-`span` in u = ln(p / p_start) of each free
+/// key (key i in base [`HALTON_BASES`][i]), clamped to the bounds.
+fn halton_point(p: &Problem, k: usize, span: f64) -> Vec<f64> {
+    p.free
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let u = span * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0);
+            u.clamp((f.lo / f.start).ln(), (f.hi / f.start).ln())
+        })
+        .collect()
+}
+
 /// The starting points: the given values (u = 0), then points spread over +-30 % of each
 /// parameter by a Halton sequence (bases 2, 3, 5, ...: no two starts alike, every parameter
 /// above and below its start), inside the bounds.
 pub fn start_points(p: &Problem, starts: usize) -> Vec<Vec<f64>> {
     let span = 0.3f64.ln_1p();
-    (0..starts.max(1))
-        .map(|k| {
-            p.free
-                .iter()
-                .enumerate()
-                .map(|(i, f)| {
-                    if k == 0 {
-                        return 0.0;
-                    }
-                    let u = span * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0);
-                    u.clamp((f.lo / f.start).ln(), (f.hi / f.start).ln())
-                })
-                .collect()
-        })
-        .collect()
+    (0..starts.max(1)).map(|k| if k == 0 { vec![0.0; p.free.len()] } else { halton_point(p, k, span) }).collect()
 }
 
 /// Screen of the first horizon stage: this many points per free key, spread over
@@ -248,9 +247,9 @@ pub const SCREEN_POINTS_PER_KEY: usize = 64;
 pub const SCREEN_FACTOR: f64 = 2.0;
 
 /// The starts of a search with horizon stages: the scene's values (u = 0) and the
-/// `starts - 1` lowest-cost points (no screen for a single start) of a screen of the first stage ([`SCREEN_POINTS_PER_KEY`]
+/// `starts - 1` lowest-cost points of a screen of the first stage ([`SCREEN_POINTS_PER_KEY`]
 /// points per free key over a factor [`SCREEN_FACTOR`] either way of each start, inside the
-/// bounds; the first stage's short runs make it cheap). A local search from 30 % off can end
+/// bounds; the first stage's short runs make it cheap; no screen for a single start). A local search from 30 % off can end
 /// in a wrong basin even on the first horizon; the screen looks wider first.
 pub fn screened_starts(first: &Problem, starts: usize) -> Vec<Vec<f64>> {
     let n = first.free.len();
@@ -259,16 +258,7 @@ pub fn screened_starts(first: &Problem, starts: usize) -> Vec<Vec<f64>> {
     }
     let t0 = std::time::Instant::now();
     let span = SCREEN_FACTOR.ln();
-    let screen: Vec<Vec<f64>> = (1..=SCREEN_POINTS_PER_KEY * n)
-        .map(|k| {
-            first
-                .free
-                .iter()
-                .enumerate()
-                .map(|(i, f)| (span * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0)).clamp((f.lo / f.start).ln(), (f.hi / f.start).ln()))
-                .collect()
-        })
-        .collect();
+    let screen: Vec<Vec<f64>> = (1..=SCREEN_POINTS_PER_KEY * n).map(|k| halton_point(first, k, span)).collect();
     let costs: Vec<f64> = screen.par_iter().map(|u| first.residuals(u).map_or(OUTSIDE, |r| cost_of(&r))).collect();
     let mut order: Vec<usize> = (0..screen.len()).filter(|&i| costs[i] < OUTSIDE).collect();
     order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
@@ -405,7 +395,7 @@ pub struct StageResult {
 /// `p` itself: a continuation in the record's length. The starts run in parallel (each
 /// evaluation runs its cases in parallel too); the lowest cost on `p` wins, and its stages are
 /// returned.
-pub fn search(p: &Problem, stages: &[Problem], starts: usize, max_iters: u64) -> Result<(Solution, Vec<StageResult>), String> {
+pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -> Result<(Solution, Vec<StageResult>), String> {
     let points = match stages.first() {
         Some(first) => screened_starts(first, starts),
         None => start_points(p, starts),
