@@ -55,7 +55,7 @@ fn derived_cases(prefix: &str, what: &str, scene: fn(Caliper, f64) -> Scene) -> 
         .into_iter()
         .map(|b| Builtin {
             name: format!("{prefix}{}", b.name),
-            description: format!("{}; {what}, {} % damping (guessed values)", b.description, RIG_ZETA * 100.0),
+            description: format!("{}; {what}, {} % damping", b.description, RIG_ZETA * 100.0),
             scene: scene(b.scene.caliper, b.scene.beta),
         })
         .collect()
@@ -63,7 +63,7 @@ fn derived_cases(prefix: &str, what: &str, scene: fn(Caliper, f64) -> Scene) -> 
 
 /// The rig set: the six cases with model 2 on, named `rig_push_trail` ... `rig_pull_lead`.
 pub fn rig_cases() -> Vec<Builtin> {
-    derived_cases("rig_", "model 2: Stribeck friction, band as a mass", rig_scene)
+    derived_cases("rig_", "model 2: Stribeck friction, band as a mass, mu_k, v_s, k_b fitted to Table 3.1", rig_scene)
 }
 
 /// The rig set with part 2 of model 2: friction-face kinematics and the floating pad, named
@@ -71,7 +71,7 @@ pub fn rig_cases() -> Vec<Builtin> {
 pub fn rig_float_cases() -> Vec<Builtin> {
     derived_cases(
         "rig_float_",
-        "model 2 with the face and a floating pad (k_pivot = 0), Stribeck friction, band as a mass",
+        "model 2 with the face and a floating pad (k_pivot = 0), Stribeck friction, band as a mass, mu_k, v_s, k_b fitted to Table 3.1",
         rig_float_scene,
     )
 }
@@ -81,7 +81,7 @@ pub fn rig_float_cases() -> Vec<Builtin> {
 pub fn rig_quiet_cases() -> Vec<Builtin> {
     derived_cases(
         "rig_quiet_",
-        "model 2 at Table 3.1's levels (mu_k = 0.447, V = 1 mm/s), Stribeck friction, band as a mass",
+        "model 2 at Table 3.1's levels (mu_k = 0.447, V = 1 mm/s, v_s = 2 mm/s, k_b = 1e6 N/m; chosen, not fitted), Stribeck friction, band as a mass",
         rig_quiet_scene,
     )
 }

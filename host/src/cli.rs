@@ -704,8 +704,9 @@ pub struct SimulateArgs {
 
 #[derive(Debug, Args)]
 pub struct CasesArgs {
-    /// Which six cases: `thesis` (the thesis model, no damping) or `rig` (model 2: Stribeck
-    /// friction, the band as a mass, a few percent damping; guessed values)
+    /// Which six cases: `thesis` (the thesis model, no damping), `rig` (model 2: Stribeck
+    /// friction, the band as a mass, a few percent damping; mu_k, v_s, k_b fitted to Table
+    /// 3.1) or `rig-float` (the rig set with the face and a floating pad, its own fit)
     #[arg(long, value_enum, default_value = "thesis")]
     pub set: CaseSet,
     /// Print {"cases": [...]} as JSON instead of the Markdown table

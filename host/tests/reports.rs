@@ -28,7 +28,15 @@ fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
     let m2: Vec<&Value> = rows.iter().filter(|r| r["method"] == "model2").collect();
     assert_eq!(m2.len(), model2_values * 2);
     for r in &m2 {
-        assert_eq!(r["outcome"], "bounded", "{r}");
+        // the fitted floating set (mu_k 0.447) flutters on contact springs of 1e7 N/m and
+        // stiffer (their coupling threshold falls to mu_k 0.35 to 0.34), so those runs end with a
+        // spring lifting off (N < 0): a physical halt, named, not a blow-up
+        if r["sweep"] == "float_contact_stiffness" && r["outcome"] == "contact_loss" {
+            assert!(r["contact_stiffness"].as_f64().is_some_and(|k| k >= 1e7), "{r}");
+            assert!(r["detail"].as_str().is_some_and(|d| d.starts_with("N = -")), "{r}");
+        } else {
+            assert_eq!(r["outcome"], "bounded", "{r}");
+        }
         for key in ["v_s", "k_b", "m_b"] {
             assert!(r[key].as_f64().is_some_and(f64::is_finite), "{r}");
         }

@@ -11,7 +11,10 @@
 //!   work that no sliding dissipates, and the same balance does not close.
 
 use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, NS, Y};
-use stickslip_model::rig_set::rig_scene;
+// The rig set as guessed before its Table 3.1 fit (a friction drop of 0.10): vigorous
+// stick-slip on every composition, the scenes these tests were written for; the fitted set's
+// drop of 0.010 leaves the Coulomb compositions sliding after one breakaway.
+use stickslip_model::rig_set::pre_fit_rig_scene as rig_scene;
 use stickslip_model::{Caliper, FrictionLaw, Regime, Scene};
 
 /// The states of a run, every step.

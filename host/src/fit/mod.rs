@@ -389,7 +389,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
 /// periods, rounded up to a whole time step) and the model's run of the same length, on the
 /// statistics the whole-record problem fits. A recording without an onset and a frequency,
 /// or shorter than the horizon, is left out of that stage; a stage with no more statistics than
-/// free keys is dropped.
+/// free keys is dropped. A fit to tables alone has no stages (and says nothing of them).
 fn horizon_stages(
     problem: &Problem,
     read: &[(target::Recording, crate::recorded::analysis::AnalysisConfig)],
@@ -398,6 +398,9 @@ fn horizon_stages(
     notes: &mut Vec<String>,
     progress: Option<ProgressBar>,
 ) -> Result<Vec<Stage>> {
+    if read.is_empty() {
+        return Ok(Vec::new());
+    }
     let mut cycles: Vec<f64> = horizons.to_vec();
     cycles.sort_by(f64::total_cmp);
     cycles.dedup();

@@ -165,10 +165,13 @@ impl fmt::Display for Report<'_> {
 /// Run length of the model-2 cross-check runs [s] (about 60 transitions each).
 pub const MODEL2_DURATION: f64 = 0.5;
 
-/// The rig set's push_center (`stickslip_model::rig_set`) with the options of composition `C`
-/// (band or not; Stribeck or Coulomb friction), at the rig's step, for [`MODEL2_DURATION`].
+/// The rig set's push_center as it was before its Table 3.1 fit
+/// (`stickslip_model::rig_set::pre_fit_rig_scene`: a friction drop of 0.10, vigorous
+/// stick-slip in every composition; the fitted drop of 0.010 leaves the Coulomb compositions
+/// sliding after one breakaway) with the options of composition `C` (band or not; Stribeck or
+/// Coulomb friction), at the rig's step, for [`MODEL2_DURATION`].
 pub fn model2_scene<C: Composition>() -> Scene {
-    let mut s = stickslip_model::rig_set::rig_scene(Caliper::Push, 0.040);
+    let mut s = stickslip_model::rig_set::pre_fit_rig_scene(Caliper::Push, 0.040);
     s.band = C::BAND;
     if !C::STRIBECK {
         s.friction = FrictionLaw::Coulomb;
