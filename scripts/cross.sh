@@ -6,9 +6,13 @@
 #             machine with internet: `rustup target add thumbv7em-none-eabihf`). Plain cargo,
 #             linked by rust-lld.
 #   debian  - otherwise: Debian's matched compiler and library source (rustc-web, cargo-web,
-#             rust-web-src) build `core` for the target (-Zbuild-std=core, RUSTC_BOOTSTRAP=1),
-#             and binutils-arm-none-eabi links. Missing packages are installed with apt-get
-#             (needs root).
+#             rust-web-src) build `core` for the target (-Zbuild-std=core, RUSTC_BOOTSTRAP=1).
+#             Missing packages are installed with apt-get (needs root).
+# Both routes link through flip-link (knurling: the stack at the bottom of RAM, so that an
+# overflow faults instead of overwriting the statics; firmware/README.md, "Stack"), which runs
+# rust-lld: the rustup route's own; for the debian route (Debian does not ship rust-lld) the
+# host toolchain's, put on the linker's PATH. flip-link is installed with `cargo install
+# flip-link --locked` when it is missing.
 # Set CROSS_ROUTE=rustup or CROSS_ROUTE=debian beforehand to force a route.
 #
 # Sourced (`. scripts/cross.sh`): defines `cross_cargo` and exports CROSS_ROUTE, CROSS_CARGO,
@@ -70,6 +74,15 @@ _cross_debian_toolchain_ok() {
         && command -v arm-none-eabi-ld >/dev/null 2>&1
 }
 
+# The directory of the host toolchain's rust-lld (rustup ships it in the sysroot's tools).
+_cross_lld_dir() {
+    local sysroot host
+    sysroot="$(rustc --print sysroot 2>/dev/null)" || return 1
+    host="$(rustc -vV 2>/dev/null | sed -n 's/^host: //p')"
+    [ -x "$sysroot/lib/rustlib/$host/bin/rust-lld" ] || return 1
+    echo "$sysroot/lib/rustlib/$host/bin"
+}
+
 # Installs whatever of the route's needs is missing and sets the CROSS_* variables.
 cross_setup() {
     if [ -z "${CROSS_ROUTE:-}" ]; then
@@ -98,6 +111,11 @@ cross_setup() {
             return 1
             ;;
     esac
+    if ! command -v flip-link >/dev/null 2>&1; then
+        _cross_log "cargo install flip-link --locked"
+        cargo install flip-link --locked >&2 || { _cross_log "cannot install flip-link"; return 1; }
+    fi
+    CROSS_LLD_DIR="$(_cross_lld_dir)" || { _cross_log "no rust-lld in the host toolchain (rustc --print sysroot)"; return 1; }
     command -v arm-none-eabi-size >/dev/null 2>&1 || missing="$missing binutils-arm-none-eabi"
     command -v qemu-system-arm >/dev/null 2>&1 || missing="$missing qemu-system-arm"
     if [ -n "$missing" ]; then
@@ -108,7 +126,7 @@ cross_setup() {
             return 1
         fi
     fi
-    export CROSS_ROUTE CROSS_CARGO CROSS_CARGO_ARGS CROSS_TARGET
+    export CROSS_ROUTE CROSS_CARGO CROSS_CARGO_ARGS CROSS_TARGET CROSS_LLD_DIR
 }
 
 # cross_cargo SUBCOMMAND [ARGS...]: the route's cargo, for the target, in the current directory
@@ -118,11 +136,11 @@ cross_cargo() {
     shift
     if [ "$CROSS_ROUTE" = debian ]; then
         # shellcheck disable=SC2086  # CROSS_CARGO_ARGS is a flag list
-        env RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 \
-            CARGO_TARGET_THUMBV7EM_NONE_EABIHF_LINKER=arm-none-eabi-ld \
+        env RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 PATH="$CROSS_LLD_DIR:$PATH" \
+            CARGO_TARGET_THUMBV7EM_NONE_EABIHF_LINKER=flip-link \
             "$CROSS_CARGO" "$sub" $CROSS_CARGO_ARGS --target "$CROSS_TARGET" "$@"
     else
-        "$CROSS_CARGO" "$sub" --target "$CROSS_TARGET" "$@"
+        env PATH="$CROSS_LLD_DIR:$PATH" "$CROSS_CARGO" "$sub" --target "$CROSS_TARGET" "$@"
     fi
 }
 
@@ -131,10 +149,10 @@ cross_describe() {
     echo "cargo:  $CROSS_CARGO $CROSS_CARGO_ARGS ($("$CROSS_CARGO" --version 2>/dev/null))"
     if [ "$CROSS_ROUTE" = debian ]; then
         echo "rustc:  /usr/bin/rustc ($(/usr/bin/rustc --version 2>/dev/null)), RUSTC_BOOTSTRAP=1"
-        echo "linker: $(command -v arm-none-eabi-ld)"
     else
-        echo "rustc:  $(rustc --version 2>/dev/null), rust-lld"
+        echo "rustc:  $(rustc --version 2>/dev/null)"
     fi
+    echo "linker: $(command -v flip-link) (flip-link), rust-lld from $CROSS_LLD_DIR"
     echo "qemu:   $(qemu-system-arm --version 2>/dev/null | head -n 1)"
 }
 
@@ -150,7 +168,8 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
             echo "export CROSS_ROUTE=$CROSS_ROUTE CROSS_TARGET=$CROSS_TARGET"
             if [ "$CROSS_ROUTE" = debian ]; then
                 echo "export RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1"
-                echo "export CARGO_TARGET_THUMBV7EM_NONE_EABIHF_LINKER=arm-none-eabi-ld"
+                echo "export CARGO_TARGET_THUMBV7EM_NONE_EABIHF_LINKER=flip-link"
+                echo "export PATH=\"$CROSS_LLD_DIR:\$PATH\""
                 echo "alias cargo='/usr/bin/cargo'  # then: cargo build --release $CROSS_CARGO_ARGS"
             fi
             ;;

@@ -3,20 +3,22 @@
 # developer's machine.
 #
 #   1. cross toolchain: the rustup target if installed, else Debian's rustc-web/cargo-web/
-#      rust-web-src + binutils-arm-none-eabi + qemu-system-arm (installed when missing,
-#      nothing else is installed)                                          scripts/cross.sh
+#      rust-web-src + binutils-arm-none-eabi + qemu-system-arm, and flip-link (`cargo install`)
+#      as the linker (installed when missing, nothing else is installed)  scripts/cross.sh
 #   2. firmware/ for thumbv7em-none-eabihf, release, with each feature set (default,
 #      no-pressure, no-eos, neither); fails above 64 KiB of flash or 48 KiB of static RAM
 #                                                                    scripts/build-firmware.sh
 #   3. tests/on-target for thumbv7em-none-eabihf: release (bins digest, count, rig, rig_count,
-#      records) and bin rig_count again with the firmware's code generation (profile `firmware`)
+#      records, count_model2, stack_overflow) and bin rig_count again with the firmware's code generation (profile `firmware`)
 #   4. host workspace: cargo test --workspace --release
 #   5. the model and the rig's per-sample chain on the emulated Cortex-M4F against the host,
 #      bit for bit (bins digest and rig):
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
 #      and the firmware's log: the defmt stream of bin records, captured under QEMU, decoded
 #      record by record against the host (--test records_on_target), then by the command line
-#      (`stickslip decode`, which must report nothing lost)
+#      (`stickslip decode`, which must report nothing lost); and a stack overflow (bin
+#      stack_overflow), which must end in the firmware's fault entry with both valves vented
+#      (--test stack_overflow_on_target)
 #   6. instruction counts under QEMU                                 scripts/count-instructions.sh
 #      ExactStepper<f32>::step() (fails above 200 instructions for a step without a
 #      transition) and the rig's per-sample path (fails above 1,500 instructions for a sample
@@ -95,7 +97,7 @@ arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count" "$on_target_di
 section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
 
-section "5/8 model and rig chain on the emulated Cortex-M4F == on the host (QEMU netduinoplus2)"
+section "5/8 model and rig chain on the emulated Cortex-M4F == on the host, the fault path (QEMU netduinoplus2)"
 STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" STICKSLIP_ON_TARGET_RIG_ELF="$on_target_dir/rig" \
     cargo test --release -p stickslip-crosscheck --test on_target -- --ignored --nocapture
 # the firmware's log records (bin records: the firmware's RigCore, Logbook and defmt formatting)
@@ -103,6 +105,9 @@ records_stream="$on_target_dir/records.defmt"
 rm -f "$records_stream"
 STICKSLIP_ON_TARGET_RECORDS_ELF="$on_target_dir/records" STICKSLIP_ON_TARGET_RECORDS_STREAM="$records_stream" \
     cargo test --release -p stickslip-crosscheck --test records_on_target -- --ignored --nocapture
+# a stack overflow ends in the firmware's fault entry with both valves vented (bin stack_overflow)
+STICKSLIP_ON_TARGET_STACK_ELF="$on_target_dir/stack_overflow" \
+    cargo test --release -p stickslip-crosscheck --test stack_overflow_on_target -- --ignored --nocapture
 decode_out="$(mktemp)"
 decode_err="$(mktemp)"
 cargo run --release -q -p stickslip -- decode --elf "$on_target_dir/records" "$records_stream" --kind window \

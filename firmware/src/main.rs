@@ -55,6 +55,9 @@ use crate::records::{log, read_reset_cause, Boot, Defmt, Logbook, Record};
 use crate::valves::ValveOutputs;
 use stickslip_rig_core::{button_command, stack, CoreConfig, CoreError, RigCore};
 
+// The high-water mark reads the paint cortex-m-rt put on the stack at reset.
+const _: () = assert!(stack::PAINT == cortex_m_rt::STACK_PAINT_VALUE);
+
 bind_interrupts!(struct Irqs {
     DMA2_STREAM0 => dma::InterruptHandler<peripherals::DMA2_CH0>;
     EXTI0 => exti::InterruptHandler<interrupt::typelevel::EXTI0>;
@@ -80,7 +83,6 @@ struct Sampler {
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
-    stack::paint();
     let reset = read_reset_cause();
     let p = embassy_stm32::init(config::clock_config());
     // Valves first: both outputs low (vented) before anything else runs.

@@ -3,10 +3,18 @@
 //! The panic handler drives both valve pins low ([`valves::force_vent`], one register write),
 //! then logs a `panic` record over defmt (file, line, and the message when it is a plain
 //! string: formatting arguments would pull `core::fmt` into the image, about 4 KB), and ends
-//! in a HardFault (`udf`), where `probe-rs run` prints a backtrace. The HardFault handler
-//! vents again and spins: the watchdog, no longer fed, resets the chip within its timeout, and
-//! the valves stay vented through the reset (floating pins, pulled down by the drivers) and
-//! after it (the firmware starts with both outputs low, the sequencer Idle).
+//! in a HardFault (`udf`), where `probe-rs run` prints a backtrace. The HardFault entry
+//! ([`stickslip_safety::hard_fault!`]) resets the stack pointer to the top of the stack region,
+//! vents again and spins ([`stickslip_safety::vent_and_wait`]): the watchdog, no longer fed,
+//! resets the chip within its timeout, and the valves stay vented through the reset (floating
+//! pins, pulled down by the drivers) and after it (the firmware starts with both outputs low,
+//! the sequencer Idle).
+//!
+//! A stack overflow is such a fault: linked by flip-link, the stack sits at the bottom of RAM,
+//! and an overflow runs off the start of RAM into a bus fault instead of into the statics. The
+//! fault's frame cannot be pushed either, which is why the entry resets the stack pointer
+//! before any Rust code runs (the on-target program `stack_overflow` shows it on the emulated
+//! core: tests/tests/on_target.rs).
 //!
 //! With a debug probe attached, `probe-rs` halts the core on entry to the HardFault handler
 //! (vector catch), i.e. before that handler runs: a panic has vented already; any other fault
@@ -15,8 +23,6 @@
 
 use core::panic::PanicInfo;
 use core::sync::atomic::{AtomicBool, Ordering};
-
-use cortex_m_rt::{exception, ExceptionFrame};
 
 use crate::records::{log, Record};
 use crate::valves;
@@ -36,10 +42,4 @@ fn panic(info: &PanicInfo) -> ! {
     cortex_m::asm::udf()
 }
 
-#[exception]
-unsafe fn HardFault(_frame: &ExceptionFrame) -> ! {
-    valves::force_vent();
-    loop {
-        cortex_m::asm::nop();
-    }
-}
+stickslip_safety::hard_fault!(stickslip_safety::vent_and_wait);

@@ -5,27 +5,13 @@
 //! reset every pin is a floating input, and the driver's gate pull-down holds the valve off:
 //! see README.md, wiring), so a watchdog reset vents both lines. [`force_vent`] drives both
 //! pins low by a single register write, from anywhere (panic and fault handlers, the e-stop
-//! task).
+//! task); it and the pin numbers live in `stickslip-safety` (no HAL), which the fault entry and
+//! the on-target stack-overflow test share.
 
 use embassy_stm32::gpio::{Level, Output, Speed};
-use embassy_stm32::{pac, peripherals, Peri};
+use embassy_stm32::{peripherals, Peri};
+pub use stickslip_safety::force_vent;
 use stickslip_model::rig::sequencer::Valves as ValveStates;
-
-/// Pin numbers on port D.
-const ACTUATOR_PIN: usize = 12;
-const BAND_PIN: usize = 13;
-
-/// Drives both valve pins low (vented) with one write of GPIOD's bit set/reset register:
-/// no read-modify-write, nothing to lock, safe in any context. If GPIOD is not clocked or the
-/// pins are not yet outputs, the write changes nothing and the pins are floating inputs,
-/// which the drivers' pull-downs hold off: vented as well.
-#[inline(always)]
-pub fn force_vent() {
-    pac::GPIOD.bsrr().write(|w| {
-        w.set_br(ACTUATOR_PIN, true);
-        w.set_br(BAND_PIN, true);
-    });
-}
 
 /// The valve outputs, owned by the estimator task.
 pub struct ValveOutputs {

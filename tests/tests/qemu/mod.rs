@@ -11,8 +11,15 @@ use std::time::{Duration, Instant};
 const QEMU_WATCHDOG: Duration = Duration::from_secs(600);
 
 pub fn run(elf: &Path) -> (std::process::ExitStatus, Vec<u8>, String) {
+    run_with(elf, &[])
+}
+
+/// [`run`] with more QEMU options (e.g. `-d unimp`: QEMU's log of accesses to devices it does
+/// not emulate, on standard error).
+pub fn run_with(elf: &Path, extra: &[&str]) -> (std::process::ExitStatus, Vec<u8>, String) {
     let mut child = Command::new("qemu-system-arm")
         .args(["-M", "netduinoplus2", "-nographic", "-monitor", "none", "-serial", "null"])
+        .args(extra)
         .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
         .arg(elf)
         .stdin(Stdio::null())
