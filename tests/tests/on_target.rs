@@ -4,10 +4,10 @@
 //!
 //! - bin `digest`: the exact stepper in f32 and f64, and each model-2 composition in f32 (the
 //!   firmware's lockstep models: `Band`, `Stribeck`, `StribeckBand` on the rig set's push_center)
-//!   (`tests/on-target/src/scenes.rs`);
+//!   (`tests/cases/src/scenes.rs`);
 //! - bin `rig`: frames from the sensor model through calibration, estimator (window statistics,
 //!   lockstep model) and sequencer, as `stickslip_model::rig::replay` runs them and as the
-//!   firmware's `RigCore` does (`tests/on-target/src/rig_scenes.rs`,
+//!   firmware's `RigCore` does (`tests/cases/src/rig_scenes.rs`,
 //!   `firmware/rig-core/src/rig_core.rs`).
 //!
 //! Ignored by default: they need qemu-system-arm and the cross-built ELFs. `scripts/test-all.sh`
@@ -25,18 +25,9 @@ mod qemu;
 
 use qemu::elf_from_env;
 
-#[allow(dead_code)]
-#[path = "../on-target/src/scenes.rs"]
-mod scenes;
-
-#[allow(dead_code)]
-#[path = "../on-target/src/rig_scenes.rs"]
-mod rig_scenes;
-
-/// The firmware's per-sample logic, which `rig_scenes` reaches as `super::rig_core`.
-#[allow(dead_code)]
-#[path = "../../firmware/rig-core/src/rig_core.rs"]
-mod rig_core;
+// The runs the on-target program prints (tests/cases), built for the host: the same code the
+// Cortex-M4F runs.
+use stickslip_crosscheck_cases::{rig_scenes, scenes};
 
 use rig_scenes::{RigReport, RIG_CASES};
 use scenes::{Report, Report2, CASES};

@@ -31,17 +31,9 @@ use stickslip_model::Halt;
 
 mod qemu;
 
-#[allow(dead_code)]
-#[path = "../../firmware/rig-core/src/rig_core.rs"]
-mod rig_core;
-
-#[allow(dead_code)]
-#[path = "../../firmware/rig-core/src/logbook.rs"]
-mod logbook;
-
-#[allow(dead_code)]
-#[path = "../on-target/src/records_session.rs"]
-mod records_session;
+// The log session the on-target program plays and the firmware's log records (tests/cases),
+// built for the host: the same code the Cortex-M4F runs.
+use stickslip_crosscheck_cases::{logbook, records_session, rig_core};
 
 use logbook::{Record, RecordSink};
 use records_session::{uptime_us, SessionOut};

@@ -4,10 +4,9 @@
 //!
 //! Its own crate for the code generation: the firmware's release profile builds this crate at
 //! opt-level 3 (its per-sample path, and the `#[inline]` functions of `stickslip_model` it
-//! calls, are compiled here) and everything else, the f64 set-up included, for size. The code
-//! of `src/rig_core.rs` and `src/logbook.rs` is also compiled by the host-side tests in
-//! `tests/tests/` as modules (through `#[path]`): keep those two free of crate-level
-//! attributes and `crate::` paths (`logbook` reaches `rig_core` as `super::rig_core`).
+//! calls, are compiled here) and everything else, the f64 set-up included, for size. The
+//! host-side tests in `tests/tests/` run it too, built for the host (through the on-target
+//! programs' library, `tests/on-target`).
 #![no_std]
 
 pub mod logbook;

@@ -7,16 +7,14 @@
 //! No logging here: records go to a [`RecordSink`]. The firmware's sink writes them with
 //! defmt over RTT; the on-target program `tests/on-target/src/bin/records.rs` writes them with
 //! defmt over semihosting; the host test `tests/tests/records_on_target.rs` collects them and
-//! compares them with what it decodes from that program's stream. Like `rig_core.rs`, this file
-//! is compiled by the host test through `#[path]` (as a sibling module of `rig_core`): no
-//! `crate::` paths.
+//! compares them with what it decodes from that program's stream.
 
 use stickslip_model::rig::contact::ContactEvent;
 use stickslip_model::rig::health::ChannelHealth;
 use stickslip_model::rig::noise_floor::FloorReport;
 use stickslip_model::rig::sequencer::{Command, CommandResult, SeqState, Valves};
 
-use super::rig_core::{ClosedWindow, RigCore, SampleOut};
+use crate::rig_core::{ClosedWindow, RigCore, SampleOut};
 
 /// Version of the record layout, printed in the `boot` record. Keep names, field names and
 /// field order stable; add fields only at the end of a record and bump this when one changes.

@@ -6,9 +6,9 @@
 //! The firmware calls [`RigCore::sample_words`] once per frame; the on-target programs of
 //! `tests/on-target` count its instructions (bin `rig_count`, with the firmware's code
 //! generation settings) and digest its outputs on the Cortex-M4F and on x86-64 (bin `rig`, and
-//! the host test, which compiles this file as a module through `#[path]`). It uses nothing but
-//! `core` and `stickslip_model` (no `crate::` paths, no HAL, no logging); the Cargo features of
-//! the firmware reach it as the runtime flags of [`CoreConfig`].
+//! the host test `tests/tests/on_target.rs`, with this crate built for the host). It uses
+//! nothing but `core` and `stickslip_model` (no HAL, no logging); the Cargo features of the
+//! firmware reach it as the runtime flags of [`CoreConfig`].
 //!
 //! **The lockstep model and the sample deadline.** Building a lockstep model is the f64 set-up
 //! of `stickslip_model::rig::lockstep` (the exact flows: some 13 million instructions of soft

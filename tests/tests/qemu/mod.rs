@@ -1,5 +1,7 @@
 //! Runs a Cortex-M4F program under QEMU's netduinoplus2 (STM32F405) with semihosting, for the
-//! on-target tests: exit status, standard output as bytes, standard error.
+//! on-target tests: exit status, standard output as bytes, standard error. Each test file
+//! compiles this module for itself and uses a part of it.
+#![allow(dead_code)]
 
 use std::io::Read;
 use std::path::{Path, PathBuf};

@@ -2,11 +2,10 @@
 //! calibration, estimator (contact, groan band-pass, window statistics, lockstep model) and
 //! sequencer, digested.
 //!
-//! Compiled into the Cortex-M4F program `src/bin/rig.rs` (as a module of this crate) and into
-//! the host-side test `tests/tests/on_target.rs` (through `#[path]`), so both compute the
+//! Run by the Cortex-M4F program `tests/on-target/src/bin/rig.rs` and by the host-side test
+//! `tests/tests/on_target.rs` (this crate's library, built for the host), so both compute the
 //! digests with the same code; it uses `core`, `stickslip_model` and the firmware's per-sample
-//! logic, `super::rig_core` (`firmware/rig-core/src/rig_core.rs`, which the includer declares next to
-//! this module), and nothing else.
+//! logic, `crate::rig_core` (`firmware/rig-core/src/rig_core.rs`), and nothing else.
 //!
 //! Two kinds of case:
 //! - `replay`: `stickslip_model::rig::replay::run_frames_digest` as it is (the shared
@@ -28,7 +27,7 @@ use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::rig::sequencer::Command;
 use stickslip_model::{Caliper, Scene};
 
-use super::rig_core::{button_command, CoreConfig, RigCore};
+use crate::rig_core::{button_command, CoreConfig, RigCore};
 
 /// Frames per case: 0.5 s at 25.6 kHz, five 100 ms windows.
 pub const RIG_FRAMES: u64 = 12_800;

@@ -3,11 +3,11 @@
 //! (`RigCore` for every frame, `Logbook` for what is logged, the estimator task's batch loop
 //! of firmware/src/main.rs), on frames of the sensor model instead of the ADC.
 //!
-//! Compiled into the Cortex-M4F program `src/bin/records.rs`, which writes the records with
-//! defmt over semihosting (`stickslip_records`, the firmware's formatting), and into the host
-//! test `tests/tests/records_on_target.rs` (through `#[path]`), which collects them as values
-//! and compares them with what `stickslip decode` reads from the program's stream. Uses `core`,
-//! `stickslip_model`, `super::rig_core` and `super::logbook` (firmware/rig-core), nothing else.
+//! Run by the Cortex-M4F program `tests/on-target/src/bin/records.rs`, which writes the records
+//! with defmt over semihosting (`stickslip_records`, the firmware's formatting), and by the host
+//! test `tests/tests/records_on_target.rs`, which collects them as values and compares them
+//! with what `stickslip decode` reads from the program's stream. Uses `core`,
+//! `stickslip_model`, `crate::rig_core` and `crate::logbook` (firmware/rig-core), nothing else.
 //!
 //! The session (push caliper, load at the pad centre, sensor noise 0.5 m/s^2 and 0.005 bar):
 //! 1. a boot whose configuration is refused (the model's load position beyond the pad):
@@ -36,8 +36,8 @@ use stickslip_model::rig::CHANNELS;
 use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::{Caliper, Scene};
 
-use super::logbook::{Boot, Logbook, Record, RecordSink, ResetCause};
-use super::rig_core::{button_command, CoreConfig, CoreError, RigCore};
+use crate::logbook::{Boot, Logbook, Record, RecordSink, ResetCause};
+use crate::rig_core::{button_command, CoreConfig, CoreError, RigCore};
 
 /// The trigger timer's clock [Hz] (TIM3 on APB1 x 2 at 168 MHz SYSCLK: firmware/src/config.rs).
 pub const TIMER_HZ: u32 = 84_000_000;

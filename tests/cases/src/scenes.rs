@@ -1,10 +1,8 @@
 //! The scenes of the on-target cross-check and the digest of a run.
 //!
-//! This one source file is compiled into the Cortex-M4F test binary (`src/bin/digest.rs`, as a
-//! module of this crate) and into the host-side test `tests/tests/on_target.rs` of the
-//! workspace (through `#[path]`), so the emulated M4F and x86-64 compute the digest with the
-//! same code. It uses nothing but `core` and `stickslip_model` (no `crate::` paths, no
-//! crate-level attributes) for that reason.
+//! Run by the Cortex-M4F test binary (`tests/on-target/src/bin/digest.rs`) and by the
+//! host-side test `tests/tests/on_target.rs`, so the emulated M4F and x86-64 compute the digest
+//! with the same code. It uses nothing but `core` and `stickslip_model`.
 //!
 //! The digest ([`run`]) is an FNV-1a 64 ([`stickslip_model::digest`]) over, for every step:
 //! the tag [`TAG_STEP`], the regime at the end of the step (u8), the four state values
