@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::run::Precision;
+use crate::scenes::run::Precision;
 
 const AFTER_HELP: &str = "\
 With no subcommand, runs `simulate push_center`.

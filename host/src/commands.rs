@@ -2,16 +2,17 @@
 
 use std::path::Path;
 
-use crate::builtin;
+use crate::scenes::builtin;
 use crate::cli::{AccuracyArgs, CasesArgs, RunOptions, ScenesAction, ScenesArgs, SimulateArgs, StabilityArgs};
-use crate::{accuracy, numerics_plots, stability};
+use crate::numerics::{accuracy, stability};
+use crate::output::numerics_plots;
 use crate::error::{HostError, Result};
-use crate::plots::{self, FigureContext, Line};
-use crate::report::{self, CaseJson, CasesJson, SimulateJson};
-use crate::run::{self, Precision, RunReport};
-use crate::scene_file;
-use crate::scene_source::{self, NamedScene, Overrides};
-use crate::series::{CsvSink, NoSink, Recorder};
+use crate::output::plots::{self, FigureContext, Line};
+use crate::output::report::{self, CaseJson, CasesJson, SimulateJson};
+use crate::scenes::run::{self, Precision, RunReport};
+use crate::scenes::scene_file;
+use crate::scenes::scene_source::{self, NamedScene, Overrides};
+use crate::scenes::series::{CsvSink, NoSink, Recorder};
 
 fn overrides(o: &RunOptions) -> Overrides {
     Overrides {

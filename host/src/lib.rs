@@ -1,24 +1,23 @@
 //! The desktop tool of the stick-slip model, as a library: the `stickslip` binary is a thin
 //! `main` over these modules, and the cross-crate tests use the reference simulation.
+//!
+//! By concern:
+//! - [`scenes`]: the scenes (built-in, files, overrides) and their runs (series, cycles, the
+//!   linear stability of steady sliding): `simulate`, `cases`, `scenes`;
+//! - [`numerics`]: the work-precision and stability reports and the independent references
+//!   they measure against: `accuracy`, `stability`;
+//! - [`recorded`]: recorded data and the virtual rig: `analyze`, `sil`, `compare`, `decode`;
+//! - [`map`]: regime maps: `map`;
+//! - [`fit`]: identification: `fit`;
+//! - [`output`]: the tables, JSON and figures of the scene and numerics commands;
+//! - [`cli`] parses, [`commands`] dispatches, [`error`] is what a command returns on failure.
 
-pub mod accuracy;
-pub mod builtin;
 pub mod cli;
 pub mod commands;
-pub mod cycles;
 pub mod error;
-pub mod exp_variants;
 pub mod fit;
 pub mod map;
-pub mod numerics_plots;
-pub mod plots;
+pub mod numerics;
+pub mod output;
 pub mod recorded;
-pub mod reference;
-pub mod reference2;
-pub mod report;
-pub mod run;
-pub mod scene_file;
-pub mod scene_source;
-pub mod series;
-pub mod sliding;
-pub mod stability;
+pub mod scenes;

@@ -7,7 +7,8 @@ use std::process::ExitCode;
 use clap::Parser;
 
 use stickslip::cli::{Cli, Command, RunOptions, SimulateArgs};
-use stickslip::{commands, run};
+use stickslip::commands;
+use stickslip::scenes::run;
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {

@@ -2,7 +2,7 @@
 //! f32 when the exponential is the model's own, and differently with libm's or micromath's (so
 //! the accuracy report's rows for the three are what they say).
 
-use stickslip::exp_variants::{max_rel_error_stribeck_range, ExpF32, F32Exp, LibmExp, MicromathExp, ModelExp};
+use stickslip::numerics::exp_variants::{max_rel_error_stribeck_range, ExpF32, F32Exp, LibmExp, MicromathExp, ModelExp};
 use stickslip_model::model2::AnyModel2Stepper;
 use stickslip_model::{Caliper, FrictionLaw, Real, Scene};
 

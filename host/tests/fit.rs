@@ -7,8 +7,8 @@ mod recorded_common;
 use recorded_common::*;
 use stickslip::fit::{self, target, FitRequest};
 use stickslip::recorded::sil::{self, SensorPath, SilOptions};
-use stickslip::run::Precision;
-use stickslip::scene_source::{self, NamedScene, Origin};
+use stickslip::scenes::run::Precision;
+use stickslip::scenes::scene_source::{self, NamedScene, Origin};
 use stickslip_model::Scene;
 
 fn named(name: &str, scene: Scene) -> NamedScene {
@@ -49,7 +49,7 @@ fn assert_recovered(r: &fit::FitReport, truth: &[(&str, f64)]) {
 /// fits (mu_s 0.66, mu_k 0.44, v_s 0.012), and the truth's recording through the ideal front
 /// end with 0.005 m/s^2 rms noise, written into the scratch directory `dir`.
 fn oracle_recording(dir: &str, duration_s: f64) -> (Scene, Scene, std::path::PathBuf) {
-    let mut base = stickslip::builtin::find("oracle_stribeck").expect("built-in").scene;
+    let mut base = stickslip::scenes::builtin::find("oracle_stribeck").expect("built-in").scene;
     if duration_s > 0.0 {
         base.duration = duration_s;
     }
@@ -88,7 +88,7 @@ fn a_stribeck_oracle_recording_identifies_mu_s_mu_k_and_v_s() {
 #[test]
 fn the_rig_set_is_recovered_from_30_percent_off() {
     let dir = scratch("fit-rig-set");
-    let built_in = stickslip::builtin::find("rig_push_center").expect("built-in").scene;
+    let built_in = stickslip::scenes::builtin::find("rig_push_center").expect("built-in").scene;
     let truth_keys = [("mu_s", 0.5), ("mu_k", 0.38), ("v_s", 0.0025), ("k_b", 7e5)];
     // The band's damping stays at the pre-fit rig set's 141.4 N s/m (5 % of critical on k_b =
     // 1e6 N/m), for the truth and every start: the scenes docs/fit.md measured.
@@ -96,9 +96,9 @@ fn the_rig_set_is_recovered_from_30_percent_off() {
     let with = |factor: f64| {
         let mut s = built_in;
         for (k, v) in truth_keys {
-            stickslip::scene_file::set_numeric(&mut s, k, v * factor).expect("a numeric key");
+            stickslip::scenes::scene_file::set_numeric(&mut s, k, v * factor).expect("a numeric key");
         }
-        stickslip::scene_file::set_numeric(&mut s, "c_b", c_b).expect("a numeric key");
+        stickslip::scenes::scene_file::set_numeric(&mut s, "c_b", c_b).expect("a numeric key");
         s
     };
     let truth = named("rig_push_center", with(1.0));

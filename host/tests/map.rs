@@ -9,13 +9,13 @@ use std::process::{Command, Output};
 use stickslip::map::cell::{self, CellJson, CellOptions};
 use stickslip::map::sweep::{Grid, Sweep};
 use stickslip::map::{self, output, MapJson, MapSpec, Shard};
-use stickslip::run::{self, Detail, Precision, Start};
-use stickslip::series::{Sample, Sink};
+use stickslip::scenes::run::{self, Detail, Precision, Start};
+use stickslip::scenes::series::{Sample, Sink};
 use stickslip_model::rig_set::rig_float_scene;
 use stickslip_model::{Caliper, Coefficients, FrictionLaw, Scene};
 
 fn builtin(name: &str) -> Scene {
-    stickslip::builtin::find(name).expect("a built-in scene").scene
+    stickslip::scenes::builtin::find(name).expect("a built-in scene").scene
 }
 
 fn spec(base: Scene, sweeps: &[&str], shard: Option<Shard>, jobs: Option<usize>) -> MapSpec {

@@ -1,10 +1,10 @@
-//! The model-2 stepper against the independent reference (`stickslip::reference2`: its own
+//! The model-2 stepper against the independent reference (`stickslip::numerics::reference2`: its own
 //! right-hand side from docs/model.md, adaptive DOP853 at rtol 1e-12, events bisected to
 //! 1e-13 s): the 1-DOF Stribeck oracle's period and amplitude, a 2-DOF Stribeck case and a
 //! rig-set case (Stribeck, band, damping), at the rig's step, in f64 and f32.
 
-use stickslip::builtin;
-use stickslip::reference2;
+use stickslip::scenes::builtin;
+use stickslip::numerics::reference2;
 use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
 use stickslip_model::{Real, Scene};
 

@@ -1,9 +1,9 @@
-//! Checks of the model-2 reference (`stickslip::reference2`) against yardsticks that do not come
+//! Checks of the model-2 reference (`stickslip::numerics::reference2`) against yardsticks that do not come
 //! from it: the thesis-model reference (`reference.rs`), the linear stability of steady
 //! Stribeck sliding, the stiff-band limit, and a closed-form breakaway of the stuck pad + band.
 
-use stickslip::reference::{self, Mode, Tolerances};
-use stickslip::reference2::{self, Regime, Start};
+use stickslip::numerics::reference::{self, Mode, Tolerances};
+use stickslip::numerics::reference2::{self, Regime, Start};
 use stickslip_model::{Caliper, FrictionLaw, Scene};
 
 fn rel(a: f64, b: f64, scale: f64) -> f64 {

@@ -1,4 +1,4 @@
-//! The linear stability of steady sliding (`stickslip::sliding`, the model's own
+//! The linear stability of steady sliding (`stickslip::scenes::sliding`, the model's own
 //! linearisation) against an independent two-mode (y, phi) analysis written here from the
 //! physics, and against the model's own runs started from perturbed sliding.
 //!
@@ -9,7 +9,7 @@
 //! stiffness. det(K_f - omega^2 M) = 0 is a quadratic in omega^2; the modes merge (flutter)
 //! where its discriminant reaches zero.
 
-use stickslip::sliding::{instability_threshold_mu, sliding_stability};
+use stickslip::scenes::sliding::{instability_threshold_mu, sliding_stability};
 use stickslip_model::model2::{AnyModel2Stepper, Y};
 use stickslip_model::{Caliper, Regime, Scene};
 

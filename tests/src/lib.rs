@@ -1,2 +1,2 @@
 //! Cross-crate tests live in `tests/tests/`; the reference simulation they use is
-//! `stickslip::reference` (host/src/reference.rs).
+//! `stickslip::numerics::reference` (host/src/numerics/reference.rs).

@@ -1,7 +1,7 @@
 //! The exact stepper (f64, default step 1/25600 s) against the independent event-driven
 //! DOP853 reference, on the six cases and the 1-DOF oracle.
 
-use stickslip::reference::{self, Mode};
+use stickslip::numerics::reference::{self, Mode};
 use stickslip_model::stats::StatsObserver;
 use stickslip_model::{scene::CASE_BETAS, Caliper, ExactStepper, Observer, Regime, Scene, Transition};
 

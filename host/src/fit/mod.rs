@@ -23,8 +23,8 @@ use stickslip_model::Scene;
 
 use crate::error::{HostError, Result};
 use crate::recorded::sil;
-use crate::scene_file;
-use crate::scene_source::NamedScene;
+use crate::scenes::scene_file;
+use crate::scenes::scene_source::NamedScene;
 use model::FreeKey;
 use solve::{Problem, Row, StartReport};
 use stat::{Stat, StatKey};

@@ -9,9 +9,9 @@ use stickslip_model::{Caliper, Scene};
 
 use crate::recorded::analysis::Analysis;
 use crate::recorded::sil::{self, SensorPath, SilOptions};
-use crate::run::Precision;
-use crate::scene_file;
-use crate::scene_source::{NamedScene, Origin};
+use crate::scenes::run::Precision;
+use crate::scenes::scene_file;
+use crate::scenes::scene_source::{NamedScene, Origin};
 
 /// The six case names (caliper_position).
 pub fn case_names() -> Vec<String> {

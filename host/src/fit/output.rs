@@ -11,7 +11,7 @@ use super::stat::Stat;
 use super::{rms_log_ratio, Compared, FitReport};
 use crate::error::{HostError, Result};
 use crate::recorded::report::num;
-use crate::scene_file;
+use crate::scenes::scene_file;
 
 fn opt(v: Option<f64>) -> String {
     v.map_or("none".into(), num)

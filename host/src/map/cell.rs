@@ -24,9 +24,9 @@ use stickslip_model::rig::bandpass::{BandPass, SectionState, GROAN_BAND_HZ, GROA
 use stickslip_model::Scene;
 
 use crate::error::Result;
-use crate::run::{self, Detail, Outcome, Precision, RunReport, Start};
-use crate::series::{Sample, Sink};
-use crate::sliding::{self, SlidingStability};
+use crate::scenes::run::{self, Detail, Outcome, Precision, RunReport, Start};
+use crate::scenes::series::{Sample, Sink};
+use crate::scenes::sliding::{self, SlidingStability};
 
 /// A completed run whose window never sticks is steady sliding while its sliding velocity's
 /// peak-to-peak is at most `STEADY_PP` kick V.

@@ -131,7 +131,7 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
     Ok((
         MapJson {
             scene: spec.scene_name.clone(),
-            scene_toml: crate::scene_file::to_toml(&spec.scene_name, "", b),
+            scene_toml: crate::scenes::scene_file::to_toml(&spec.scene_name, "", b),
             sweeps: spec.grid.sweeps.clone(),
             duration_s: b.duration,
             stats_from_s: b.stats_from,

@@ -13,7 +13,7 @@ use super::cell::{CellJson, RunCell};
 use super::output::{by_index, REGIMES};
 use super::MapJson;
 use crate::error::{HostError, Result};
-use crate::report::sig4;
+use crate::output::report::sig4;
 
 fn out_err(path: &Path, e: impl std::fmt::Display) -> HostError {
     HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))

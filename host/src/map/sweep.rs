@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 use stickslip_model::Scene;
 
-use crate::scene_file;
+use crate::scenes::scene_file;
 
 /// One swept key: N values from FROM to TO, evenly spaced (or geometrically with `log`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -3,7 +3,7 @@
 //! bounded min/max envelope (every peak visible), and the four Welch spectra on one log axis
 //! with the groan band shaded.
 
-use crate::plots::{decimals, tick};
+use crate::output::plots::{decimals, tick};
 use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;

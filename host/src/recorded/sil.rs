@@ -34,8 +34,8 @@ use super::analysis::{Analysis, AnalysisConfig, Analyzer, FloorSource};
 use stickslip_model::rig::estimator::EstimatorConfig;
 use super::spectrum::CH;
 use crate::error::{HostError, Result};
-use crate::run::{self, Outcome, Precision};
-use crate::scene_source::NamedScene;
+use crate::scenes::run::{self, Outcome, Precision};
+use crate::scenes::scene_source::NamedScene;
 
 /// Default noise on each accelerometer [m/s^2 rms]: the order of a 100 mV/g piezoelectric
 /// accelerometer's residual noise over 1 Hz to 8 kHz (a few mm/s^2), well below one ADC count

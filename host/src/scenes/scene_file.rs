@@ -470,11 +470,11 @@ pub fn field_of(key: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::builtin;
+    use crate::scenes::builtin;
 
     #[test]
     fn get_numeric_reads_what_set_numeric_wrote() {
-        let mut s = crate::builtin::find("rig_pull_lead").unwrap().scene;
+        let mut s = crate::scenes::builtin::find("rig_pull_lead").unwrap().scene;
         for (i, key) in NUMERIC_KEYS.iter().enumerate() {
             let v = 0.125 + i as f64;
             set_numeric(&mut s, key, v).unwrap();

@@ -1,6 +1,6 @@
 //! An event-driven reference simulation of model 2, part 1 (docs/model.md, "Model 2, part 1:
 //! falling friction, a band that moves, damping"), independent of `stickslip_model`'s matrices
-//! and steppers, and of [`crate::reference`]'s code: its own right-hand side written from the
+//! and steppers, and of [`crate::numerics::reference`]'s code: its own right-hand side written from the
 //! equations of docs/model.md (it takes only the scene's data and computes the lever arms
 //! itself), the adaptive DOP853 integrator of the `ode_solvers` crate, and event location by
 //! bisection on re-integrated sub-intervals.
@@ -34,7 +34,7 @@
 //!
 //! Slow and allocating: a yardstick for tests, not the product.
 
-use crate::reference::Tolerances;
+use crate::numerics::reference::Tolerances;
 use ode_solvers::dop853::Dop853;
 use ode_solvers::{OutputType, SVector, System};
 use stickslip_model::{Caliper, FrictionLaw, Scene};

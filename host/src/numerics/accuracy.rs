@@ -35,11 +35,11 @@ use stickslip_model::stats::StatsObserver;
 use stickslip_model::{ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, Transition};
 use stickslip_model::propagator::Propagator;
 
-use crate::builtin;
+use crate::scenes::builtin;
 use crate::error::{HostError, Result};
-use crate::exp_variants::{max_rel_error_stribeck_range, ExpF32, F32Exp, LibmExp, MicromathExp, ModelExp};
-use crate::reference::{self, Tolerances};
-use crate::reference2;
+use crate::numerics::exp_variants::{max_rel_error_stribeck_range, ExpF32, F32Exp, LibmExp, MicromathExp, ModelExp};
+use crate::numerics::reference::{self, Tolerances};
+use crate::numerics::reference2;
 use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 
 /// The rig's sample period [s].

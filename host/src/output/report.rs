@@ -5,8 +5,8 @@
 use serde::Serialize;
 use stickslip_model::{Coefficients, Halt};
 
-use crate::run::{Outcome, RunReport};
-use crate::scene_source::NamedScene;
+use crate::scenes::run::{Outcome, RunReport};
+use crate::scenes::scene_source::NamedScene;
 
 /// Scientific notation with `sig` significant digits, or "n/a".
 pub fn sci(v: Option<f64>, sig: usize) -> String {
@@ -278,16 +278,16 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
         },
     );
     if s.uses_model2() {
-        let lin = crate::sliding::sliding_stability(s);
+        let lin = crate::scenes::sliding::sliding_stability(s);
         line("steady sliding", sliding_line(&lin));
         if s.floating() {
-            let threshold = crate::sliding::instability_threshold_mu(s, 0.0, 2.0, 1e-6);
+            let threshold = crate::scenes::sliding::instability_threshold_mu(s, 0.0, 2.0, 1e-6);
             line(
                 "mode coupling",
                 match threshold {
                     Some(mu) => format!(
                         "steady Coulomb sliding of this pad turns unstable (flutter) at mu_k = {mu:.4} (the model's linearisation; this scene: mu = {:.4} at V)",
-                        crate::sliding::friction_at(s, s.v).0
+                        crate::scenes::sliding::friction_at(s, s.v).0
                     ),
                     None => "no flutter threshold for mu_k in [0, 2]".into(),
                 },
@@ -298,7 +298,7 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
 }
 
 /// The linear stability of steady sliding as one line of the summary.
-pub fn sliding_line(lin: &crate::sliding::SlidingStability) -> String {
+pub fn sliding_line(lin: &crate::scenes::sliding::SlidingStability) -> String {
     if let Some((_, why)) = &lin.invalid {
         return format!("does not exist ({why})");
     }
@@ -386,7 +386,7 @@ pub struct SimulateJson {
     pub period_sd_s: Option<f64>,
     pub cycle_stick_fraction_mean: Option<f64>,
     pub cycle_stick_fraction_sd: Option<f64>,
-    /// Model-2 scenes: the linear stability of steady sliding (`stickslip::sliding`).
+    /// Model-2 scenes: the linear stability of steady sliding (`stickslip::scenes::sliding`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub linear: Option<LinearJson>,
 }
@@ -411,13 +411,13 @@ impl LinearJson {
         if !s.uses_model2() {
             return None;
         }
-        let lin = crate::sliding::sliding_stability(s);
+        let lin = crate::scenes::sliding::sliding_stability(s);
         Some(LinearJson {
             stable: lin.stable(),
             max_growth_rate: lin.max_growth_rate(),
             unstable_hz: lin.unstable_mode().map(|m| m.frequency_hz),
             invalid: lin.invalid.as_ref().map(|(_, why)| why.clone()),
-            flutter_mu_k: if s.floating() { crate::sliding::instability_threshold_mu(s, 0.0, 2.0, 1e-6) } else { None },
+            flutter_mu_k: if s.floating() { crate::scenes::sliding::instability_threshold_mu(s, 0.0, 2.0, 1e-6) } else { None },
         })
     }
 }
@@ -547,7 +547,7 @@ pub fn cases_table(runs: &[(NamedScene, RunReport)]) -> String {
     );
     for (ns, r) in runs {
         let c = &r.cycles;
-        let cell = |w: &crate::cycles::Welford, scale: f64| match (w.mean(), w.sd()) {
+        let cell = |w: &crate::scenes::cycles::Welford, scale: f64| match (w.mean(), w.sd()) {
             (Some(m), Some(sd)) => pm(m * scale, sd * scale),
             (Some(m), None) => sig6(m * scale),
             _ => "n/a".into(),

@@ -19,7 +19,7 @@ use stickslip_model::propagator::fastest_rate;
 use stickslip_model::model2::AnyModel2Stepper;
 use stickslip_model::{Coefficients, Halt, Real, Regime, Scene};
 
-use crate::builtin;
+use crate::scenes::builtin;
 use crate::error::{HostError, Result};
 
 /// One swept parameter: its key in the rows and its values.

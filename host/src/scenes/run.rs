@@ -8,9 +8,9 @@ use stickslip_model::{
     Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
 };
 
-use crate::cycles::{CycleObserver, CycleStats};
+use crate::scenes::cycles::{CycleObserver, CycleStats};
 use crate::error::{HostError, Result};
-use crate::series::{Sample, Sink};
+use crate::scenes::series::{Sample, Sink};
 
 /// The floating-point type the stepper runs in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -172,7 +172,7 @@ pub enum Start {
     /// The model's initial state: the pad stuck, moving with the band, at its rest under the
     /// load (every command's start).
     Rest,
-    /// Steady sliding at the band speed ([`crate::sliding`]: the pad at rest at its sliding
+    /// Steady sliding at the band speed ([`crate::scenes::sliding`]: the pad at rest at its sliding
     /// fixed point, the band at V) plus a velocity kick of relative size `kick` on each of the
     /// pad's degrees of freedom the scene moves: x' and y' by kick V [m/s], phi' by kick V / l
     /// [rad/s] (each pad edge by kick V). Slip with the pad slower than the band.
@@ -184,7 +184,7 @@ pub enum Start {
 /// scene has no steady sliding (sprag, contact loss).
 pub fn start_state(scene: &Scene, start: Start) -> Result<Option<[f64; 8]>> {
     let Start::Sliding { kick } = start else { return Ok(None) };
-    let fixed = crate::sliding::steady_sliding(scene);
+    let fixed = crate::scenes::sliding::steady_sliding(scene);
     if let Some((_, why)) = &fixed.invalid {
         return Err(HostError::Input(format!("no start from steady sliding: {why}")));
     }

@@ -8,9 +8,9 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use stickslip_model::methods::MethodKind;
 
-use crate::accuracy;
+use crate::numerics::accuracy;
 use crate::error::{HostError, Result};
-use crate::stability;
+use crate::numerics::stability;
 
 fn out_err(path: &Path, e: impl std::fmt::Display) -> HostError {
     HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))

@@ -130,7 +130,7 @@ pub struct SteadySliding {
     pub invalid: Option<(NoSteadySliding, String)>,
 }
 
-/// The fixed point of steady sliding of `scene` (the start of [`crate::run::Start::Sliding`]).
+/// The fixed point of steady sliding of `scene` (the start of [`crate::scenes::run::Start::Sliding`]).
 /// The scene must be valid.
 pub fn steady_sliding(scene: &Scene) -> SteadySliding {
     let co = Coefficients::of(scene);

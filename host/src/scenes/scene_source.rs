@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 
 use stickslip_model::{Scene, SceneError};
 
-use crate::builtin;
+use crate::scenes::builtin;
 use crate::error::{HostError, Result};
-use crate::scene_file;
+use crate::scenes::scene_file;
 
 /// Where a scene was read from.
 #[derive(Clone, Debug)]
