@@ -1,5 +1,5 @@
 //! Build-time settings of the rig firmware: clocks, sampling, buffers, watchdog, log limits.
-//! The pins are in `main.rs` (and in README.md's pin map).
+//! The pins are in `board.rs` (and in README.md's pin map).
 
 use embassy_stm32::adc::SampleTime;
 use embassy_stm32::Config;

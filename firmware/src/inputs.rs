@@ -1,6 +1,6 @@
 //! The digital inputs: e-stop (PE4, EXTI4), end-of-stroke switch (PE5, EXTI9_5, feature
 //! `end-of-stroke`) and the start/stop/reset button (PA0, EXTI0: the Discovery board's blue
-//! user button).
+//! user button); the pins are the `board`'s.
 //!
 //! E-stop and end-of-stroke are normally-closed contacts to ground with a pull-up: the contact
 //! closed reads low (normal); pressed, reached, or a broken wire reads high (active). Each has
@@ -19,10 +19,9 @@ use core::sync::atomic::{AtomicBool, Ordering};
 
 use embassy_stm32::exti::ExtiInput;
 use embassy_stm32::mode::Async;
-use embassy_stm32::pac;
-use embassy_stm32::pac::gpio::vals::Idr;
 use embassy_time::Timer;
 
+use crate::board;
 use crate::config::BUTTON_DEBOUNCE_MS;
 use crate::records::{log, Record};
 use crate::valves;
@@ -35,16 +34,6 @@ static EOS_EDGE: AtomicBool = AtomicBool::new(false);
 /// A debounced button press not yet taken.
 static BUTTON: AtomicBool = AtomicBool::new(false);
 
-/// Pin numbers on port E.
-const ESTOP_PIN: usize = 4;
-#[cfg(feature = "end-of-stroke")]
-const EOS_PIN: usize = 5;
-
-#[inline(always)]
-fn pe_high(pin: usize) -> bool {
-    pac::GPIOE.idr().read().idr(pin) == Idr::HIGH
-}
-
 /// The e-stop's latched edges, taken: call once per batch of samples.
 #[inline(always)]
 pub fn take_estop_edge() -> bool {
@@ -54,7 +43,7 @@ pub fn take_estop_edge() -> bool {
 /// The e-stop pin reads active (pressed or wire broken) now.
 #[inline(always)]
 pub fn estop_active() -> bool {
-    pe_high(ESTOP_PIN)
+    board::estop::is_high()
 }
 
 /// The end-of-stroke switch's latched edges, taken: call once per batch of samples.
@@ -71,7 +60,7 @@ pub fn take_end_of_stroke_edge() -> bool {
 #[inline(always)]
 pub fn end_of_stroke_active() -> bool {
     #[cfg(feature = "end-of-stroke")]
-    return pe_high(EOS_PIN);
+    return board::end_of_stroke::is_high();
     #[cfg(not(feature = "end-of-stroke"))]
     return false;
 }

@@ -18,6 +18,8 @@
 //!   next tick.
 //! - Valves: PD12 (actuator/clamp), PD13 (band drive), high = open; low = vented, the reset
 //!   state ([`valves`]); the panic and HardFault handlers vent first ([`panic`]).
+//! - Every pin and peripheral is defined once, in [`board`]; `main` is the bring-up
+//!   ([`board::bring_up`]), then the tasks.
 //!
 //! Nothing moves after boot until the button is pressed: the sequencer starts Idle (both valves
 //! vented) and only the button's start command begins a clamp / drive / record cycle.
@@ -25,6 +27,7 @@
 #![no_std]
 #![no_main]
 
+mod board;
 mod config;
 mod inputs;
 mod panic;
@@ -37,12 +40,12 @@ use cortex_m::peripheral::DWT;
 use defmt_rtt as _;
 use embassy_executor::Spawner;
 use embassy_stm32::adc::{Adc, AdcChannel, Exten, RingBufferedAdc};
-use embassy_stm32::exti::{self, ExtiInput};
+use embassy_stm32::exti::ExtiInput;
 use embassy_stm32::gpio::Pull;
 use embassy_stm32::peripherals::{ADC1, IWDG, TIM3};
 use embassy_stm32::timer::low_level::{MasterMode, RoundTo, Timer as HwTimer};
 use embassy_stm32::wdg::IndependentWatchdog;
-use embassy_stm32::{bind_interrupts, dma, interrupt, pac, peripherals, triggers};
+use embassy_stm32::{pac, triggers};
 use embassy_time::{with_timeout, Duration, Instant, Timer};
 use stickslip_model::rig::pipeline::DigitalInputs;
 use stickslip_model::rig::sequencer::Valves;
@@ -57,13 +60,6 @@ use stickslip_rig_core::{button_command, stack, CoreConfig, CoreError, RigCore};
 
 // The high-water mark reads the paint cortex-m-rt put on the stack at reset.
 const _: () = assert!(stack::PAINT == cortex_m_rt::STACK_PAINT_VALUE);
-
-bind_interrupts!(struct Irqs {
-    DMA2_STREAM0 => dma::InterruptHandler<peripherals::DMA2_CH0>;
-    EXTI0 => exti::InterruptHandler<interrupt::typelevel::EXTI0>;
-    EXTI4 => exti::InterruptHandler<interrupt::typelevel::EXTI4>;
-    EXTI9_5 => exti::InterruptHandler<interrupt::typelevel::EXTI9_5>;
-});
 
 /// Words of one half of the ring: what one read returns.
 const HALF_WORDS: usize = RING_WORDS / 2;
@@ -84,9 +80,9 @@ struct Sampler {
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     let reset = read_reset_cause();
-    let p = embassy_stm32::init(config::clock_config());
+    let b = board::bring_up();
     // Valves first: both outputs low (vented) before anything else runs.
-    let valves = ValveOutputs::new(p.PD12, p.PD13);
+    let valves = ValveOutputs::new(b.actuator_valve, b.band_valve);
 
     // The DWT cycle counter measures each batch's processing time.
     if let Some(mut core) = cortex_m::Peripherals::take() {
@@ -95,7 +91,7 @@ async fn main(spawner: Spawner) {
     }
 
     // The trigger timer: TIM3 update event -> TRGO -> ADC1 regular sequence. Not started yet.
-    let timer = HwTimer::new(p.TIM3);
+    let timer = HwTimer::new(b.trigger_timer);
     let f_tim = timer.get_clock_frequency().0;
     // one scan per update, OVERSAMPLE scans per frame
     let scan_hz = SAMPLE_RATE_HZ * OVERSAMPLE as u32;
@@ -148,41 +144,41 @@ async fn main(spawner: Spawner) {
     let st = ADC_SAMPLE_TIME;
     #[cfg(feature = "pressure")]
     let sequence = [
-        (AdcChannel::<ADC1>::degrade_adc(p.PA1), st), // IN1  disc_x
-        (AdcChannel::<ADC1>::degrade_adc(p.PA2), st), // IN2  pad_x
-        (AdcChannel::<ADC1>::degrade_adc(p.PA3), st), // IN3  pad_trail
-        (AdcChannel::<ADC1>::degrade_adc(p.PB0), st), // IN8  pad_lead
-        (AdcChannel::<ADC1>::degrade_adc(p.PC1), st), // IN11 actuator line pressure
-        (AdcChannel::<ADC1>::degrade_adc(p.PC2), st), // IN12 band line pressure
+        (AdcChannel::<ADC1>::degrade_adc(b.disc_x), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.pad_x), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.pad_trail), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.pad_lead), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.actuator_pressure), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.band_pressure), st),
     ];
     #[cfg(not(feature = "pressure"))]
     let sequence = [
-        (AdcChannel::<ADC1>::degrade_adc(p.PA1), st), // IN1  disc_x
-        (AdcChannel::<ADC1>::degrade_adc(p.PA2), st), // IN2  pad_x
-        (AdcChannel::<ADC1>::degrade_adc(p.PA3), st), // IN3  pad_trail
-        (AdcChannel::<ADC1>::degrade_adc(p.PB0), st), // IN8  pad_lead
+        (AdcChannel::<ADC1>::degrade_adc(b.disc_x), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.pad_x), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.pad_trail), st),
+        (AdcChannel::<ADC1>::degrade_adc(b.pad_lead), st),
     ];
-    let adc = Adc::new(p.ADC1).into_ring_buffered(
-        p.DMA2_CH0,
+    let adc = Adc::new(b.adc).into_ring_buffered(
+        b.adc_dma,
         ring,
-        Irqs,
+        board::Irqs,
         sequence.into_iter(),
         triggers::TIM3_TRGO,
         Exten::RISING_EDGE,
     );
 
     // Digital inputs on EXTI.
-    let estop = ExtiInput::new(p.PE4, p.EXTI4, Pull::Up, Irqs);
+    let estop = ExtiInput::new(b.estop, b.estop_exti, Pull::Up, board::Irqs);
     spawner.spawn(inputs::estop_task(estop).expect("e-stop task spawned once"));
     #[cfg(feature = "end-of-stroke")]
     {
-        let eos = ExtiInput::new(p.PE5, p.EXTI5, Pull::Up, Irqs);
+        let eos = ExtiInput::new(b.end_of_stroke, b.end_of_stroke_exti, Pull::Up, board::Irqs);
         spawner.spawn(inputs::end_of_stroke_task(eos).expect("end-of-stroke task spawned once"));
     }
-    let button = ExtiInput::new(p.PA0, p.EXTI0, Pull::Down, Irqs);
+    let button = ExtiInput::new(b.button, b.button_exti, Pull::Down, board::Irqs);
     spawner.spawn(inputs::button_task(button).expect("button task spawned once"));
 
-    let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_TIMEOUT_US);
+    let mut watchdog = IndependentWatchdog::new(b.watchdog, WATCHDOG_TIMEOUT_US);
     watchdog.unleash();
     let (stack_used, stack_size) = stack::used();
     log(&Record::Start { watchdog_us: WATCHDOG_TIMEOUT_US, stack_used, stack_size });

@@ -1,4 +1,5 @@
-//! The two valve outputs: PD12 actuator (clamp) valve, PD13 band-drive valve.
+//! The two valve outputs: the actuator (clamp) valve and the band-drive valve (PD12, PD13:
+//! `board`).
 //!
 //! High = solenoid energised = valve open (line pressurised); low = de-energised = closed and
 //! vented: the safe state. It is also the state of a pin the firmware does not drive (after
@@ -9,7 +10,9 @@
 //! the on-target stack-overflow test share.
 
 use embassy_stm32::gpio::{Level, Output, Speed};
-use embassy_stm32::{peripherals, Peri};
+use embassy_stm32::Peri;
+
+use crate::board;
 pub use stickslip_safety::force_vent;
 use stickslip_model::rig::sequencer::Valves as ValveStates;
 
@@ -22,7 +25,7 @@ pub struct ValveOutputs {
 
 impl ValveOutputs {
     /// Both pins as push-pull outputs, low (vented) from the first instant.
-    pub fn new(actuator: Peri<'static, peripherals::PD12>, band: Peri<'static, peripherals::PD13>) -> Self {
+    pub fn new(actuator: Peri<'static, board::actuator_valve::Pin>, band: Peri<'static, board::band_valve::Pin>) -> Self {
         ValveOutputs {
             actuator: Output::new(actuator, Level::Low, Speed::Low),
             band: Output::new(band, Level::Low, Speed::Low),

@@ -17,8 +17,14 @@
 //! driver's gate pull-down; firmware/README.md, wiring).
 #![no_std]
 
-/// GPIO port D's base address (STM32F405/407 reference manual, memory map) [address].
-pub const GPIOD_BASE: usize = 0x4002_0C00;
+/// The valves' GPIO port, by number (A = 0, ...): port D. The firmware's board module holds its
+/// typed valve pins to this and to the pin numbers below (a compile-time assertion).
+pub const VALVE_PORT_NUMBER: u32 = 3;
+/// GPIO port A's base address; the ports follow every 0x400 bytes (STM32F405/407 reference
+/// manual, memory map) [address].
+pub const GPIOA_BASE: usize = 0x4002_0000;
+/// The valves' port's base address: GPIOD, 0x4002_0C00 [address].
+pub const GPIOD_BASE: usize = GPIOA_BASE + 0x400 * VALVE_PORT_NUMBER as usize;
 /// Offset of a GPIO port's bit set/reset register, BSRR [bytes].
 pub const GPIO_BSRR_OFFSET: usize = 0x18;
 /// The actuator (clamp) valve's pin on port D: PD12.
