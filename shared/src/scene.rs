@@ -147,7 +147,7 @@ pub const DEFAULT_SCENE: Scene = Scene {
     face: false,
     k_pivot: f64::INFINITY,
     c_y: 0.0,
-    dt: 1.0 / 25600.0,
+    dt: 1.0 / crate::rig::SAMPLE_RATE_HZ,
     duration: 1.0,
     stats_from: 0.5,
 };

@@ -53,7 +53,7 @@ pub const QUIET_LOUD_FACTOR: f64 = 16.0;
 pub const RATE_TOLERANCE: f64 = 0.01;
 /// The accelerometers' measuring range [m/s^2] (Type 4508: 700): samples at or beyond it are
 /// counted.
-pub const SENSOR_RANGE_M_S2: f64 = 700.0;
+pub const SENSOR_RANGE_M_S2: f64 = stickslip_model::rig::ACCEL_RANGE_M_S2;
 
 /// What to compute.
 #[derive(Clone, Debug)]

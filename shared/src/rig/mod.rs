@@ -51,8 +51,12 @@ pub mod sensor_model;
 pub mod sequencer;
 pub mod window;
 
-/// The rig's sampling rate per channel [Hz].
+/// The rig's sampling rate per channel [Hz]: the one design value that the firmware (its ADC
+/// trigger), the model's default step (`DEFAULT_SCENE.dt`) and the desktop tool read.
 pub const SAMPLE_RATE_HZ: f64 = 25_600.0;
+/// The accelerometers' measuring range, +- [m/s^2] (a Type 4508: 700): the calibration's
+/// default and the recorded-data analysis's saturation mark.
+pub const ACCEL_RANGE_M_S2: f64 = 700.0;
 /// Accelerometer channels per frame.
 pub const ACCEL_CHANNELS: usize = 4;
 /// Pressure channels per frame.
