@@ -7,6 +7,8 @@ use std::path::Path;
 use plotters::prelude::*;
 use serde::Serialize;
 
+use crate::output::style;
+
 use super::stat::Stat;
 use super::{rms_log_ratio, Compared, FitReport};
 use crate::error::{HostError, Result};
@@ -364,10 +366,6 @@ pub fn fitted_toml(r: &FitReport) -> String {
     scene_file::to_toml(&format!("{}_fit", r.scene.name), &desc, &r.fitted_scene)
 }
 
-fn out_err(path: &Path, e: impl std::fmt::Display) -> HostError {
-    HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
-}
-
 /// The push caliper's colour in the figure.
 const PUSH: RGBColor = RGBColor(214, 39, 40);
 /// The pull caliper's colour in the figure.
@@ -387,7 +385,7 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
     let cols = stats.len().min(3);
     let rows = stats.len().div_ceil(cols);
     let root = SVGBackend::new(path, (460 * cols as u32, 420 * rows as u32)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| out_err(path, e))?;
+    root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
     let panels = root.split_evenly((rows, cols));
     for (k, (stat, area)) in stats.iter().zip(panels.iter()).enumerate() {
         let first_panel = k == 0;
@@ -402,59 +400,53 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
         let (lo, hi) = vals.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
         let (lo, hi) = (lo / 1.5, hi * 1.5);
         let mut chart = ChartBuilder::on(area)
-            .caption(format!("{} [{}]", stat.name(), stat.unit()), ("sans-serif", 16))
+            .caption(format!("{} [{}]", stat.name(), stat.unit()), (style::FONT, 16))
             .margin(10)
             .x_label_area_size(36)
             .y_label_area_size(56)
             .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
             .x_desc("measured")
             .y_desc("model")
-            .label_style(("sans-serif", 11))
+            .label_style((style::FONT, 11))
             .light_line_style(WHITE.mix(0.0))
             .draw()
-            .map_err(|e| out_err(path, e))?;
-        let diagonal = chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
+        let diagonal = chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| style::draw_err(path, e))?;
         if first_panel {
             // the legend, once: the diagonal, the calipers' colours, filled fitted, open held out
             diagonal.label("model = measured").legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.mix(0.4)));
             for (name, color) in [("push caliper", PUSH), ("pull caliper", PULL)] {
                 chart
                     .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(|e| out_err(path, e))?
+                    .map_err(|e| style::draw_err(path, e))?
                     .label(name)
                     .legend(move |(x, y)| Circle::new((x + 8, y), 4, color.filled()));
             }
             if pts.iter().any(|(_, held)| *held) {
                 chart
                     .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(|e| out_err(path, e))?
+                    .map_err(|e| style::draw_err(path, e))?
                     .label("held out (open)")
                     .legend(|(x, y)| Circle::new((x + 8, y), 4, BLACK.mix(0.7).stroke_width(2)));
             }
-            chart
-                .configure_series_labels()
-                .border_style(BLACK)
-                .background_style(WHITE.mix(0.85))
-                .label_font(("sans-serif", 11))
-                .position(SeriesLabelPosition::UpperLeft)
-                .draw()
-                .map_err(|e| out_err(path, e))?;
+            style::legend(&mut chart, SeriesLabelPosition::UpperLeft, 11, style::LEGEND_LINE)
+                .map_err(|e| style::draw_err(path, e))?;
         }
         for (c, held) in pts {
             let m = c.model.expect("filtered");
             let color = if c.key.case.starts_with("push") { PUSH } else { PULL };
             let style = if held { color.stroke_width(2) } else { color.filled() };
-            chart.draw_series(std::iter::once(Circle::new((c.measured, m), 4, style))).map_err(|e| out_err(path, e))?;
+            chart.draw_series(std::iter::once(Circle::new((c.measured, m), 4, style))).map_err(|e| style::draw_err(path, e))?;
             let label = if c.key.channel.is_some() { format!("{} {}", c.key.case, c.key.channel_name()) } else { c.key.case.clone() };
             chart
-                .draw_series(std::iter::once(Text::new(label, (c.measured, m), ("sans-serif", 9).into_font().color(&BLACK.mix(0.7)))))
-                .map_err(|e| out_err(path, e))?;
+                .draw_series(std::iter::once(Text::new(label, (c.measured, m), (style::FONT, 9).into_font().color(&BLACK.mix(0.7)))))
+                .map_err(|e| style::draw_err(path, e))?;
         }
     }
-    root.present().map_err(|e| out_err(path, e))
+    root.present().map_err(|e| style::draw_err(path, e))
 }
 
 /// `fit --profile --json`.

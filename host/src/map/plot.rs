@@ -12,12 +12,9 @@ use plotters::prelude::*;
 use super::cell::{CellJson, RunCell};
 use super::output::{by_index, REGIMES};
 use super::MapJson;
-use crate::error::{HostError, Result};
+use crate::error::Result;
 use crate::output::report::sig4;
-
-fn out_err(path: &Path, e: impl std::fmt::Display) -> HostError {
-    HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
-}
+use crate::output::style;
 
 fn regime_color(r: &str) -> RGBColor {
     match r {
@@ -46,14 +43,8 @@ type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64
 
 /// The series labels, upper right.
 fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, path: &Path) -> Result<()> {
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .label_font(("sans-serif", 12))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|e| out_err(path, e))
+    style::legend(chart, SeriesLabelPosition::UpperRight, 12, style::LEGEND_LINE)
+        .map_err(|e| style::draw_err(path, e))
 }
 
 /// Writes the figure of `m` (one or two sweeps) to `path`.
@@ -75,9 +66,9 @@ fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
     let (a, b) = (&m.sweeps[0], &m.sweeps[1]);
     let cells = by_index(m);
     let root = SVGBackend::new(path, (1400, 1150)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| out_err(path, e))?;
+    root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
     let title = format!("{}: regime map over {} x {} (black line: linear stability boundary of steady sliding)", m.scene, a.key, b.key);
-    let root = root.titled(&title, ("sans-serif", 20)).map_err(|e| out_err(path, e))?;
+    let root = root.titled(&title, (style::FONT, 20)).map_err(|e| style::draw_err(path, e))?;
     let panels = root.split_evenly((2, 2));
     let unstable = |c: Option<&CellJson>| c.and_then(|c| c.linear.as_ref()).map(|l| !l.stable);
     // boundary segments in cell coordinates
@@ -135,12 +126,12 @@ fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
             String::new()
         };
         let mut chart = ChartBuilder::on(panel)
-            .caption(format!("{caption}{range}"), ("sans-serif", 15))
+            .caption(format!("{caption}{range}"), (style::FONT, 15))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
             .build_cartesian_2d(-0.5..a.n as f64 - 0.5, -0.5..b.n as f64 - 0.5)
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
             .disable_mesh()
@@ -151,7 +142,7 @@ fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
             .x_label_formatter(&|x| sig4(a.value(x.round().clamp(0.0, (a.n - 1) as f64) as usize)))
             .y_label_formatter(&|y| sig4(b.value(y.round().clamp(0.0, (b.n - 1) as f64) as usize)))
             .draw()
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         let color = |c: &CellJson| -> RGBColor {
             match p {
                 0 => regime_color(regime(c.from_rest.as_ref())),
@@ -170,10 +161,10 @@ fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
                 let (i, j) = ((c.index % a.n) as f64, (c.index / a.n) as f64);
                 Rectangle::new([(i - 0.5, j - 0.5), (i + 0.5, j + 0.5)], color(c).filled())
             }))
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         chart
             .draw_series(edges.iter().map(|e| PathElement::new(e.to_vec(), BLACK.stroke_width(3))))
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         if p < 2 {
             for (r, _) in REGIMES {
                 let present = cells.iter().flatten().any(|c| regime(if p == 0 { c.from_rest.as_ref() } else { c.from_sliding.as_ref() }) == r);
@@ -183,14 +174,14 @@ fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
                 let col = regime_color(r);
                 chart
                     .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-                    .map_err(|e| out_err(path, e))?
+                    .map_err(|e| style::draw_err(path, e))?
                     .label(r)
                     .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], col.filled()));
             }
             legend(&mut chart, path)?;
         }
     }
-    root.present().map_err(|e| out_err(path, e))?;
+    root.present().map_err(|e| style::draw_err(path, e))?;
     Ok(())
 }
 
@@ -201,9 +192,9 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
     let a = &m.sweeps[0];
     let cells = by_index(m);
     let root = SVGBackend::new(path, (1400, 950)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| out_err(path, e))?;
+    root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
     let title = format!("{}: sweep of {} (black verticals: linear stability boundary of steady sliding)", m.scene, a.key);
-    let root = root.titled(&title, ("sans-serif", 20)).map_err(|e| out_err(path, e))?;
+    let root = root.titled(&title, (style::FONT, 20)).map_err(|e| style::draw_err(path, e))?;
     let panels = root.split_evenly((2, 2));
     let x_of = |c: &CellJson| c.index as f64;
     let boundary: Vec<f64> = super::output::boundary_pairs(m).iter().map(|&(i, _)| i as f64 + 0.5).collect();
@@ -247,12 +238,12 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
         }
         let pad = 0.05 * (hi - lo);
         let mut chart = ChartBuilder::on(panel)
-            .caption(caption, ("sans-serif", 15))
+            .caption(caption, (style::FONT, 15))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
             .build_cartesian_2d(-0.5..a.n as f64 - 0.5, lo - pad..hi + pad)
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
             .x_desc(a.key.as_str())
@@ -260,17 +251,17 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
             .x_label_formatter(&|x| sig4(a.value(x.round().clamp(0.0, (a.n - 1) as f64) as usize)))
             .y_label_formatter(&|y| sig4(*y))
             .draw()
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         for &x in &boundary {
             chart
                 .draw_series(std::iter::once(PathElement::new(vec![(x, lo - pad), (x, hi + pad)], BLACK.stroke_width(1))))
-                .map_err(|e| out_err(path, e))?;
+                .map_err(|e| style::draw_err(path, e))?;
         }
         for (label, pts, col, dashed) in series {
             let style = ShapeStyle { color: col.to_rgba(), filled: true, stroke_width: if dashed { 1 } else { 2 } };
             chart
                 .draw_series(LineSeries::new(pts.clone(), style))
-                .map_err(|e| out_err(path, e))?
+                .map_err(|e| style::draw_err(path, e))?
                 .label(label)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], style));
             // the regime of each point as its marker's colour
@@ -282,11 +273,11 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
                         let y = r.stick_fraction?;
                         Some(Circle::new((x_of(c), y), if which_rest { 4 } else { 2 }, regime_color(&r.regime).filled()))
                     }))
-                    .map_err(|e| out_err(path, e))?;
+                    .map_err(|e| style::draw_err(path, e))?;
             }
         }
         legend(&mut chart, path)?;
     }
-    root.present().map_err(|e| out_err(path, e))?;
+    root.present().map_err(|e| style::draw_err(path, e))?;
     Ok(())
 }

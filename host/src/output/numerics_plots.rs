@@ -8,13 +8,10 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use stickslip_model::methods::MethodKind;
 
+use crate::error::Result;
 use crate::numerics::accuracy;
-use crate::error::{HostError, Result};
+use crate::output::style;
 use crate::numerics::stability;
-
-fn out_err(path: &Path, e: impl std::fmt::Display) -> HostError {
-    HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
-}
 
 const SCENES: [&str; 3] = ["oracle_1dof", "pull_center", "push_center"];
 
@@ -33,7 +30,7 @@ fn series_color(i: usize) -> RGBColor {
 /// Error against run time, one panel per scene.
 pub fn accuracy(rep: &accuracy::Report, path: &Path) -> Result<()> {
     let root = SVGBackend::new(path, (1500, 520)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| out_err(path, e))?;
+    root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
     let panels = root.split_evenly((1, SCENES.len()));
     let floor = 1e-16;
     for (panel, scene) in panels.iter().zip(SCENES) {
@@ -47,12 +44,12 @@ pub fn accuracy(rep: &accuracy::Report, path: &Path) -> Result<()> {
             continue;
         }
         let mut chart = ChartBuilder::on(panel)
-            .caption(format!("{scene}: error against run time"), ("sans-serif", 18))
+            .caption(format!("{scene}: error against run time"), (style::FONT, 18))
             .margin(10)
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d((tmin / 2.0..tmax * 2.0).log_scale(), (floor..10.0).log_scale())
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
             .x_desc("run time [s] (minimum over repeats)")
@@ -60,7 +57,7 @@ pub fn accuracy(rep: &accuracy::Report, path: &Path) -> Result<()> {
             .x_label_formatter(&|v| format!("{v:.0e}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         // (label, points, dashed)
         type Line = (String, Vec<(f64, f64)>, bool);
         let mut lines: Vec<Line> = Vec::new();
@@ -87,24 +84,18 @@ pub fn accuracy(rep: &accuracy::Report, path: &Path) -> Result<()> {
                 continue;
             }
             let color = series_color(i / 2);
-            let style = ShapeStyle { color: color.to_rgba(), filled: true, stroke_width: if dashed { 1 } else { 2 } };
+            let shape = ShapeStyle { color: color.to_rgba(), filled: true, stroke_width: if dashed { 1 } else { 2 } };
             chart
-                .draw_series(LineSeries::new(pts.clone(), style))
-                .map_err(|e| out_err(path, e))?
+                .draw_series(LineSeries::new(pts.clone(), shape))
+                .map_err(|e| style::draw_err(path, e))?
                 .label(label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], style));
-            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, style))).map_err(|e| out_err(path, e))?;
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], shape));
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, shape))).map_err(|e| style::draw_err(path, e))?;
         }
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.85))
-            .label_font(("sans-serif", 11))
-            .position(SeriesLabelPosition::LowerLeft)
-            .draw()
-            .map_err(|e| out_err(path, e))?;
+        style::legend(&mut chart, SeriesLabelPosition::LowerLeft, 11, style::LEGEND_LINE)
+            .map_err(|e| style::draw_err(path, e))?;
     }
-    root.present().map_err(|e| out_err(path, e))?;
+    root.present().map_err(|e| style::draw_err(path, e))?;
     Ok(())
 }
 
@@ -121,15 +112,15 @@ fn outcome_color(o: &str) -> RGBColor {
 pub fn stability(rep: &stability::Report, path: &Path) -> Result<()> {
     let sweeps = &stability::SWEEPS;
     let root = SVGBackend::new(path, (1600, 1000)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| out_err(path, e))?;
+    root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
     let (title, body) = root.split_vertically(50);
     title
         .draw(&Text::new(
             "Outcome per run: green bounded, orange sprag (model), blue contact loss (model), red method unstable",
             (20, 15),
-            ("sans-serif", 18),
+            (style::FONT, 18),
         ))
-        .map_err(|e| out_err(path, e))?;
+        .map_err(|e| style::draw_err(path, e))?;
     let panels = body.split_evenly((2, 4));
     let labels: Vec<String> = MethodKind::ALL
         .iter()
@@ -139,12 +130,12 @@ pub fn stability(rep: &stability::Report, path: &Path) -> Result<()> {
         let n = sweep.values.len();
         let m = labels.len();
         let mut chart = ChartBuilder::on(panel)
-            .caption(format!("{} [{}]", sweep.key, sweep.unit), ("sans-serif", 16))
+            .caption(format!("{} [{}]", sweep.key, sweep.unit), (style::FONT, 16))
             .margin(8)
             .x_label_area_size(30)
             .y_label_area_size(130)
             .build_cartesian_2d(0.0..n as f64, 0.0..m as f64)
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         let values = sweep.values;
         let labels_ref = &labels;
         chart
@@ -153,18 +144,18 @@ pub fn stability(rep: &stability::Report, path: &Path) -> Result<()> {
             .disable_y_axis()
             .disable_x_axis()
             .draw()
-            .map_err(|e| out_err(path, e))?;
+            .map_err(|e| style::draw_err(path, e))?;
         // one label per column, under its centre
-        let below = TextStyle::from(("sans-serif", 10).into_font()).pos(Pos::new(HPos::Center, VPos::Top));
+        let below = TextStyle::from((style::FONT, 10).into_font()).pos(Pos::new(HPos::Center, VPos::Top));
         for (i, v) in values.iter().enumerate() {
             let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
-            root.draw(&Text::new(format!("{v:e}"), (px, py + 4), below.clone())).map_err(|e| out_err(path, e))?;
+            root.draw(&Text::new(format!("{v:e}"), (px, py + 4), below.clone())).map_err(|e| style::draw_err(path, e))?;
         }
         // one label per row, drawn beside it (axis ticks would skip rows)
-        let style = TextStyle::from(("sans-serif", 10).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
+        let beside = TextStyle::from((style::FONT, 10).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
         for (j, label) in labels_ref.iter().enumerate() {
             let (px, py) = chart.backend_coord(&(0.0, (m - j - 1) as f64 + 0.5));
-            root.draw(&Text::new(label.clone(), (px - 6, py), style.clone())).map_err(|e| out_err(path, e))?;
+            root.draw(&Text::new(label.clone(), (px - 6, py), beside.clone())).map_err(|e| style::draw_err(path, e))?;
         }
         for (j, label) in labels.iter().enumerate() {
             let (method, prec) = label.split_once(' ').unwrap_or((label, ""));
@@ -179,10 +170,10 @@ pub fn stability(rep: &stability::Report, path: &Path) -> Result<()> {
                         [(i as f64 + 0.05, y + 0.08), (i as f64 + 0.95, y + 0.92)],
                         color.filled(),
                     )))
-                    .map_err(|e| out_err(path, e))?;
+                    .map_err(|e| style::draw_err(path, e))?;
             }
         }
     }
-    root.present().map_err(|e| out_err(path, e))?;
+    root.present().map_err(|e| style::draw_err(path, e))?;
     Ok(())
 }

@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use crate::error::{HostError, Result};
+use crate::error::Result;
+use crate::output::style::{self, draw_err};
 
 /// One line of a figure: a load position's samples (t [s], [x, x', phi, phi'] in SI).
 pub struct Line<'a> {
@@ -97,36 +98,14 @@ fn decimate(samples: &[(f64, [f64; 4])], i: usize, scale: f64) -> Vec<(f64, f64)
     out
 }
 
-/// Decimal places for axis labels spanning `range`.
-pub(crate) fn decimals(range: f64) -> usize {
-    if range.is_nan() || range <= 0.0 {
-        return 3;
-    }
-    (2.0 - range.log10().floor()).clamp(0.0, 9.0) as usize
-}
-
-/// An axis label with `d` decimals, without a "-0.000".
-pub(crate) fn tick(v: f64, d: usize) -> String {
-    let s = format!("{v:.d$}");
-    if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
-        s[1..].to_string()
-    } else {
-        s
-    }
-}
-
 /// Line styles of the three load positions, after the thesis: trailing short dashes,
 /// centre solid, leading long dashes (and three colours).
-fn style(k: usize) -> (RGBColor, Option<(u32, u32)>) {
+fn line_style(k: usize) -> (RGBColor, Option<(u32, u32)>) {
     match k {
-        0 => (RGBColor(0, 114, 178), Some((6, 4))),
-        1 => (RGBColor(0, 0, 0), None),
-        _ => (RGBColor(213, 94, 0), Some((16, 6))),
+        0 => (style::PALETTE[0], Some((6, 4))),
+        1 => (style::PALETTE[1], None),
+        _ => (style::PALETTE[2], Some((16, 6))),
     }
-}
-
-fn draw_err(path: &Path, e: impl std::fmt::Display) -> HostError {
-    HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
 }
 
 /// Writes the four figures of one caliper into `dir`; returns their paths.
@@ -174,8 +153,6 @@ fn figure(
     }
     // Room for the legend above the data.
     let (y0, y1) = (lo - 0.05 * span, hi + 0.35 * span);
-    let yd = decimals(y1 - y0);
-    let xd = decimals(ctx.to - ctx.from);
 
     let root = SVGBackend::new(path, (1000, 620)).into_drawing_area();
     root.fill(&WHITE)?;
@@ -189,28 +166,11 @@ fn figure(
     } else {
         format!("t = {} to {} s of a {} s run", ctx.from, ctx.to, ctx.run_s)
     };
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("{caliper} caliper: {} against time ({window})", q.title),
-            ("sans-serif", 22),
-        )
-        .margin(18)
-        .x_label_area_size(50)
-        .y_label_area_size(80)
-        .build_cartesian_2d(ctx.from..ctx.to, y0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc("time t [s]")
-        .y_desc(q.axis)
-        .x_label_formatter(&|v| tick(*v, xd))
-        .y_label_formatter(&|v| tick(*v, yd))
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
-        .light_line_style(WHITE.mix(0.0))
-        .draw()?;
+    let caption = format!("{caliper} caliper: {} against time ({window})", q.title);
+    let mut chart = style::time_chart(&root, caption, 22, ctx.from..ctx.to, y0..y1, q.axis)?;
 
     for (k, (line, pts)) in lines.iter().zip(&series).enumerate() {
-        let (color, dash) = style(k);
+        let (color, dash) = line_style(k);
         let st = ShapeStyle::from(&color).stroke_width(2);
         let anno = match dash {
             None => chart.draw_series(LineSeries::new(pts.iter().copied(), st))?,
@@ -240,14 +200,7 @@ fn figure(
                 DashedPathElement::new(vec![(x, y), (x + 36, y)], 3, 3, st).into_dyn()
             });
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .legend_area_size(48)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()?;
+    style::legend(&mut chart, SeriesLabelPosition::UpperRight, 15, 48)?;
     root.present()?;
     Ok(())
 }

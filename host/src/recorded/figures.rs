@@ -3,7 +3,7 @@
 //! bounded min/max envelope (every peak visible), and the four Welch spectra on one log axis
 //! with the groan band shaded.
 
-use crate::output::plots::{decimals, tick};
+use crate::output::style::{self, draw_err};
 use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
@@ -24,11 +24,7 @@ pub const CHANNEL_TITLES: [&str; 4] = [
 /// Highest frequency drawn in the spectra figure [Hz] (or fs / 2 if lower).
 pub const SPECTRUM_MAX_HZ: f64 = 2000.0;
 
-const COLORS: [RGBColor; 4] = [RGBColor(0, 114, 178), RGBColor(0, 0, 0), RGBColor(213, 94, 0), RGBColor(0, 158, 115)];
-
-fn draw_err(path: &Path, e: impl std::fmt::Display) -> HostError {
-    HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
-}
+const COLORS: [RGBColor; 4] = style::PALETTE;
 
 /// Writes `{disc_x,pad_x,pad_trail,pad_lead}.svg` and `spectra.svg` into `dir` (created if
 /// missing); `what` names the record in the captions. Returns the paths.
@@ -55,13 +51,7 @@ type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
 fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
 ) -> std::result::Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()
+    style::legend(chart, SeriesLabelPosition::UpperRight, 15, style::LEGEND_LINE)
 }
 
 fn channel(path: &Path, what: &str, a: &Analysis, c: usize) -> DrawResult {
@@ -80,23 +70,9 @@ fn channel(path: &Path, what: &str, a: &Analysis, c: usize) -> DrawResult {
     }
     let root = SVGBackend::new(path, (1000, 520)).into_drawing_area();
     root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(format!("{}: {} ({what})", ACCEL_NAMES[c], CHANNEL_TITLES[c]), ("sans-serif", 20))
-        .margin(18)
-        .x_label_area_size(50)
-        .y_label_area_size(80)
-        .build_cartesian_2d(t0..t1, y0..y1)?;
-    let (xd, yd) = (decimals(t1 - t0), decimals(y1 - y0));
-    chart
-        .configure_mesh()
-        .x_desc("time t [s]")
-        .y_desc(format!("{} [m/s^2]", ACCEL_NAMES[c]))
-        .x_label_formatter(&|v| tick(*v, xd))
-        .y_label_formatter(&|v| tick(*v, yd))
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
-        .light_line_style(WHITE.mix(0.0))
-        .draw()?;
+    let caption = format!("{}: {} ({what})", ACCEL_NAMES[c], CHANNEL_TITLES[c]);
+    let y_desc = format!("{} [m/s^2]", ACCEL_NAMES[c]);
+    let mut chart = style::time_chart(&root, caption, 20, t0..t1, y0..y1, &y_desc)?;
     // one point per sample while the buckets hold one; else each bucket's min and max
     let pts: Vec<(f64, f64)> = env
         .iter()
@@ -143,7 +119,7 @@ fn spectra(path: &Path, what: &str, a: &Analysis) -> DrawResult {
                 if s.segments == 1 { "" } else { "s" },
                 s.resolution_hz
             ),
-            ("sans-serif", 18),
+            (style::FONT, 18),
         )
         .margin(18)
         .x_label_area_size(50)
@@ -155,8 +131,8 @@ fn spectra(path: &Path, what: &str, a: &Analysis) -> DrawResult {
         .y_desc("PSD [(m/s^2)^2/Hz]")
         .x_label_formatter(&|v| format!("{v:.0}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
+        .label_style((style::FONT, 15))
+        .axis_desc_style((style::FONT, 17))
         .light_line_style(WHITE.mix(0.0))
         .draw()?;
     let (g0, g1) = GROAN_BAND_HZ;
