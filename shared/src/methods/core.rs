@@ -16,8 +16,9 @@ pub struct StepCore<T: Real> {
     pub step: u64,
     dt: f64,
     limits: Limits<T>,
-    last: [Transition<T>; 1],
-    n_last: usize,
+    /// The transition at the end of the last step, if the regime changed (heapless: a fixed
+    /// capacity of one, no allocation).
+    last: heapless::Vec<Transition<T>, 1>,
     halted: Option<Halt>,
 }
 
@@ -30,8 +31,7 @@ impl<T: Real> StepCore<T> {
             step: 0,
             dt: scene.dt,
             limits: Limits::new(scene, co),
-            last: [Transition { t: 0.0, from: Regime::Stick, to: Regime::Stick, state: State::default() }],
-            n_last: 0,
+            last: heapless::Vec::new(),
             halted: None,
         }
     }
@@ -42,7 +42,7 @@ impl<T: Real> StepCore<T> {
         if let Some(h) = self.halted {
             return Err(h);
         }
-        self.n_last = 0;
+        self.last.clear();
         Ok(self.z)
     }
 
@@ -52,8 +52,9 @@ impl<T: Real> StepCore<T> {
         self.step += 1;
         let t = self.step as f64 * self.dt;
         if regime != self.regime {
-            self.last[0] = Transition { t, from: self.regime, to: regime, state: State::from_array(z) };
-            self.n_last = 1;
+            self.last.clear();
+            // capacity 1, just cleared: the push cannot fail
+            let _ = self.last.push(Transition { t, from: self.regime, to: regime, state: State::from_array(z) });
             self.regime = regime;
         }
         self.z = z;
@@ -61,11 +62,11 @@ impl<T: Real> StepCore<T> {
             self.halted = Some(e);
             return Err(e);
         }
-        Ok(self.n_last)
+        Ok(self.last.len())
     }
 
     pub fn transitions(&self) -> &[Transition<T>] {
-        &self.last[..self.n_last]
+        &self.last
     }
 }
 
