@@ -4,8 +4,9 @@
 //!   with feature `pressure`, the two pressure transducers, at [`config::SAMPLE_RATE_HZ`] per
 //!   channel; DMA2 stream 0 copies each conversion into a circular ring
 //!   (embassy-stm32 0.6 `RingBufferedAdc`, timer-triggered, frame-aligned).
-//! - The estimator task takes the ring half by half and runs every frame through
-//!   `stickslip_rig_core::RigCore` (`rig-core/`: calibration, estimator with window statistics
+//! - The estimator task ([`estimator_task`], below) takes the ring half by half and runs every
+//!   frame through `RigCore::sample_words` (`rig-core/src/rig_core.rs`, the per-sample path:
+//!   two hops from here; calibration, estimator with window statistics
 //!   and the lockstep model, valve sequencer: `stickslip_model::rig`), sets the valve outputs of
 //!   each sample, and
 //!   logs over defmt (RTT): sequencer states, button commands, contact events (rate-limited) and
