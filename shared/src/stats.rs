@@ -38,6 +38,48 @@ impl RunStats {
     }
 }
 
+/// The slip onsets of a window and the stick-slip frequency they give, (n - 1) / (last -
+/// first) [Hz]: the one definition the model's statistics (thesis and model 2), the virtual
+/// rig's truth and the recorded-data analysis all use.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OnsetRate {
+    count: u64,
+    first_s: f64,
+    last_s: f64,
+}
+
+impl OnsetRate {
+    pub const fn new() -> Self {
+        OnsetRate { count: 0, first_s: 0.0, last_s: 0.0 }
+    }
+
+    /// A slip onset at `t_s` [s] (onsets in time order).
+    #[inline]
+    pub fn add(&mut self, t_s: f64) {
+        if self.count == 0 {
+            self.first_s = t_s;
+        }
+        self.last_s = t_s;
+        self.count += 1;
+    }
+
+    /// Onsets counted.
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// The first onset's time [s], if any.
+    pub fn first_s(&self) -> Option<f64> {
+        (self.count > 0).then_some(self.first_s)
+    }
+
+    /// The stick-slip frequency [Hz]: `None` with fewer than two onsets or none of the window's
+    /// time between them.
+    pub fn hz(&self) -> Option<f64> {
+        (self.count >= 2 && self.last_s > self.first_s).then(|| (self.count - 1) as f64 / (self.last_s - self.first_s))
+    }
+}
+
 /// Collects [`RunStats`] from the segments of steps `from_step` onward.
 #[derive(Clone, Debug)]
 pub struct StatsObserver<T: Real> {
@@ -48,9 +90,7 @@ pub struct StatsObserver<T: Real> {
     seen: bool,
     stick_s: f64,
     window_s: f64,
-    first_onset: f64,
-    last_onset: f64,
-    onsets: u64,
+    onsets: OnsetRate,
     transitions: u64,
 }
 
@@ -66,9 +106,7 @@ impl<T: Real> StatsObserver<T> {
             seen: false,
             stick_s: 0.0,
             window_s: 0.0,
-            first_onset: 0.0,
-            last_onset: 0.0,
-            onsets: 0,
+            onsets: OnsetRate::new(),
             transitions: 0,
         }
     }
@@ -98,17 +136,13 @@ impl<T: Real> StatsObserver<T> {
 
     pub fn finish(&self) -> RunStats {
         let f = |a: [T; 4]| [a[0].to_f64(), a[1].to_f64(), a[2].to_f64(), a[3].to_f64()];
-        let hz = if self.onsets >= 2 && self.last_onset > self.first_onset {
-            (self.onsets - 1) as f64 / (self.last_onset - self.first_onset)
-        } else {
-            0.0
-        };
+        let hz = self.onsets.hz().unwrap_or(0.0);
         RunStats {
             min: f(self.min),
             max: f(self.max),
             stick_fraction: if self.window_s > 0.0 { self.stick_s / self.window_s } else { 0.0 },
             stick_slip_hz: hz,
-            slip_onsets: self.onsets,
+            slip_onsets: self.onsets.count(),
             transitions: self.transitions,
             window_s: self.window_s,
         }
@@ -168,11 +202,7 @@ impl<T: Real> Observer<T> for StatsObserver<T> {
         }
         self.transitions += 1;
         if tr.from == Regime::Stick {
-            if self.onsets == 0 {
-                self.first_onset = tr.t;
-            }
-            self.last_onset = tr.t;
-            self.onsets += 1;
+            self.onsets.add(tr.t);
         }
     }
 }
@@ -189,16 +219,14 @@ pub struct EventWindow {
     /// Start of the current regime [s].
     since: f64,
     stick_s: f64,
-    first_onset: f64,
-    last_onset: f64,
-    onsets: u64,
+    onsets: OnsetRate,
     transitions: u64,
 }
 
 impl EventWindow {
     /// A window from `t_from` [s] of a run that starts at t = 0 in stick (`stick`) or slip.
     pub fn new(t_from: f64, stick: bool) -> Self {
-        EventWindow { t_from, stick, since: 0.0, stick_s: 0.0, first_onset: 0.0, last_onset: 0.0, onsets: 0, transitions: 0 }
+        EventWindow { t_from, stick, since: 0.0, stick_s: 0.0, onsets: OnsetRate::new(), transitions: 0 }
     }
 
     /// A transition at `t` [s] out of stick (`from_stick`) or into it (`to_stick`).
@@ -213,11 +241,7 @@ impl EventWindow {
         }
         self.transitions += 1;
         if from_stick {
-            if self.onsets == 0 {
-                self.first_onset = t;
-            }
-            self.last_onset = t;
-            self.onsets += 1;
+            self.onsets.add(t);
         }
     }
 
@@ -228,19 +252,38 @@ impl EventWindow {
         if self.stick {
             stick_s += (t_end - self.since.max(self.t_from)).max(0.0);
         }
-        let hz = if self.onsets >= 2 && self.last_onset > self.first_onset {
-            (self.onsets - 1) as f64 / (self.last_onset - self.first_onset)
-        } else {
-            0.0
-        };
+        let hz = self.onsets.hz().unwrap_or(0.0);
         RunStats {
             min: [0.0; 4],
             max: [0.0; 4],
             stick_fraction: if window_s > 0.0 { stick_s / window_s } else { 0.0 },
             stick_slip_hz: hz,
-            slip_onsets: self.onsets,
+            slip_onsets: self.onsets.count(),
             transitions: self.transitions,
             window_s,
         }
+    }
+}
+
+#[cfg(test)]
+mod onset_rate_tests {
+    use super::OnsetRate;
+
+    /// Onsets at 0.10, 0.20 and 0.35 s: two cycles in 0.25 s, 8 Hz; fewer than two onsets, or
+    /// two at one time, give none.
+    #[test]
+    fn the_rate_is_cycles_over_the_time_they_span() {
+        let mut r = OnsetRate::new();
+        assert_eq!((r.count(), r.first_s(), r.hz()), (0, None, None));
+        r.add(0.10);
+        assert_eq!((r.count(), r.first_s(), r.hz()), (1, Some(0.10), None));
+        r.add(0.20);
+        r.add(0.35);
+        assert_eq!(r.count(), 3);
+        assert!((r.hz().unwrap() - 8.0).abs() < 1e-12, "{:?}", r.hz());
+        let mut same = OnsetRate::new();
+        same.add(0.5);
+        same.add(0.5);
+        assert_eq!(same.hz(), None);
     }
 }

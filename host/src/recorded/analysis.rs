@@ -36,6 +36,7 @@ use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
 use stickslip_model::rig::health::{ChannelHealth, HealthReport};
 use stickslip_model::rig::noise_floor::{NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
 use stickslip_model::rig::{DISC_X, PAD_X};
+use stickslip_model::stats::OnsetRate;
 use stickslip_model::Regime;
 
 use super::envelope::{Bucket, Envelope};
@@ -201,9 +202,7 @@ struct Running {
     prev: [f64; CH],
     step: [f64; CH],
     stick: u64,
-    onsets: u64,
-    onset_first: f64,
-    onset_last: f64,
+    onsets: OnsetRate,
     first_onset: Option<f64>,
     at_range: u64,
     at_range_ch: [u64; CH],
@@ -275,11 +274,7 @@ impl Running {
             let lead = (s.contact.lead_samples as u64).min(self.stick);
             self.stick -= lead;
             let t = t - lead as f64 / self.fs;
-            if self.onsets == 0 {
-                self.onset_first = t;
-            }
-            self.onset_last = t;
-            self.onsets += 1;
+            self.onsets.add(t);
         }
         if let Some(w) = &mut self.welch {
             w.push(a);
@@ -497,9 +492,7 @@ impl Analyzer {
             prev: [0.0; CH],
             step: [f64::INFINITY; CH],
             stick: 0,
-            onsets: 0,
-            onset_first: 0.0,
-            onset_last: 0.0,
+            onsets: OnsetRate::new(),
             first_onset: None,
             at_range: 0,
             at_range_ch: [0; CH],
@@ -593,8 +586,7 @@ impl Analyzer {
             groan_rms: (r.groan_sq[c] / n).sqrt(),
             step: if r.step[c].is_finite() { r.step[c] } else { 0.0 },
         });
-        let stick_slip_hz = (r.onsets >= 2 && r.onset_last > r.onset_first)
-            .then(|| (r.onsets - 1) as f64 / (r.onset_last - r.onset_first));
+        let stick_slip_hz = r.onsets.hz();
         let thresholds = *r.est.contact().thresholds();
         // the rig's rule (stickslip_model::rig::health): flat, saturated, noisier than the
         // signal; pad_x must carry a signal, disc_x must not be saturated
@@ -622,7 +614,7 @@ impl Analyzer {
             channels,
             stick_fraction: r.stick as f64 / n,
             stick_slip_hz,
-            slip_onsets: r.onsets,
+            slip_onsets: r.onsets.count(),
             first_onset_s: r.first_onset,
             sample_rate_hz,
             setup_rate_hz: r.fs,

@@ -23,6 +23,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
+use stickslip_model::stats::OnsetRate;
 use stickslip_model::rig::contact::ContactThresholds;
 use stickslip_model::rig::prng::XorShift32;
 use stickslip_model::rig::sensor_model::{
@@ -289,7 +290,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     let steps_planned = run::planned_steps(scene);
     let mut truth = Truth::default();
     let (mut tmin, mut tmax) = ([f64::INFINITY; CH], [f64::NEG_INFINITY; CH]);
-    let (mut stick, mut onset_first, mut onset_last) = (0u64, 0.0f64, 0.0f64);
+    let (mut stick, mut onsets) = (0u64, OnsetRate::new());
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
     let mut saturated_frames = 0;
@@ -367,12 +368,9 @@ fn sample_run<T: Real, M: Motion<T>>(
                 tmax[ch] = tmax[ch].max(v);
             }
             for &t_onset in sensor.motion().slip_onsets() {
-                if truth.slip_onsets == 0 {
-                    onset_first = t_onset;
-                }
-                onset_last = t_onset;
-                truth.slip_onsets += 1;
+                onsets.add(t_onset);
             }
+            truth.slip_onsets = onsets.count();
         }
     }
     if let Some(mut o) = out {
@@ -381,8 +379,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     if truth.samples > 0 {
         truth.stick_fraction = stick as f64 / truth.samples as f64;
         truth.pp = std::array::from_fn(|c| tmax[c] - tmin[c]);
-        truth.stick_slip_hz = (truth.slip_onsets >= 2 && onset_last > onset_first)
-            .then(|| (truth.slip_onsets - 1) as f64 / (onset_last - onset_first));
+        truth.stick_slip_hz = onsets.hz();
     }
     // a run that halts early (a finding) may leave too little to analyse: no statistics then
     let measured = match analyzer.finish() {

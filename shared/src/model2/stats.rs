@@ -45,8 +45,7 @@ pub struct Stats2Observer {
     seen: bool,
     stick_s: f64,
     t_end: f64,
-    first_onset: f64,
-    last_onset: f64,
+    onsets: crate::stats::OnsetRate,
     /// Keep the extremes (false: only the window's time, stick time and transitions).
     extremes: bool,
 }
@@ -72,8 +71,7 @@ impl Stats2Observer {
             seen: false,
             stick_s: 0.0,
             t_end: t_from,
-            first_onset: 0.0,
-            last_onset: 0.0,
+            onsets: crate::stats::OnsetRate::new(),
         }
     }
 
@@ -108,11 +106,7 @@ impl Stats2Observer {
         }
         s.window_s = self.t_end - self.t_from;
         s.stick_fraction = if s.window_s > 0.0 { self.stick_s / s.window_s } else { 0.0 };
-        s.stick_slip_hz = if s.slip_onsets >= 2 {
-            (s.slip_onsets - 1) as f64 / (self.last_onset - self.first_onset)
-        } else {
-            0.0
-        };
+        s.stick_slip_hz = self.onsets.hz().unwrap_or(0.0);
         s
     }
 }
@@ -209,11 +203,8 @@ impl<T: Real> Observer2<T> for Stats2Observer {
         }
         self.s.transitions += 1;
         if tr.from == Regime::Stick {
-            if self.s.slip_onsets == 0 {
-                self.first_onset = tr.t;
-            }
-            self.last_onset = tr.t;
-            self.s.slip_onsets += 1;
+            self.onsets.add(tr.t);
+            self.s.slip_onsets = self.onsets.count();
         }
     }
 }
