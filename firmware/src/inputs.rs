@@ -13,7 +13,7 @@
 //!
 //! The button is active high (the Discovery's B1 connects PA0 to 3 V, with a pull-down): a
 //! press held for [`BUTTON_DEBOUNCE_MS`] posts one press, which the estimator task turns into
-//! start, stop or reset by the sequencer's state (`rig_core::button_command`).
+//! start, stop or reset by the sequencer's state (`stickslip_model::rig::sequencer::button_command`).
 
 use core::sync::atomic::{AtomicBool, Ordering};
 

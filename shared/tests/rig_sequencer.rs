@@ -3,7 +3,7 @@
 //! while the cause persists.
 
 use stickslip_model::rig::sequencer::{
-    Command, CommandResult, FaultCause, PressureLimits, RecordEnd, SeqState, Sequencer, SequencerConfig,
+    button_command, Command, CommandResult, FaultCause, PressureLimits, RecordEnd, SeqState, Sequencer, SequencerConfig,
     SequencerInputs, SequencerOutput, Valves,
 };
 
@@ -330,4 +330,26 @@ fn invalid_configurations_are_refused_by_name() {
     c.band_limits = PressureLimits { min_bar: 1.0, max_bar: f32::NAN };
     assert_eq!(Sequencer::new(&c).unwrap_err().field, "band_limits");
     assert!(Sequencer::new(&SequencerConfig::RIG).is_ok());
+}
+
+/// The single button: a press in Idle starts (clamp), a press while clamping stops (vent, then
+/// Idle), and after a fault whose cause has gone a press resets it. Each press is accepted.
+#[test]
+fn the_button_starts_stops_and_resets() {
+    let mut s = Sequencer::new(&config()).unwrap();
+    let press = |s: &mut Sequencer, i: SequencerInputs| s.tick(&i, Some(button_command(s.state())));
+    let o = press(&mut s, quiet());
+    assert_eq!((o.state, o.command), (SeqState::Clamp, Some(CommandResult::Accepted)));
+    let o = press(&mut s, SequencerInputs { actuator_bar: 2.0, ..quiet() });
+    assert_eq!((o.state, o.valves, o.command), (SeqState::Vent, Valves::VENTED, Some(CommandResult::Accepted)));
+    let mut o = tick(&mut s, quiet());
+    while o.state == SeqState::Vent {
+        o = tick(&mut s, quiet());
+    }
+    assert_eq!(o.state, SeqState::Idle);
+    // an e-stop latches a fault; released, the button resets it to Idle
+    let o = tick(&mut s, SequencerInputs { estop: true, ..quiet() });
+    assert!(matches!(o.state, SeqState::Fault(_)), "{o:?}");
+    let o = press(&mut s, quiet());
+    assert_eq!((o.state, o.command), (SeqState::Idle, Some(CommandResult::Accepted)));
 }

@@ -272,16 +272,9 @@ pub struct SampleOut {
     pub floor_ready: bool,
 }
 
-/// The command the single start/stop/reset button gives in a state: start from Idle, stop
-/// (orderly vent) from Clamp, Drive, Record (and Vent, where the sequencer ignores it), reset
-/// from a fault.
-pub const fn button_command(state: SeqState) -> Command {
-    match state {
-        SeqState::Idle => Command::Start,
-        SeqState::Clamp | SeqState::Drive | SeqState::Record | SeqState::Vent => Command::Stop,
-        SeqState::Fault(_) => Command::Reset,
-    }
-}
+/// The command the single start/stop/reset button gives in a state: the sequencer's
+/// (`stickslip_model::rig::sequencer::button_command`), re-exported for the firmware.
+pub use stickslip_model::rig::sequencer::button_command;
 
 /// The per-sample logic (see the module documentation).
 #[derive(Debug)]

@@ -139,6 +139,17 @@ pub enum Command {
     Reset,
 }
 
+/// The command the rig's single start/stop/reset button gives in `state`: start from Idle, stop
+/// (orderly vent) from Clamp, Drive, Record (and Vent, where the sequencer ignores it), reset
+/// from a fault.
+pub const fn button_command(state: SeqState) -> Command {
+    match state {
+        SeqState::Idle => Command::Start,
+        SeqState::Clamp | SeqState::Drive | SeqState::Record | SeqState::Vent => Command::Stop,
+        SeqState::Fault(_) => Command::Reset,
+    }
+}
+
 /// What became of a command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CommandResult {
