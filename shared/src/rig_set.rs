@@ -42,15 +42,12 @@ pub fn rig_scene(caliper: Caliper, beta: f64) -> Scene {
 pub fn pre_fit_rig_scene(caliper: Caliper, beta: f64) -> Scene {
     let mut s = Scene::case(caliper, beta);
     s.friction = FrictionLaw::Stribeck;
-    s.v_s = PRE_FIT_V_S;
     s.stribeck_exponent = 1.0;
     s.band = true;
     s.m_b = RIG_M_B;
-    s.k_b = PRE_FIT_K_B;
-    s.c_b = 2.0 * RIG_ZETA_B * libm::sqrt(s.k_b * s.m_b);
     s.c_x = 2.0 * RIG_ZETA * libm::sqrt(s.k_g * s.m);
     s.c_phi = 2.0 * RIG_ZETA * libm::sqrt(Coefficients::of(&s).k_rot * s.inertia);
-    s
+    pre_fit(s)
 }
 
 /// Any rig-set scene (hinged or floating) with the friction and drive the rig set had before

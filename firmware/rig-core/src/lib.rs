@@ -5,8 +5,8 @@
 //! Its own crate for the code generation: the firmware's release profile builds this crate at
 //! opt-level 3 (its per-sample path, and the `#[inline]` functions of `stickslip_model` it
 //! calls, are compiled here) and everything else, the f64 set-up included, for size. The
-//! host-side tests in `tests/tests/` run it too, built for the host (through the on-target
-//! programs' library, `tests/on-target`).
+//! host-side tests in `tests/tests/` run it too, built for the host (through the crate
+//! `tests/cases`, whose runs the on-target programs print).
 #![no_std]
 
 pub mod logbook;

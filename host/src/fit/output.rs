@@ -438,8 +438,8 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
         for (c, held) in pts {
             let m = c.model.expect("filtered");
             let color = if c.key.case.starts_with("push") { PUSH } else { PULL };
-            let style = if held { color.stroke_width(2) } else { color.filled() };
-            chart.draw_series(std::iter::once(Circle::new((c.measured, m), 4, style))).map_err(|e| style::draw_err(path, e))?;
+            let marker = if held { color.stroke_width(2) } else { color.filled() };
+            chart.draw_series(std::iter::once(Circle::new((c.measured, m), 4, marker))).map_err(|e| style::draw_err(path, e))?;
             let label = if c.key.channel.is_some() { format!("{} {}", c.key.case, c.key.channel_name()) } else { c.key.case.clone() };
             chart
                 .draw_series(std::iter::once(Text::new(label, (c.measured, m), (style::FONT, 9).into_font().color(&BLACK.mix(0.7)))))

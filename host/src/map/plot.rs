@@ -258,12 +258,12 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
                 .map_err(|e| style::draw_err(path, e))?;
         }
         for (label, pts, col, dashed) in series {
-            let style = ShapeStyle { color: col.to_rgba(), filled: true, stroke_width: if dashed { 1 } else { 2 } };
+            let shape = ShapeStyle { color: col.to_rgba(), filled: true, stroke_width: if dashed { 1 } else { 2 } };
             chart
-                .draw_series(LineSeries::new(pts.clone(), style))
+                .draw_series(LineSeries::new(pts.clone(), shape))
                 .map_err(|e| style::draw_err(path, e))?
                 .label(label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], style));
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], shape));
             // the regime of each point as its marker's colour
             if p == 0 {
                 let which_rest = col == RGBColor(214, 39, 40);

@@ -370,7 +370,6 @@ fn sample_run<T: Real, M: Motion<T>>(
             for &t_onset in sensor.motion().slip_onsets() {
                 onsets.add(t_onset);
             }
-            truth.slip_onsets = onsets.count();
         }
     }
     if let Some(mut o) = out {
@@ -379,6 +378,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     if truth.samples > 0 {
         truth.stick_fraction = stick as f64 / truth.samples as f64;
         truth.pp = std::array::from_fn(|c| tmax[c] - tmin[c]);
+        truth.slip_onsets = onsets.count();
         truth.stick_slip_hz = onsets.hz();
     }
     // a run that halts early (a finding) may leave too little to analyse: no statistics then

@@ -106,6 +106,7 @@ impl Stats2Observer {
         }
         s.window_s = self.t_end - self.t_from;
         s.stick_fraction = if s.window_s > 0.0 { self.stick_s / s.window_s } else { 0.0 };
+        s.slip_onsets = self.onsets.count();
         s.stick_slip_hz = self.onsets.hz().unwrap_or(0.0);
         s
     }
@@ -204,7 +205,6 @@ impl<T: Real> Observer2<T> for Stats2Observer {
         self.s.transitions += 1;
         if tr.from == Regime::Stick {
             self.onsets.add(tr.t);
-            self.s.slip_onsets = self.onsets.count();
         }
     }
 }
