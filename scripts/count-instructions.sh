@@ -7,7 +7,8 @@
 #   rig_count  the rig's per-sample path (`firmware` profile: the firmware's own code
 #              generation settings, see tests/on-target/Cargo.toml): path A, calibration of the
 #              six channels + estimator + window statistics, and path B, the firmware's whole
-#              per-sample call RigCore::sample (with the lockstep model and the sequencer);
+#              per-sample call stickslip_rig_core::sample_words on the shared crate's rig
+#              (with the lockstep model and the sequencer);
 #              fails if any sample of path A takes more than 1,500 instructions.
 #
 # Builds the two programs unless COUNT_ELF / RIG_COUNT_ELF name ELFs, runs each on QEMU's

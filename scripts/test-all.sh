@@ -100,7 +100,7 @@ cargo test --workspace --release
 section "5/8 model and rig chain on the emulated Cortex-M4F == on the host, the fault path (QEMU netduinoplus2)"
 STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" STICKSLIP_ON_TARGET_RIG_ELF="$on_target_dir/rig" \
     cargo test --release -p stickslip-crosscheck --test on_target -- --ignored --nocapture
-# the firmware's log records (bin records: the firmware's RigCore, Logbook and defmt formatting)
+# the firmware's log records (bin records: the rig through the firmware's sample_words, Logbook and defmt formatting)
 records_stream="$on_target_dir/records.defmt"
 rm -f "$records_stream"
 STICKSLIP_ON_TARGET_RECORDS_ELF="$on_target_dir/records" STICKSLIP_ON_TARGET_RECORDS_STREAM="$records_stream" \

@@ -21,7 +21,7 @@ pub const SYSCLK_HZ: u32 = 168_000_000;
 pub const SAMPLE_RATE_HZ: u32 = stickslip_model::rig::SAMPLE_RATE_HZ as u32;
 
 /// Scans per frame (the calibration's `adc.oversample`): each channel is converted this many
-/// times per frame and the frame's count is their sum (`RigCore::frame`: a boxcar of 4 at
+/// times per frame and the frame's count is their sum (`Rig::frame`, shared/src/rig/pipeline.rs: a boxcar of 4 at
 /// 102.4 kHz, then one sample in 4; stickslip_model::rig::calibration states the filter). The
 /// anti-alias ahead of it: the accelerometers' 8 kHz bandwidth and the front end's low-pass.
 /// The sum has 14 bits; it resolves finer than one 12-bit count where the converter's own

@@ -5,10 +5,10 @@
 //!   channel; DMA2 stream 0 copies each conversion into a circular ring
 //!   (embassy-stm32 0.6 `RingBufferedAdc`, timer-triggered, frame-aligned).
 //! - The estimator task ([`estimator_task`], below) takes the ring half by half and runs every
-//!   frame through `RigCore::sample_words` (`rig-core/src/rig_core.rs`, the per-sample path:
-//!   two hops from here; calibration, estimator with window statistics
-//!   and the lockstep model, valve sequencer: `stickslip_model::rig`), sets the valve outputs of
-//!   each sample, and
+//!   frame through `stickslip_rig_core::sample_words` (`rig-core/src/rig_core.rs`, two hops from
+//!   here) into the one rig, `stickslip_model::rig::pipeline::Rig` (`shared/src/rig/pipeline.rs`:
+//!   calibration, estimator with window statistics and the lockstep model, valve sequencer),
+//!   sets the valve outputs of each sample, and
 //!   logs over defmt (RTT): sequencer states, button commands, contact events (rate-limited) and
 //!   one summary record per window ([`records`]). An overrun of the ring (frames overwritten
 //!   before they were read) is counted and logged; no frames at all for 50 ms is a stall: the
@@ -48,8 +48,8 @@ use embassy_stm32::timer::low_level::{MasterMode, RoundTo, Timer as HwTimer};
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{pac, triggers};
 use embassy_time::{with_timeout, Duration, Instant, Timer};
-use stickslip_model::rig::pipeline::DigitalInputs;
-use stickslip_model::rig::sequencer::Valves;
+use stickslip_model::rig::pipeline::{DigitalInputs, Rig, RigConfig, RigError};
+use stickslip_model::rig::sequencer::{button_command, Valves};
 
 use crate::config::{
     ACCEL_FRONT_END_GAIN, ADC_CHANNELS, ADC_SAMPLE_TIME, EVENT_LOGS_PER_WINDOW, FRAMES_PER_HALF, FRAME_WORDS, OVERSAMPLE, RING_WORDS, SAMPLE_RATE_HZ,
@@ -57,7 +57,7 @@ use crate::config::{
 };
 use crate::records::{log, read_reset_cause, Boot, Defmt, Logbook, Record};
 use crate::valves::ValveOutputs;
-use stickslip_rig_core::{button_command, stack, CoreConfig, CoreError, RigCore};
+use stickslip_rig_core::{sample_words, stack};
 
 // The high-water mark reads the paint cortex-m-rt put on the stack at reset.
 const _: () = assert!(stack::PAINT == cortex_m_rt::STACK_PAINT_VALUE);
@@ -72,7 +72,7 @@ struct Sampler {
     timer: HwTimer<'static, TIM3>,
     watchdog: IndependentWatchdog<'static, IWDG>,
     valves: ValveOutputs,
-    core: &'static mut RigCore,
+    rig: &'static mut Rig,
     half: &'static mut [u16; HALF_WORDS],
     /// Core cycles in the time of one half-ring.
     batch_budget: u32,
@@ -101,7 +101,7 @@ async fn main(spawner: Spawner) {
     timer.set_master_mode(MasterMode::UPDATE);
     let fs_hz = f_tim as f64 / (clocks as f64 * OVERSAMPLE as f64);
 
-    let mut cfg = CoreConfig::rig(fs_hz, cfg!(feature = "pressure"), cfg!(feature = "end-of-stroke"));
+    let mut cfg = RigConfig::rig(fs_hz, cfg!(feature = "pressure"), cfg!(feature = "end-of-stroke"));
     cfg.calibration.adc.oversample = OVERSAMPLE as u32;
     for (a, g) in cfg.calibration.accel.iter_mut().zip(ACCEL_FRONT_END_GAIN) {
         a.front_end_gain = g;
@@ -113,7 +113,7 @@ async fn main(spawner: Spawner) {
         fs_hz: fs_hz as f32,
         timer_clocks: clocks,
         adc_channels: ADC_CHANNELS as u32,
-        window_samples: cfg.ticks(cfg.window_s),
+        window_samples: cfg.estimator.window_samples,
         batch_frames: FRAMES_PER_HALF as u32,
         pressure: cfg.has_pressure,
         end_of_stroke: cfg.has_end_of_stroke,
@@ -123,20 +123,20 @@ async fn main(spawner: Spawner) {
     // The slow part: the estimator, the sequencer and the armed lockstep model (f64 set-up),
     // once, before the watchdog runs and before any sample is taken.
     let t_build = Instant::now();
-    let slot = cortex_m::singleton!(: MaybeUninit<RigCore> = MaybeUninit::uninit()).expect("one rig core");
-    let core = match RigCore::init(slot, &cfg) {
-        Ok(c) => c,
-        Err(CoreError::Config(e)) => halt_config(e.field, e.rule, e.value).await,
-        Err(CoreError::Model(e)) => halt_config(e.field, e.rule, e.value).await,
+    let slot = cortex_m::singleton!(: MaybeUninit<Rig> = MaybeUninit::uninit()).expect("one rig");
+    let rig = match Rig::init(slot, &cfg) {
+        Ok(r) => r,
+        Err(RigError::Config(e)) => halt_config(e.field, e.rule, e.value).await,
+        Err(RigError::Model(e)) => halt_config(e.field, e.rule, e.value).await,
     };
-    let model = core.model_scene();
+    let model = rig.model_scene();
     log(&Record::Armed {
         build_us: t_build.elapsed().as_micros() as u32,
         caliper: model.caliper.name(),
         beta_m: model.beta as f32,
         f_n_n: model.f_n as f32,
         v_m_s: model.v as f32,
-        n0_n: core.model_normal_force(),
+        n0_n: rig.model_normal_force(),
     });
 
     // ADC1: regular sequence in frame order, triggered by TIM3_TRGO, into the DMA ring.
@@ -185,7 +185,7 @@ async fn main(spawner: Spawner) {
     log(&Record::Start { watchdog_us: WATCHDOG_TIMEOUT_US, stack_used, stack_size });
 
     let batch_budget = (SYSCLK_HZ as u64 * clocks as u64 * (OVERSAMPLE * FRAMES_PER_HALF) as u64 / f_tim as u64) as u32;
-    let sampler = Sampler { adc, timer, watchdog, valves, core, half, batch_budget };
+    let sampler = Sampler { adc, timer, watchdog, valves, rig, half, batch_budget };
     spawner.spawn(estimator_task(sampler).expect("estimator task spawned once"));
 }
 
@@ -201,7 +201,7 @@ async fn halt_config(field: &'static str, rule: &'static str, value: f64) -> ! {
 /// (besides the vent-only paths: e-stop task, panic, faults).
 #[embassy_executor::task]
 async fn estimator_task(s: Sampler) {
-    let Sampler { mut adc, timer, mut watchdog, mut valves, core, half, batch_budget } = s;
+    let Sampler { mut adc, timer, mut watchdog, mut valves, rig, half, batch_budget } = s;
     // Frames since boot, overruns, the events' rate limit, the window records: the logbook.
     let mut book = Logbook::new(batch_budget, EVENT_LOGS_PER_WINDOW);
 
@@ -243,17 +243,17 @@ async fn estimator_task(s: Sampler) {
             let digital = DigitalInputs { estop, end_of_stroke: eos_edge || inputs::end_of_stroke_active() };
             let command = if press {
                 press = false;
-                Some(button_command(core.state()))
+                Some(button_command(rig.state()))
             } else {
                 None
             };
-            let out = core.sample_words(words, &digital, command);
+            let out = sample_words(rig, words, &digital, command);
             // The sequencer vents on an e-stop in this very tick; the override is a second line.
             valves.set(if estop { Valves::VENTED } else { out.sequencer.valves });
-            book.sample(&mut Defmt, core, command, &out);
+            book.sample(&mut Defmt, rig, command, &out);
         }
         let cycles = DWT::cycle_count().wrapping_sub(c0);
         // Outside the per-sample loop: the window's divisions and square roots, and its record.
-        book.end_batch(&mut Defmt, core, cycles);
+        book.end_batch(&mut Defmt, rig, cycles);
     }
 }

@@ -116,7 +116,7 @@ struct FastPath<T> {
 }
 
 /// The exact fixed-step stepper, generic over f32 and f64.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 pub struct ExactStepper<T: Real> {
     prop: Propagator<T>,
     guards: Guards<T>,

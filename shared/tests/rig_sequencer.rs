@@ -3,7 +3,7 @@
 //! while the cause persists.
 
 use stickslip_model::rig::sequencer::{
-    button_command, Command, CommandResult, FaultCause, PressureLimits, RecordEnd, SeqState, Sequencer, SequencerConfig,
+    button_command, Command, CommandResult, FaultCause, PhaseEnd, PressureLimits, RecordEnd, SeqState, Sequencer, SequencerConfig,
     SequencerInputs, SequencerOutput, Valves,
 };
 
@@ -17,6 +17,7 @@ fn config() -> SequencerConfig {
         drive_timeout_ticks: 30,
         record: RecordEnd::Ticks(40),
         vent_ticks: 10,
+        phase_end: PhaseEnd::Pressure,
         actuator_limits: PressureLimits { min_bar: -0.3, max_bar: 5.8 },
         band_limits: PressureLimits { min_bar: -0.3, max_bar: 2.0 },
     }
@@ -352,4 +353,44 @@ fn the_button_starts_stops_and_resets() {
     assert!(matches!(o.state, SeqState::Fault(_)), "{o:?}");
     let o = press(&mut s, quiet());
     assert_eq!((o.state, o.command), (SeqState::Idle, Some(CommandResult::Accepted)));
+}
+
+#[test]
+fn timed_phases_end_after_their_ticks_whatever_the_lines_read() {
+    // a rig without transducers: the lines read 0 bar throughout
+    let mut cfg = config();
+    cfg.phase_end = PhaseEnd::Timed { clamp_ticks: 7, drive_ticks: 4 };
+    let mut s = Sequencer::new(&cfg).unwrap();
+    assert_eq!(s.tick(&quiet(), Some(Command::Start)).state, SeqState::Clamp);
+    let mut outputs = [0u32; 2];
+    let mut o = tick(&mut s, quiet());
+    for (k, state) in [SeqState::Clamp, SeqState::Drive].into_iter().enumerate() {
+        outputs[k] = if k == 0 { 1 } else { 0 }; // Clamp's entering tick was the start's
+        while o.state == state {
+            outputs[k] += 1;
+            o = tick(&mut s, quiet());
+        }
+    }
+    assert_eq!(outputs, [7, 4], "Clamp and Drive show their ticks");
+    assert_eq!((o.state, o.valves), (SeqState::Record, OPEN_BOTH));
+    // the pressure limits still hold: a line out of range faults a timed phase too
+    let mut s = Sequencer::new(&cfg).unwrap();
+    s.tick(&quiet(), Some(Command::Start));
+    let o = tick(&mut s, SequencerInputs { actuator_bar: 6.5, ..quiet() });
+    assert_eq!((o.state, o.valves), (SeqState::Fault(FaultCause::ActuatorPressure), Valves::VENTED));
+    // a timed clamp longer than its timeout times out
+    cfg.phase_end = PhaseEnd::Timed { clamp_ticks: 25, drive_ticks: 4 };
+    let mut s = Sequencer::new(&cfg).unwrap();
+    s.tick(&quiet(), Some(Command::Start));
+    let mut o = tick(&mut s, quiet());
+    let mut n = 1;
+    while o.state == SeqState::Clamp {
+        n += 1;
+        o = tick(&mut s, quiet());
+    }
+    assert_eq!((n, o.state), (20, SeqState::Fault(FaultCause::ClampTimeout)));
+    // zero ticks is refused, naming the field
+    cfg.phase_end = PhaseEnd::Timed { clamp_ticks: 3, drive_ticks: 0 };
+    let e = Sequencer::new(&cfg).unwrap_err();
+    assert_eq!(e.field, "phase_end.drive_ticks");
 }

@@ -6,9 +6,8 @@
 //!   firmware's lockstep models: `Band`, `Stribeck`, `StribeckBand` on the rig set's push_center)
 //!   (`tests/cases/src/scenes.rs`);
 //! - bin `rig`: frames from the sensor model through calibration, estimator (window statistics,
-//!   lockstep model) and sequencer, as `stickslip_model::rig::replay` runs them and as the
-//!   firmware's `RigCore` does (`tests/cases/src/rig_scenes.rs`,
-//!   `firmware/rig-core/src/rig_core.rs`).
+//!   lockstep model) and sequencer: the one rig, `stickslip_model::rig::pipeline::Rig`, which
+//!   the firmware runs, digested by `stickslip_model::rig::replay` (`tests/cases/src/rig_scenes.rs`).
 //!
 //! Ignored by default: they need qemu-system-arm and the cross-built ELFs. `scripts/test-all.sh`
 //! builds both and runs
@@ -112,7 +111,7 @@ fn target_lines2(out: &str) -> Vec<&str> {
 
 /// The rig cases' digest lines on the target equal the same runs' digests on the host: the
 /// whole per-sample chain (calibration, estimator with its windows and the lockstep model,
-/// sequencer; the shared replay and the firmware's own `RigCore`) is bit-identical.
+/// sequencer: the one rig, in the replay's scripts) is bit-identical.
 #[test]
 #[ignore = "needs qemu-system-arm and STICKSLIP_ON_TARGET_RIG_ELF (scripts/test-all.sh runs it)"]
 fn on_target_rig_digests_equal_host_digests() {

@@ -1,5 +1,5 @@
 //! The firmware's log, end to end: the on-target program `records` (tests/on-target) plays a rig
-//! session through the firmware's `RigCore` and `Logbook` on the emulated Cortex-M4F and
+//! session through the firmware's rig (`sample_words`) and `Logbook` on the emulated Cortex-M4F and
 //! writes every record with the firmware's defmt formatting over semihosting; this test runs
 //! it under QEMU, decodes the captured stream with the host's `stickslip decode` code and the
 //! program's ELF, and compares every decoded record with the same session played on x86-64
@@ -33,7 +33,8 @@ mod qemu;
 
 // The log session the on-target program plays and the firmware's log records (tests/cases),
 // built for the host: the same code the Cortex-M4F runs.
-use stickslip_crosscheck_cases::{logbook, records_session, rig_core};
+use stickslip_crosscheck_cases::{logbook, records_session};
+use stickslip_model::rig::pipeline::{Rig, RigConfig};
 
 use logbook::{Record, RecordSink};
 use records_session::{uptime_us, SessionOut};
@@ -446,20 +447,20 @@ fn the_session_makes_every_record_the_schema_needs() {
     }
 }
 
-/// The firmware's decimation (`RigCore::frame`): four scans of distinct words summed channel by
+/// The firmware's decimation (`Rig::frame`): four scans of distinct words summed channel by
 /// channel, with and without the pressure channels (then 0 bar's count, times four), against
 /// sums taken here.
 #[test]
 fn the_decimation_sums_the_scans_of_a_frame() {
     use stickslip_model::rig::{ACCEL_CHANNELS, CHANNELS};
     for has_pressure in [true, false] {
-        let mut cfg = rig_core::CoreConfig::rig(25_600.0, has_pressure, true);
+        let mut cfg = RigConfig::rig(25_600.0, has_pressure, true);
         cfg.calibration.adc.oversample = 4;
-        let core = rig_core::RigCore::new(&cfg).expect("the rig's configuration");
+        let rig = Rig::new(&cfg).expect("the rig's configuration");
         let ch = cfg.adc_channels();
         assert_eq!(cfg.frame_words(), 4 * ch);
         let words: Vec<u16> = (0..4 * ch).map(|i| (1000 + 37 * i * i % 3000) as u16).collect();
-        let f = core.frame(&words);
+        let f = rig.frame(&words);
         for c in 0..ch {
             let want: u32 = (0..4).map(|k| words[k * ch + c] as u32).sum();
             assert_eq!(f.counts[c] as u32, want, "channel {c}, pressure {has_pressure}");
@@ -473,7 +474,7 @@ fn the_decimation_sums_the_scans_of_a_frame() {
         }
         // the calibration of the sum reads what one scan of the same counts reads
         let cal = stickslip_model::rig::calibration::Calibrator::new(&cfg.calibration).unwrap();
-        let one = stickslip_model::rig::calibration::Calibrator::new(&rig_core::CoreConfig::rig(25_600.0, true, true).calibration).unwrap();
+        let one = stickslip_model::rig::calibration::Calibrator::new(&RigConfig::rig(25_600.0, true, true).calibration).unwrap();
         let scan: [u16; CHANNELS] = [2100, 1990, 2048, 3000, 900, 1500];
         let frame4 = stickslip_model::rig::calibration::Frame { counts: scan.map(|c| 4 * c) };
         let frame1 = stickslip_model::rig::calibration::Frame { counts: scan };

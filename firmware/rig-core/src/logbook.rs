@@ -1,6 +1,6 @@
 //! What the firmware logs, as values: the [`Record`]s of its log (the contract with the host's
 //! `decode` command; their defmt text is the crate `stickslip-records`, ../records) and the
-//! [`Logbook`], the bookkeeping of the estimator task around [`RigCore`]: frames counted since
+//! [`Logbook`], the bookkeeping of the estimator task around the [`Rig`]: frames counted since
 //! boot, a command or a state change per sample, contact events rate-limited per window, ring
 //! overruns, batch cycle counts, and one window record per closed window.
 //!
@@ -14,7 +14,7 @@ use stickslip_model::rig::health::ChannelHealth;
 use stickslip_model::rig::noise_floor::FloorReport;
 use stickslip_model::rig::sequencer::{Command, CommandResult, SeqState, Valves};
 
-use crate::rig_core::{ClosedWindow, RigCore, SampleOut};
+use stickslip_model::rig::pipeline::{ClosedWindow, Rig, SampleOut};
 
 /// Version of the record layout, printed in the `boot` record. Keep names, field names and
 /// field order stable; add fields only at the end of a record and bump this when one changes.
@@ -168,7 +168,7 @@ impl Logbook {
     /// After `core` ran one frame (`out`; `command` is what it was given): the command, the
     /// state change and the contact event of that frame. Counts the frame.
     #[inline]
-    pub fn sample<S: RecordSink>(&mut self, sink: &mut S, core: &RigCore, command: Option<Command>, out: &SampleOut) {
+    pub fn sample<S: RecordSink>(&mut self, sink: &mut S, rig: &Rig, command: Option<Command>, out: &SampleOut) {
         let n = self.n;
         if let (Some(c), Some(r)) = (command, out.sequencer.command) {
             sink.record(&Record::Command { n, state: out.before, command: c, result: r });
@@ -176,7 +176,7 @@ impl Logbook {
         if out.sequencer.changed {
             sink.record(&Record::State {
                 n,
-                record: core.record(),
+                record: rig.record(),
                 from: out.before,
                 to: out.sequencer.state,
                 valves: out.sequencer.valves,
@@ -186,7 +186,7 @@ impl Logbook {
             if self.events_logged < self.event_logs_per_window {
                 sink.record(&Record::Event {
                     n,
-                    record: core.record(),
+                    record: rig.record(),
                     event: e,
                     v_r_m_s: out.estimate.contact.v_r_m_s,
                     a_rel_m_s2: out.estimate.contact.a_rel_m_s2,
@@ -211,30 +211,30 @@ impl Logbook {
     /// divisions and square roots are done here, outside the per-sample loop), with a health
     /// record after a record's window on which a channel is flat or noisier than the signal.
     /// The event rate limit and the batch maximum restart with each window.
-    pub fn end_batch<S: RecordSink>(&mut self, sink: &mut S, core: &mut RigCore, cycles: u32) {
+    pub fn end_batch<S: RecordSink>(&mut self, sink: &mut S, rig: &mut Rig, cycles: u32) {
         self.batch_cycles_max = self.batch_cycles_max.max(cycles);
-        if let Some((floor, th)) = core.take_floor() {
+        if let Some((floor, th)) = rig.take_floor() {
             sink.record(&Record::Floor {
                 n: self.n,
-                record: core.record(),
+                record: rig.record(),
                 floor,
                 onset_m_s2: th.slip_onset_m_s2,
                 stick_m_s2: th.stick_max_m_s2,
             });
         }
-        while let Some(w) = core.take_window() {
+        while let Some(w) = rig.take_window() {
             let extras = WindowExtras {
                 n: self.n,
-                state: core.state(),
+                state: rig.state(),
                 overruns: self.overruns,
                 events_dropped: self.events_dropped,
-                windows_dropped: core.windows_dropped(),
+                windows_dropped: rig.windows_dropped(),
                 batch_cycles_max: self.batch_cycles_max,
                 batch_cycles_budget: self.batch_cycles_budget,
             };
             sink.record(&Record::Window { window: &w, extras });
-            if core.state() == SeqState::Record {
-                let h = core.window_health(&w.report);
+            if rig.state() == SeqState::Record {
+                let h = rig.window_health(&w.report);
                 if !h.ok() {
                     sink.record(&Record::Health {
                         n: self.n,

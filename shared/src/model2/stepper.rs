@@ -253,7 +253,7 @@ struct FirstChunk<T> {
 }
 
 /// The model-2 stepper, generic over f32 and f64 and over its [`Composition`].
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 pub struct Model2Stepper<T: Real, C: Composition> {
     /// flows[regime][level]
     flows: [T::PerLevel<C::Flow<T>>; 3],

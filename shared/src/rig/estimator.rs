@@ -19,7 +19,7 @@
 //! per-channel min/max and squares. `scripts/count-instructions.sh` counts it as executed
 //! instructions under QEMU (`netduinoplus2`), with the calibration of the six channels (path
 //! A) and with the lockstep model and the sequencer as well (path B, the firmware's
-//! `RigCore::sample_words`); firmware/README.md, "Per-sample cost", holds the figures (the
+//! `stickslip_rig_core::sample_words` on [`super::pipeline::Rig`]); firmware/README.md, "Per-sample cost", holds the figures (the
 //! firmware issue's bound for path A is 1,500). A lockstep step with a transition costs
 //! several thousand more (the stepper's in-step transition search).
 
@@ -176,7 +176,7 @@ pub struct EstimatorSample {
 }
 
 /// The per-sample analysis (see the module documentation).
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 pub struct Estimator {
     cfg: EstimatorConfig,
     contact: ContactEstimator,
@@ -206,15 +206,15 @@ impl Estimator {
     }
 
     /// Validates `cfg` and designs its groan band-pass.
-    fn checked_groan(cfg: &EstimatorConfig) -> Result<BandPass<GROAN_SECTIONS>, ConfigError> {
+    pub(crate) fn checked_groan(cfg: &EstimatorConfig) -> Result<BandPass<GROAN_SECTIONS>, ConfigError> {
         cfg.validate()?;
         BandPass::butterworth(cfg.groan_band_hz.0, cfg.groan_band_hz.1, cfg.fs_hz)
     }
 
     /// A new estimator for `cfg` (validated) with its groan filter: written where it is used
-    /// (inlined into [`Self::new`] and [`Self::new_in`]).
+    /// (inlined into [`Self::new`], [`Self::new_in`] and `Rig::init`).
     #[inline(always)]
-    fn fresh(cfg: &EstimatorConfig, groan: BandPass<GROAN_SECTIONS>) -> Self {
+    pub(crate) fn fresh(cfg: &EstimatorConfig, groan: BandPass<GROAN_SECTIONS>) -> Self {
         Estimator {
             cfg: *cfg,
             contact: ContactEstimator::new(cfg.contact, cfg.fs_hz),
@@ -315,7 +315,7 @@ impl Estimator {
     }
 
     /// One sample. Always inlined: it is the per-sample path, compiled where it is called (the
-    /// firmware's `RigCore::sample_words`, at opt-level 3); left to the inliner, a program with
+    /// firmware's `stickslip_rig_core::sample_words`, at opt-level 3); left to the inliner, a program with
     /// two callers (tests/on-target's `rig_count`) got one out-of-line copy compiled at this
     /// crate's "s", 1.4 times the instructions.
     #[inline(always)]

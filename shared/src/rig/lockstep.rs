@@ -171,7 +171,7 @@ pub struct ModelSample {
 /// in f32, and the optimiser decides whether `Option::insert` builds it in place; with the
 /// `model2` stepper, `Estimator::start_model`'s frame is 16.5 KB, `arm-none-eabi-objdump -d` of
 /// bin `rig` of `tests/on-target` built `--features model2`.)
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 pub struct LockstepModel<S: LockstepStepper = RigStepper> {
     stepper: Option<S>,
     halt: Option<Halt>,

@@ -12,9 +12,14 @@
 //!   -> sequencer::Sequencer::tick             valve outputs, faults
 //! ```
 //!
-//! [`pipeline::Rig`] strings the three together; [`sensor_model::SensorModel`] runs the other
-//! way (model motion to counts) for tests and the virtual rig; [`replay`] digests a whole
-//! synthetic run for the bit-identity test on the Cortex-M4F.
+//! [`pipeline::Rig`] strings the three together with what the rig does around them (the armed
+//! lockstep model per record, timed phases without pressure transducers, per-window pressures,
+//! the noise floor): the one per-sample chain, run by the firmware, the replay digests and the
+//! host == Cortex-M4F cross-checks. [`sensor_model::SensorModel`] runs the other way (model
+//! motion to counts) for tests and the virtual rig; [`replay`] digests a whole synthetic run
+//! through the rig for the bit-identity test on the Cortex-M4F. The recorded-data tools (`sil`,
+//! `analyze`) run the estimator stage on calibrated channels: a recording has neither ADC words
+//! nor valves.
 //!
 //! Channel order in a [`calibration::Frame`]: the four accelerometers `disc_x`, `pad_x`,
 //! `pad_trail`, `pad_lead` (the thesis's names, Table 3.1), then the actuator (normal-load) line
@@ -33,7 +38,7 @@
 //! - [`window`]: per-window statistics.
 //! - [`estimator`]: the per-sample analysis (contact, band-pass, lockstep, window).
 //! - [`sequencer`]: the valve sequencer and its faults.
-//! - [`pipeline`]: calibration + estimator + sequencer in one call per sample.
+//! - [`pipeline`]: the rig, calibration + estimator + sequencer in one call per sample.
 //! - [`replay`]: a synthetic run digested with FNV-1a, for bit-identity checks.
 
 pub mod bandpass;

@@ -1,38 +1,49 @@
-//! The whole per-sample chain in one call: calibration, estimator, sequencer.
+//! The rig's per-sample chain, one type for every caller: [`Rig`] takes one frame (or the ADC
+//! words of one frame), the digital inputs and an optional command, and runs calibration,
+//! estimator and sequencer, with what a rig does around them: the lockstep model per record,
+//! the pressures per window, the noise floor of the clamped phase. The firmware runs it (through
+//! the opt-level-3 shim `firmware/rig-core`), and so do the replay digests
+//! ([`super::replay`]), the host == Cortex-M4F cross-checks and the log session of
+//! `tests/cases`.
 //!
-//! [`Rig::tick`] takes one [`Frame`], the digital inputs and an optional command, and returns
-//! everything the firmware needs for that sample: the calibrated values, the estimate and the
-//! valve outputs. The sequencer ticks once per sample, so its durations are in samples.
+//! Per sample ([`Rig::sample`]):
+//! 1. [`Calibrator::calibrate`]: counts to m/s^2 and bar, saturation flags;
+//! 2. [`Estimator::update`]: contact, groan band-pass, window statistics, lockstep model;
+//! 3. the pressures' window statistics (mean, min, max per line);
+//! 4. [`Sequencer::tick`]: faults, the command, the state's progress, the valves. Without
+//!    pressure transducers the sequencer's Clamp and Drive are timed
+//!    ([`super::sequencer::PhaseEnd::Timed`]) and the pressure channels read 0 bar;
+//! 5. the state's change: Clamp starts the noise floor; Clamp into Drive designs the contact
+//!    thresholds from it ([`Rig::take_floor`]); Record starts with a fresh estimator whose model
+//!    is already running ("armed", below); leaving Record stops the model.
 //!
-//! The contact thresholds come from the measurement: while the sequencer is in Clamp (the pad
-//! clamped, the band still) the estimator measures the noise floor; when Clamp ends into Drive
-//! it designs the thresholds from it (`Estimator::finish_floor`, with the larger count of
-//! pad_x and disc_x as the quantum) and reports them in that tick's [`TickOutput::floor`].
-//!
-//! The lockstep model is tied to the record: when the sequencer enters Record, the model is
-//! built from the mean actuator pressure measured during Drive (the clamp load the band starts
-//! under; the current sample's if Drive had none) and the configured band speed; it stops when
-//! the record ends. Building it is the f64 set-up of [`super::lockstep`]: that one tick takes
-//! much longer than the others.
+//! **The lockstep model and the sample deadline.** Building a lockstep model is the f64 set-up
+//! of [`super::lockstep`] (the exact flows: some 13 million instructions of soft double
+//! precision on the Cortex-M4F, about 0.1 s), far more than one sample's time. [`Rig::init`]
+//! therefore builds, once, a second estimator whose model is already started ("armed") from
+//! the clamp setpoint pressure; when the sequencer enters Record, the running estimator is
+//! replaced by a copy of the armed one (one `memcpy` of about 8 KB: some 10 000 instructions,
+//! that one sample). So each record starts with a fresh estimator: contact estimate in stick
+//! (with the thresholds the last clamp designed), filters at rest, window statistics from the
+//! record's first sample and the model from its initial state (stick, at rest under the load).
+//! The model's load is the clamp setpoint's (F_N = p_set A): the sequencer only leaves a
+//! pressure-checked Clamp within `clamp_tolerance_bar` of the setpoint (0.1 of 5 bar: 2 % of
+//! F_N). A scene the setpoint makes invalid is refused by [`Rig::init`], before any sample.
 
-use super::calibration::{Calibrated, Calibration, Calibrator, Frame};
-use super::estimator::{Estimator, EstimatorConfig, EstimatorSample};
-use super::sequencer::{Command, SeqState, Sequencer, SequencerConfig, SequencerInputs, SequencerOutput};
+use core::mem::MaybeUninit;
+
+use super::calibration::{Calibrated, Calibration, Calibrator, Frame, PressureChannel, RIG_CALIBRATION};
 use super::contact::ContactThresholds;
-use super::noise_floor::FloorReport;
-use super::{ConfigError, ACTUATOR, BAND};
+use super::estimator::{Estimator, EstimatorConfig, EstimatorSample};
+use super::health::{ChannelHealth, HealthReport};
+use super::lockstep::LockstepModel;
+use super::noise_floor::{FloorReport, A_REL};
+use super::sequencer::{
+    Command, PhaseEnd, RecordEnd, SeqState, Sequencer, SequencerConfig, SequencerInputs, SequencerOutput,
+};
+use super::window::WindowReport;
+use super::{check, ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, PRESSURE_CHANNELS};
 use crate::scene::{Scene, SceneError};
-
-/// Everything the rig needs to run.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RigConfig {
-    pub calibration: Calibration,
-    pub estimator: EstimatorConfig,
-    pub sequencer: SequencerConfig,
-    /// The pad the lockstep model runs (its F_N, V and dt are replaced by the measured load,
-    /// the configured band speed and the sampling interval).
-    pub model_template: Scene,
-}
 
 /// The digital inputs of one sample.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -41,103 +52,497 @@ pub struct DigitalInputs {
     pub end_of_stroke: bool,
 }
 
-/// The outputs of one sample.
+/// Durations of the rig's phases and windows [s] (turned into ticks, one tick per sample, by
+/// [`RigConfig::for_scene`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TickOutput {
-    pub calibrated: Calibrated,
-    pub estimate: EstimatorSample,
-    pub sequencer: SequencerOutput,
-    /// The lockstep model could not be started at the record's start (the measured load gave
-    /// an invalid scene, e.g. a negative pressure): the reason.
-    pub model_refused: Option<SceneError>,
-    /// The clamped phase ended into Drive with this sample: the noise floor it measured and
-    /// the contact thresholds designed from it (`None` if it was too short: the thresholds
-    /// stay as configured).
-    pub floor: Option<(FloorReport, ContactThresholds)>,
+pub struct Timing {
+    /// Window length of the statistics.
+    pub window_s: f64,
+    /// Clamp must reach its setpoint within this.
+    pub clamp_timeout_s: f64,
+    /// The band line must reach the drive pressure within this.
+    pub drive_timeout_s: f64,
+    /// Record length without an end-of-stroke switch (set it below the band's stroke time).
+    pub record_s: f64,
+    /// With an end-of-stroke switch: the record lasts until the switch, which must come within
+    /// this (else the sequencer faults with "record timeout").
+    pub record_timeout_s: f64,
+    /// Vent before Idle.
+    pub vent_s: f64,
+    /// Without pressure transducers: Clamp lasts this long, the actuator line then taken to be
+    /// at its setpoint (set it above the rig's measured fill time).
+    pub clamp_settle_s: f64,
+    /// Without pressure transducers: Drive lasts this long, the band line then taken to be at
+    /// the drive pressure.
+    pub drive_settle_s: f64,
 }
 
-/// Calibration + estimator + sequencer.
+impl Timing {
+    /// The rig's defaults: 100 ms windows, the sequencer's own durations
+    /// (`SequencerConfig::RIG`: clamp and drive within 2 s, record 1 s, vent 0.5 s), a 3 s
+    /// stroke timeout, and 0.5 s / 0.3 s timed fills.
+    pub const RIG: Timing = Timing {
+        window_s: 0.1,
+        clamp_timeout_s: 2.0,
+        drive_timeout_s: 2.0,
+        record_s: 1.0,
+        record_timeout_s: 3.0,
+        vent_s: 0.5,
+        clamp_settle_s: 0.5,
+        drive_settle_s: 0.3,
+    };
+}
+
+/// Whole ticks (samples) in `s` seconds at `fs_hz`, at least one.
+pub fn ticks(fs_hz: f64, s: f64) -> u32 {
+    let t = s * fs_hz + 0.5;
+    if t >= u32::MAX as f64 {
+        u32::MAX
+    } else if t >= 1.0 {
+        t as u32
+    } else {
+        1
+    }
+}
+
+/// Everything [`Rig`] needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RigConfig {
+    pub calibration: Calibration,
+    pub estimator: EstimatorConfig,
+    /// Its `phase_end` must be [`PhaseEnd::Timed`] without pressure transducers, and its
+    /// `record` [`RecordEnd::Ticks`] without the end-of-stroke switch.
+    pub sequencer: SequencerConfig,
+    /// The two pressure transducers are fitted and sampled (the firmware's feature
+    /// `pressure`); without them a frame's pressure channels read 0 bar.
+    pub has_pressure: bool,
+    /// The end-of-stroke switch is fitted (feature `end-of-stroke`); without it its input is
+    /// ignored.
+    pub has_end_of_stroke: bool,
+    /// The pad the lockstep model runs; its F_N, V and dt are set from the clamp setpoint,
+    /// the estimator's band speed and its sampling rate.
+    pub model_template: Scene,
+}
+
+impl RigConfig {
+    /// The rig at `fs_hz` with the lockstep model's default pad
+    /// ([`super::lockstep::default_template`]), [`Timing::RIG`] and the nominal calibration.
+    pub fn rig(fs_hz: f64, has_pressure: bool, has_end_of_stroke: bool) -> Self {
+        Self::for_scene(&super::lockstep::default_template(), fs_hz, has_pressure, has_end_of_stroke, &Timing::RIG)
+    }
+
+    /// The rig whose model pad is `template`, at `fs_hz`: the estimator's settings for the
+    /// template (its thresholds and band speed) at that rate; `SequencerConfig::RIG`'s
+    /// pressures and limits with `timing` in ticks, timed phases without pressure transducers,
+    /// and with the end-of-stroke switch a record that lasts until the switch.
+    pub fn for_scene(template: &Scene, fs_hz: f64, has_pressure: bool, has_end_of_stroke: bool, timing: &Timing) -> Self {
+        let t = |s: f64| ticks(fs_hz, s);
+        let mut estimator = EstimatorConfig::for_scene(template);
+        estimator.fs_hz = fs_hz;
+        estimator.contact = ContactThresholds::for_scene(template, fs_hz);
+        estimator.window_samples = t(timing.window_s);
+        let mut sequencer = SequencerConfig::RIG;
+        sequencer.clamp_timeout_ticks = t(timing.clamp_timeout_s);
+        sequencer.drive_timeout_ticks = t(timing.drive_timeout_s);
+        sequencer.vent_ticks = t(timing.vent_s);
+        sequencer.record = if has_end_of_stroke {
+            RecordEnd::EndOfStroke { timeout_ticks: t(timing.record_timeout_s) }
+        } else {
+            RecordEnd::Ticks(t(timing.record_s))
+        };
+        sequencer.phase_end = if has_pressure {
+            PhaseEnd::Pressure
+        } else {
+            PhaseEnd::Timed { clamp_ticks: t(timing.clamp_settle_s), drive_ticks: t(timing.drive_settle_s) }
+        };
+        RigConfig {
+            calibration: RIG_CALIBRATION,
+            estimator,
+            sequencer,
+            has_pressure,
+            has_end_of_stroke,
+            model_template: *template,
+        }
+    }
+
+    /// What the parts fitted allow: pressure-checked phases need the transducers, a record
+    /// that waits for the end of stroke needs the switch.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check(
+            self.has_pressure || self.sequencer.phase_end != PhaseEnd::Pressure,
+            "sequencer.phase_end",
+            "pressure-checked phases need the pressure transducers (has_pressure); use timed phases",
+            0.0,
+        )?;
+        check(
+            self.has_end_of_stroke || !matches!(self.sequencer.record, RecordEnd::EndOfStroke { .. }),
+            "sequencer.record",
+            "a record until the end of stroke needs the end-of-stroke switch (has_end_of_stroke)",
+            0.0,
+        )
+    }
+
+    /// ADC words per frame: the calibration's `adc.oversample` scans of [`Self::adc_channels`]
+    /// words.
+    pub fn frame_words(&self) -> usize {
+        self.calibration.adc.oversample as usize * self.adc_channels()
+    }
+
+    /// ADC words per scan: six, or the four accelerometers without pressure transducers.
+    pub fn adc_channels(&self) -> usize {
+        if self.has_pressure {
+            CHANNELS
+        } else {
+            ACCEL_CHANNELS
+        }
+    }
+}
+
+/// Why a rig could not be built.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RigError {
+    Config(ConfigError),
+    /// The lockstep model's scene (template at the clamp setpoint) was refused.
+    Model(SceneError),
+}
+
+impl From<ConfigError> for RigError {
+    fn from(e: ConfigError) -> Self {
+        RigError::Config(e)
+    }
+}
+
+impl core::fmt::Display for RigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RigError::Config(e) => write!(f, "{e}"),
+            RigError::Model(e) => write!(f, "the lockstep model's scene at the clamp setpoint: {e}"),
+        }
+    }
+}
+
+/// Pressure statistics of one window [bar] (calibrated values; about 0 without transducers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PressureWindow {
+    /// Actuator line, band line.
+    pub mean_bar: [f32; PRESSURE_CHANNELS],
+    pub min_bar: [f32; PRESSURE_CHANNELS],
+    pub max_bar: [f32; PRESSURE_CHANNELS],
+}
+
+#[derive(Clone, Copy, Debug)]
+struct PressureSums {
+    n: u32,
+    sum: [f32; PRESSURE_CHANNELS],
+    min: [f32; PRESSURE_CHANNELS],
+    max: [f32; PRESSURE_CHANNELS],
+}
+
+impl PressureSums {
+    const FRESH: PressureSums = PressureSums {
+        n: 0,
+        sum: [0.0; PRESSURE_CHANNELS],
+        min: [f32::INFINITY; PRESSURE_CHANNELS],
+        max: [f32::NEG_INFINITY; PRESSURE_CHANNELS],
+    };
+
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // sum, min and max of the same channel
+    fn add(&mut self, p: &[f32; PRESSURE_CHANNELS]) {
+        self.n += 1;
+        for j in 0..PRESSURE_CHANNELS {
+            self.sum[j] += p[j];
+            if p[j] < self.min[j] {
+                self.min[j] = p[j];
+            }
+            if p[j] > self.max[j] {
+                self.max[j] = p[j];
+            }
+        }
+    }
+
+    #[inline]
+    fn report(&self) -> PressureWindow {
+        let mut w = PressureWindow::default();
+        if self.n > 0 {
+            for j in 0..PRESSURE_CHANNELS {
+                w.mean_bar[j] = self.sum[j] / self.n as f32;
+                w.min_bar[j] = self.min[j];
+                w.max_bar[j] = self.max[j];
+            }
+        }
+        w
+    }
+}
+
+/// A closed window: the record it belongs to (0 before the first record), the estimator's
+/// report and the pressures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosedWindow {
+    pub record: u32,
+    pub report: WindowReport,
+    pub pressure: PressureWindow,
+}
+
+/// What one sample produced.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleOut {
+    pub calibrated: Calibrated,
+    pub estimate: EstimatorSample,
+    /// The sequencer's state before this sample's tick.
+    pub before: SeqState,
+    pub sequencer: SequencerOutput,
+    /// This sample entered Record: the estimator was replaced by a fresh one with the model.
+    pub record_started: bool,
+    /// This sample ended Clamp into Drive with a floor long enough to design from: the noise
+    /// floor measured while clamped and the contact thresholds designed from it (they hold
+    /// from here on, and in every record until the next clamp measures again) wait for
+    /// [`Rig::take_floor`]. A flag, not the floor itself: the 100 bytes of the floor copied
+    /// out with every sample cost 160 instructions per sample (the `memcpy`).
+    pub floor_ready: bool,
+}
+
+/// The per-sample logic (see the module documentation).
 #[derive(Clone, Debug)]
 pub struct Rig {
     calibrator: Calibrator,
     estimator: Estimator,
+    /// A fresh estimator with the lockstep model started: copied in at each record's start.
+    armed: Estimator,
     sequencer: Sequencer,
-    template: Scene,
-    drive_bar_sum: f32,
-    drive_samples: u32,
+    has_pressure: bool,
+    has_end_of_stroke: bool,
+    /// The counts of 0 bar, standing in for the pressure channels that are not sampled.
+    zero_bar_counts: [u16; PRESSURE_CHANNELS],
+    /// Scans summed per frame (the calibration's `adc.oversample`).
+    oversample: usize,
+    /// Records started since boot; the windows of the running estimator belong to this one.
+    record: u32,
+    pressure: PressureSums,
+    closed_pressure: PressureWindow,
+    /// A window the previous estimator closed and nobody took before a record replaced it.
+    pending: Option<ClosedWindow>,
+    /// The scene the lockstep model runs in every record.
+    model_scene: Scene,
+    /// The contact thresholds and a_rel bias the last clamp's noise floor designed (each
+    /// record's estimator starts with them).
+    floor_design: Option<(ContactThresholds, f32)>,
+    /// The last floor and its design, until [`Rig::take_floor`].
+    floor_out: Option<(FloorReport, ContactThresholds)>,
+    /// The last floor designed from (for the channels' health in the records' windows).
+    floor_last: Option<FloorReport>,
 }
 
 impl Rig {
-    pub fn new(cfg: &RigConfig) -> Result<Self, ConfigError> {
-        Ok(Rig {
-            calibrator: Calibrator::new(&cfg.calibration)?,
-            estimator: Estimator::new(&cfg.estimator)?,
-            sequencer: Sequencer::new(&cfg.sequencer)?,
-            template: cfg.model_template,
-            drive_bar_sum: 0.0,
-            drive_samples: 0,
-        })
+    /// Builds everything, including the armed lockstep model (the slow f64 set-up, once), in
+    /// `slot`, and returns it.
+    ///
+    /// In place, because of the stack: the model's set-up ([`super::lockstep`]) already moves
+    /// its tables by value through several frames of its own, and a `Rig` (about 16 KB, two
+    /// estimators) built by value and moved into a static would add several copies of itself
+    /// on top (measured on the emulated Cortex-M4F, bin `rig` of `tests/on-target`, which
+    /// prints the stack this takes). The small parts are built first, then one struct literal
+    /// is written into the slot, the two estimators built in it; the armed one's model is
+    /// started there. On an error the slot may be left written (a `Rig` owns nothing that would
+    /// need dropping).
+    #[inline(never)]
+    pub fn init<'a>(slot: &'a mut MaybeUninit<Rig>, cfg: &RigConfig) -> Result<&'a mut Rig, RigError> {
+        cfg.validate()?;
+        let ecfg = &cfg.estimator;
+        let setpoint = cfg.sequencer.clamp_setpoint_bar as f64;
+        let adc = &cfg.calibration.adc;
+        // frame counts: the sum of the oversampled conversions
+        let zero_bar_counts = [
+            adc.frame_count(PressureChannel::count_for(&cfg.calibration.pressure[ACTUATOR], adc, 0.0)),
+            adc.frame_count(PressureChannel::count_for(&cfg.calibration.pressure[BAND], adc, 0.0)),
+        ];
+        let model_scene =
+            <LockstepModel>::scene(&cfg.model_template, setpoint, ecfg.piston_area_m2, ecfg.band_speed_m_s, ecfg.fs_hz);
+        let calibrator = Calibrator::new(&cfg.calibration)?;
+        let sequencer = Sequencer::new(&cfg.sequencer)?;
+        let groan = Estimator::checked_groan(ecfg)?;
+        // One struct literal written into the slot: built in place, the estimators included
+        // (`Estimator::fresh` is inlined here), never moved through the stack.
+        let rig = slot.write(Rig {
+            calibrator,
+            estimator: Estimator::fresh(ecfg, groan),
+            armed: Estimator::fresh(ecfg, groan),
+            sequencer,
+            has_pressure: cfg.has_pressure,
+            has_end_of_stroke: cfg.has_end_of_stroke,
+            zero_bar_counts,
+            oversample: cfg.calibration.adc.oversample as usize,
+            record: 0,
+            pressure: PressureSums::FRESH,
+            closed_pressure: PressureWindow::default(),
+            pending: None,
+            model_scene,
+            floor_design: None,
+            floor_out: None,
+            floor_last: None,
+        });
+        rig.armed.start_model(&cfg.model_template, setpoint).map_err(RigError::Model)?;
+        Ok(rig)
+    }
+
+    /// [`Self::init`] by value (for tests: the value is moved, mind the stack).
+    pub fn new(cfg: &RigConfig) -> Result<Self, RigError> {
+        let mut slot = MaybeUninit::uninit();
+        Ok(Self::init(&mut slot, cfg)?.clone())
     }
 
     pub fn estimator(&self) -> &Estimator {
         &self.estimator
     }
-    pub fn estimator_mut(&mut self) -> &mut Estimator {
-        &mut self.estimator
-    }
     pub fn sequencer(&self) -> &Sequencer {
         &self.sequencer
     }
+    pub fn state(&self) -> SeqState {
+        self.sequencer.state()
+    }
+    /// Records started since boot.
+    pub fn record(&self) -> u32 {
+        self.record
+    }
+    /// The scene the lockstep model runs in every record (F_N from the clamp setpoint).
+    pub fn model_scene(&self) -> &Scene {
+        &self.model_scene
+    }
+    /// The lockstep model's normal force at its start [N].
+    pub fn model_normal_force(&self) -> f32 {
+        self.armed.model().map_or(0.0, |m| m.normal_force())
+    }
 
-    /// One sample.
-    pub fn tick(&mut self, frame: &Frame, digital: &DigitalInputs, command: Option<Command>) -> TickOutput {
+    /// One frame from the ADC words of one frame: `oversample` scans of `adc_channels()` words
+    /// each (frame order), summed channel by channel (the decimation, see
+    /// [`super::calibration`]: a boxcar of N; N - 1 additions per channel);
+    /// without pressure transducers the pressure channels read 0 bar. A 12-bit word summed
+    /// 16 times at most cannot overflow (the calibration's validation).
+    #[inline]
+    pub fn frame(&self, words: &[u16]) -> Frame {
+        let mut counts = [0u16; CHANNELS];
+        if self.has_pressure {
+            counts.copy_from_slice(&words[..CHANNELS]);
+            for scan in words[CHANNELS..].chunks_exact(CHANNELS).take(self.oversample - 1) {
+                for (c, w) in counts.iter_mut().zip(scan) {
+                    *c = c.wrapping_add(*w);
+                }
+            }
+        } else {
+            counts[..ACCEL_CHANNELS].copy_from_slice(&words[..ACCEL_CHANNELS]);
+            for scan in words[ACCEL_CHANNELS..].chunks_exact(ACCEL_CHANNELS).take(self.oversample - 1) {
+                for (c, w) in counts[..ACCEL_CHANNELS].iter_mut().zip(scan) {
+                    *c = c.wrapping_add(*w);
+                }
+            }
+            counts[ACCEL_CHANNELS..].copy_from_slice(&self.zero_bar_counts);
+        }
+        Frame { counts }
+    }
+
+    /// One sample: calibrate, estimate, tick the sequencer (the valves of its output are this
+    /// sample's), start or stop the lockstep model with the record.
+    #[inline]
+    pub fn sample(&mut self, frame: &Frame, digital: &DigitalInputs, command: Option<Command>) -> SampleOut {
         let calibrated = self.calibrator.calibrate(frame);
         let estimate = self.estimator.update(&calibrated);
+        self.pressure.add(&calibrated.pressure_bar);
+        if estimate.window_ready {
+            self.closed_pressure = self.pressure.report();
+            self.pressure = PressureSums::FRESH;
+        }
+        let before = self.sequencer.state();
         let inputs = SequencerInputs {
             actuator_bar: calibrated.pressure_bar[ACTUATOR],
             band_bar: calibrated.pressure_bar[BAND],
             accel_saturated: calibrated.saturation.any_accel(),
             estop: digital.estop,
-            end_of_stroke: digital.end_of_stroke,
+            end_of_stroke: self.has_end_of_stroke && digital.end_of_stroke,
             estimator_fault: estimate.fault,
         };
-        let before = self.sequencer.state();
         let sequencer = self.sequencer.tick(&inputs, command);
-        let mut model_refused = None;
-        let mut floor = None;
-        if sequencer.state == SeqState::Drive {
-            if before != SeqState::Drive {
-                self.drive_bar_sum = 0.0;
-                self.drive_samples = 0;
-            }
-            if !estimate.fault {
-                self.drive_bar_sum += inputs.actuator_bar;
-                self.drive_samples = self.drive_samples.saturating_add(1);
-            }
-        }
+        let mut record_started = false;
+        let mut floor_ready = false;
         if sequencer.changed {
             if sequencer.state == SeqState::Clamp {
                 self.estimator.start_floor();
             } else if before == SeqState::Clamp {
-                if sequencer.state == SeqState::Drive {
-                    floor = self.estimator.finish_floor(self.calibrator.a_rel_quantum_m_s2());
-                } else {
-                    self.estimator.cancel_floor();
-                }
+                floor_ready = self.end_floor(sequencer.state == SeqState::Drive);
             }
             if sequencer.state == SeqState::Record {
-                let bar = if self.drive_samples > 0 {
-                    self.drive_bar_sum as f64 / self.drive_samples as f64
-                } else {
-                    inputs.actuator_bar as f64
-                };
-                if let Err(e) = self.estimator.start_model(&self.template, bar) {
-                    model_refused = Some(e);
-                }
+                self.start_record();
+                record_started = true;
             } else if before == SeqState::Record {
                 self.estimator.stop_model();
             }
         }
-        TickOutput { calibrated, estimate, sequencer, model_refused, floor }
+        SampleOut { calibrated, estimate, before, sequencer, record_started, floor_ready }
+    }
+
+    /// Clamp ended: into Drive, the floor designs the contact thresholds (kept for the
+    /// records' estimators, and for [`Self::take_floor`]); otherwise it is dropped. True if a
+    /// design was made.
+    #[inline(never)]
+    fn end_floor(&mut self, into_drive: bool) -> bool {
+        if !into_drive {
+            self.estimator.cancel_floor();
+            return false;
+        }
+        let design = self.estimator.finish_floor(self.calibrator.a_rel_quantum_m_s2());
+        if let Some((r, th)) = design {
+            self.floor_design = Some((th, r.mean_m_s2[A_REL]));
+            self.floor_last = Some(r);
+        }
+        self.floor_out = design;
+        design.is_some()
+    }
+
+    /// The last floor designed (see [`SampleOut::floor_ready`]), once.
+    pub fn take_floor(&mut self) -> Option<(FloorReport, ContactThresholds)> {
+        self.floor_out.take()
+    }
+
+    /// The accelerometers' health over a closed window ([`super::health`]):
+    /// flat channels, and, once a clamp has measured the floor, channels noisier than the
+    /// signal. Saturation is not judged here: on the rig it is a sequencer fault (valves
+    /// vented, a `state` record with cause `accel_saturation`).
+    pub fn window_health(&self, w: &WindowReport) -> HealthReport {
+        let floor = self.floor_last.as_ref();
+        HealthReport::new(core::array::from_fn(|c| {
+            ChannelHealth::assess(w.pp_m_s2[c], w.rms_m_s2[c], false, floor.map(|f| (f.mean_m_s2[c], f.sigma_m_s2[c])))
+        }))
+    }
+
+    /// The running estimator gives way to a copy of the armed one; a window it closed and
+    /// nobody took yet is kept for [`Self::take_window`].
+    #[inline(never)]
+    fn start_record(&mut self) {
+        if let Some(report) = self.estimator.take_window() {
+            self.pending = Some(ClosedWindow { record: self.record, report, pressure: self.closed_pressure });
+        }
+        // One `memcpy` of plain data (`Estimator` is `Copy`: numbers, arrays, enums and options
+        // of them), not a field-by-field clone through a temporary.
+        self.estimator = self.armed;
+        if let Some((th, bias)) = self.floor_design {
+            self.estimator.set_contact(th, bias);
+        }
+        self.pressure = PressureSums::FRESH;
+        self.record = self.record.wrapping_add(1);
+    }
+
+    /// The last closed window, once (the window's divisions and square roots are taken here:
+    /// call it outside the per-sample loop, before the next window closes).
+    #[inline(never)]
+    pub fn take_window(&mut self) -> Option<ClosedWindow> {
+        if let Some(w) = self.pending.take() {
+            return Some(w);
+        }
+        let pressure = self.closed_pressure;
+        self.estimator.take_window().map(|report| ClosedWindow { record: self.record, report, pressure })
+    }
+
+    /// Closed windows replaced before they were taken (of the running estimator).
+    pub fn windows_dropped(&self) -> u32 {
+        self.estimator.windows_dropped()
     }
 }

@@ -2,12 +2,13 @@
 //! and on the Cortex-M4F (the same digest on both means the same bits everywhere).
 //!
 //! [`run_frames_digest`] makes `frames` frames of a scene with the [`SensorModel`] (f32 stepper,
-//! optional seeded noise), and feeds each to the [`Rig`] (calibration, estimator with the groan
-//! filter, window statistics and lockstep model, sequencer). The sequencer is commanded
-//! `start` at the first frame and records for the rest of the run (its record length is the
-//! frame count); the sensor model is open loop, so the frames do not depend on the valves.
-//! No allocation; about 15 KB of state on the stack (the sensor model 6.9 KB and the rig
-//! 7.8 KB, each holding an exact stepper's tables).
+//! optional seeded noise) and feeds each to the [`Rig`] (calibration, estimator with the groan
+//! filter, window statistics and the armed lockstep model, sequencer), the rig of the firmware.
+//! A [`Script`] presses the button and the e-stop at given frames: by default the button at the
+//! first frame (start) and nothing else, with the rig's sequencer recording to the end of the
+//! run (its record length is the frame count); the sensor model is open loop, so the frames do
+//! not depend on the valves. No allocation; the rig (two estimators, about 16 KB) is built in
+//! place in the caller's frame, the sensor model (6.9 KB) beside it.
 //!
 //! Every output of every frame is fed to a [`Fnv1a64`] digest, in this order and layout
 //! (f32 as their bits, integers little-endian, see [`crate::digest`]):
@@ -18,22 +19,28 @@
 //!    1 + kind, then its sample index u64), the model (u8: 0 none; else 1, then x'' and the
 //!    residual (f32), regime, onset, halted (u8 each)), window_ready (u8);
 //! 4. the sequencer: state code, valve bits (actuator 1, band 2), command result code (0 none),
-//!    changed (u8 each); the model-refused flag (u8);
-//! 5. when a window closes, its report: index (u32), first sample (u64), samples, valid (u32),
-//!    pp, rms, groan rms (4 x f32 each), stick fraction, frequency (f32), onsets, saturated,
-//!    faulted (u32), non_finite (u8), the model part (u8 0/1, then samples (u32), stick
-//!    fraction, frequency (f32), onsets (u32), residual rms (f32), halted (u8)).
+//!    changed (u8 each); the contact estimate's lead samples (u32); the floor designed in this
+//!    sample (u8 0/1, then its samples (u32), mean, sigma and peak-to-peak per channel and of
+//!    a_rel (f32), the thresholds: slip onset, stick level, v_tol, v_reversal (f32));
+//! 5. the state before the tick (its code, u8) and the record-start flag (u8);
+//! 6. each window closed (taken after the sample): the record it belongs to (u32), its report:
+//!    index (u32), first sample (u64), samples, valid (u32), pp, rms, groan rms (4 x f32 each),
+//!    stick fraction, frequency (f32), onsets, saturated, faulted (u32), non_finite (u8), the
+//!    model part (u8 0/1, then samples (u32), stick fraction, frequency (f32), onsets (u32),
+//!    residual rms (f32), halted (u8)); then the pressures' mean, min and max (2 x f32 each).
 //!
 //! A sensor model that halts (see [`Halt`]) ends the run early: the digest then takes the tag
 //! 0xFF and the frame index (u64).
 
-use super::calibration::RIG_CALIBRATION;
-use super::estimator::EstimatorConfig;
-use super::pipeline::{DigitalInputs, Rig, RigConfig, TickOutput};
+use core::mem::MaybeUninit;
+
+use super::contact::{ContactEventKind, ContactThresholds};
+use super::noise_floor::FloorReport;
+use super::pipeline::{ClosedWindow, DigitalInputs, Rig, RigConfig, RigError, SampleOut, Timing};
 use super::sensor_model::{Noise, SensorModel, SensorModelConfig, SensorModelError};
-use super::sequencer::{Command, RecordEnd, SeqState, SequencerConfig};
+use super::sequencer::{button_command, RecordEnd, SeqState};
 use super::window::WindowReport;
-use super::ConfigError;
+use super::SAMPLE_RATE_HZ;
 use crate::digest::Fnv1a64;
 use crate::exact::Halt;
 use crate::scene::Scene;
@@ -59,7 +66,7 @@ pub struct ReplaySummary {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ReplayError {
     Sensor(SensorModelError),
-    Config(ConfigError),
+    Rig(RigError),
 }
 
 impl From<SensorModelError> for ReplayError {
@@ -67,42 +74,57 @@ impl From<SensorModelError> for ReplayError {
         ReplayError::Sensor(e)
     }
 }
-impl From<ConfigError> for ReplayError {
-    fn from(e: ConfigError) -> Self {
-        ReplayError::Config(e)
+impl From<RigError> for ReplayError {
+    fn from(e: RigError) -> Self {
+        ReplayError::Rig(e)
     }
 }
 
-/// The rig configuration a replay of `frames` frames of `scene` runs with: the nominal
-/// calibration, estimator settings for the scene, the rig's sequencer recording `frames` ticks.
+/// The operator's hand in a replay: the start/stop/reset button and the e-stop, by frame index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Script {
+    /// Frames at which the button is pressed (its command is the sequencer's
+    /// `button_command` of the state then).
+    pub button_at: [Option<u64>; 2],
+    /// Frames `[from, to)` over which the e-stop is held.
+    pub estop: Option<(u64, u64)>,
+}
+
+impl Script {
+    /// The button at the first frame (start), nothing else.
+    pub const START: Script = Script { button_at: [Some(0), None], estop: None };
+}
+
+/// The rig configuration a replay of `frames` frames of `scene` runs with: the rig's
+/// ([`RigConfig::for_scene`] at [`SAMPLE_RATE_HZ`], pressure transducers fitted, no
+/// end-of-stroke switch) with `scene` as the model's pad, recording `frames` ticks.
 pub fn replay_config(scene: &Scene, frames: u64) -> RigConfig {
-    let mut sequencer = SequencerConfig::RIG;
-    sequencer.record = RecordEnd::Ticks(frames.clamp(1, u32::MAX as u64) as u32);
-    RigConfig {
-        calibration: RIG_CALIBRATION,
-        estimator: EstimatorConfig::for_scene(scene),
-        sequencer,
-        model_template: *scene,
-    }
+    let mut cfg = RigConfig::for_scene(scene, SAMPLE_RATE_HZ, true, false, &Timing::RIG);
+    cfg.sequencer.record = RecordEnd::Ticks(frames.clamp(1, u32::MAX as u64) as u32);
+    cfg
 }
 
-/// Makes `frames` frames of `scene` (noise as given), runs them through the rig and digests
-/// every output (see the module documentation for the layout).
+/// Makes `frames` frames of `scene` (noise as given), runs them through the rig started at the
+/// first frame and digests every output (see the module documentation for the layout).
 pub fn run_frames_digest(scene: &Scene, frames: u64, noise: &Noise) -> Result<ReplaySummary, ReplayError> {
     let mut sensor_cfg = SensorModelConfig::RIG;
     sensor_cfg.noise = *noise;
-    run_frames_digest_with(scene, frames, &sensor_cfg, &replay_config(scene, frames))
+    run_frames_digest_with(scene, frames, &sensor_cfg, &replay_config(scene, frames), &Script::START)
 }
 
-/// [`run_frames_digest`] with explicit sensor-model and rig configurations.
+/// [`run_frames_digest`] with explicit sensor-model and rig configurations and script. Never
+/// inlined: the rig is built in this frame.
+#[inline(never)]
 pub fn run_frames_digest_with(
     scene: &Scene,
     frames: u64,
     sensor_cfg: &SensorModelConfig,
     rig_cfg: &RigConfig,
+    script: &Script,
 ) -> Result<ReplaySummary, ReplayError> {
     let mut sensor = SensorModel::<f32>::new(scene, sensor_cfg)?;
-    let mut rig = Rig::new(rig_cfg)?;
+    let mut slot = MaybeUninit::uninit();
+    let rig = Rig::init(&mut slot, rig_cfg)?;
     let mut d = Fnv1a64::new();
     let mut summary = ReplaySummary {
         digest: 0,
@@ -112,7 +134,6 @@ pub fn run_frames_digest_with(
         final_state: SeqState::Idle,
         sensor_halt: None,
     };
-    let digital = DigitalInputs::default();
     for i in 0..frames {
         let frame = match sensor.next_frame() {
             Ok(f) => f,
@@ -126,19 +147,22 @@ pub fn run_frames_digest_with(
         for c in frame.counts {
             d.write_bytes(&c.to_le_bytes());
         }
-        let command = if i == 0 { Some(Command::Start) } else { None };
-        let out = rig.tick(&frame, &digital, command);
-        digest_tick(&mut d, &out);
+        // the six counts as the ADC words of one scan (without pressure transducers the rig
+        // reads only the first four, its pressure channels read 0 bar)
+        let frame = rig.frame(&frame.counts);
+        let digital = DigitalInputs { estop: script.estop.is_some_and(|(a, b)| (a..b).contains(&i)), end_of_stroke: false };
+        let command = if script.button_at.contains(&Some(i)) { Some(button_command(rig.state())) } else { None };
+        let out = rig.sample(&frame, &digital, command);
+        let floor = if out.floor_ready { rig.take_floor() } else { None };
+        digest_sample(&mut d, &out, floor.as_ref());
         if let Some(e) = out.estimate.contact.event {
-            if e.kind == super::contact::ContactEventKind::StickToSlip {
+            if e.kind == ContactEventKind::StickToSlip {
                 summary.slip_onsets += 1;
             }
         }
-        if out.estimate.window_ready {
-            if let Some(w) = rig.estimator_mut().take_window() {
-                digest_window(&mut d, &w);
-                summary.windows += 1;
-            }
+        while let Some(w) = rig.take_window() {
+            digest_closed_window(&mut d, &w);
+            summary.windows += 1;
         }
         summary.frames = i + 1;
         summary.final_state = out.sequencer.state;
@@ -147,8 +171,9 @@ pub fn run_frames_digest_with(
     Ok(summary)
 }
 
-/// Feeds one sample's outputs (items 2 to 4 of the module documentation).
-pub fn digest_tick(d: &mut Fnv1a64, out: &TickOutput) {
+/// Feeds one sample's outputs (items 2 to 5 of the module documentation), with the floor this
+/// sample designed, if any ([`Rig::take_floor`] after [`SampleOut::floor_ready`]).
+pub fn digest_sample(d: &mut Fnv1a64, out: &SampleOut, floor: Option<&(FloorReport, ContactThresholds)>) {
     let c = &out.calibrated;
     for a in c.accel_m_s2 {
         d.write_f32(a);
@@ -186,9 +211,8 @@ pub fn digest_tick(d: &mut Fnv1a64, out: &TickOutput) {
     d.write_u8(s.valves.actuator_open as u8 | (s.valves.band_open as u8) << 1);
     d.write_u8(s.command.map_or(0, |r| r.code()));
     d.write_u8(s.changed as u8);
-    d.write_u8(out.model_refused.is_some() as u8);
     d.write_u32(e.contact.lead_samples);
-    match &out.floor {
+    match floor {
         None => d.write_u8(0),
         Some((r, th)) => {
             d.write_u8(1);
@@ -203,9 +227,22 @@ pub fn digest_tick(d: &mut Fnv1a64, out: &TickOutput) {
             }
         }
     }
+    d.write_u8(out.before.code());
+    d.write_u8(out.record_started as u8);
 }
 
-/// Feeds one window report (item 5 of the module documentation).
+/// Feeds one closed window (item 6 of the module documentation).
+pub fn digest_closed_window(d: &mut Fnv1a64, w: &ClosedWindow) {
+    d.write_u32(w.record);
+    digest_window(d, &w.report);
+    for group in [&w.pressure.mean_bar, &w.pressure.min_bar, &w.pressure.max_bar] {
+        for v in group {
+            d.write_f32(*v);
+        }
+    }
+}
+
+/// Feeds one window report (the report part of item 6 of the module documentation).
 pub fn digest_window(d: &mut Fnv1a64, w: &WindowReport) {
     d.write_u32(w.index);
     d.write_u64(w.first_sample);

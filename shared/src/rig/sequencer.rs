@@ -21,6 +21,12 @@
 //! | Vent   | vented   | vented |
 //! | Fault  | vented   | vented |
 //!
+//! **Phase ends.** Clamp and Drive end on the measured line pressures ([`PhaseEnd::Pressure`],
+//! pressure transducers fitted) or, on a rig without transducers, after fixed fill times
+//! ([`PhaseEnd::Timed`]: Clamp after `clamp_ticks` outputs, Drive after `drive_ticks`; set them
+//! above the lines' measured fill times). The pressure limits are checked either way, on
+//! whatever the pressure channels read (about 0 bar without transducers).
+//!
 //! **Faults.** Checked at the start of every tick, in every state, in this order of priority:
 //! e-stop, a non-finite estimator value, actuator line pressure outside its limits, band line
 //! pressure outside its limits (NaN is outside), accelerometer saturation (range or rail). Then
@@ -211,6 +217,17 @@ pub enum RecordEnd {
     EndOfStroke { timeout_ticks: u32 },
 }
 
+/// How Clamp and Drive end (see the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PhaseEnd {
+    /// On the line pressures: Clamp when the actuator line is within tolerance of its
+    /// setpoint, Drive when the band line reaches the drive pressure.
+    Pressure,
+    /// After fixed times (a rig without pressure transducers): Clamp shows `clamp_ticks`
+    /// outputs, Drive `drive_ticks`, each then taken to be at its pressure.
+    Timed { clamp_ticks: u32, drive_ticks: u32 },
+}
+
 /// The sequencer's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SequencerConfig {
@@ -225,6 +242,8 @@ pub struct SequencerConfig {
     pub drive_timeout_ticks: u32,
     pub record: RecordEnd,
     pub vent_ticks: u32,
+    /// How Clamp and Drive end.
+    pub phase_end: PhaseEnd,
     pub actuator_limits: PressureLimits,
     pub band_limits: PressureLimits,
 }
@@ -241,6 +260,7 @@ impl SequencerConfig {
         drive_timeout_ticks: 51_200,
         record: RecordEnd::Ticks(25_600),
         vent_ticks: 12_800,
+        phase_end: PhaseEnd::Pressure,
         actuator_limits: PressureLimits { min_bar: -0.3, max_bar: 5.8 },
         band_limits: PressureLimits { min_bar: -0.3, max_bar: 2.0 },
     };
@@ -278,6 +298,8 @@ impl SequencerConfig {
             ("clamp_timeout_ticks", self.clamp_timeout_ticks),
             ("drive_timeout_ticks", self.drive_timeout_ticks),
             ("vent_ticks", self.vent_ticks),
+            ("phase_end.clamp_ticks", if let PhaseEnd::Timed { clamp_ticks, .. } = self.phase_end { clamp_ticks } else { 1 }),
+            ("phase_end.drive_ticks", if let PhaseEnd::Timed { drive_ticks, .. } = self.phase_end { drive_ticks } else { 1 }),
             (
                 "record",
                 match self.record {
@@ -413,14 +435,22 @@ impl Sequencer {
         let t = self.ticks;
         match self.state {
             SeqState::Clamp => {
-                if (i.actuator_bar - cfg.clamp_setpoint_bar).abs() <= cfg.clamp_tolerance_bar {
+                let filled = match cfg.phase_end {
+                    PhaseEnd::Pressure => (i.actuator_bar - cfg.clamp_setpoint_bar).abs() <= cfg.clamp_tolerance_bar,
+                    PhaseEnd::Timed { clamp_ticks, .. } => t > clamp_ticks,
+                };
+                if filled {
                     self.enter(SeqState::Drive);
                 } else if t > cfg.clamp_timeout_ticks {
                     self.enter(SeqState::Fault(FaultCause::ClampTimeout));
                 }
             }
             SeqState::Drive => {
-                if i.band_bar >= cfg.drive_start_bar {
+                let moving = match cfg.phase_end {
+                    PhaseEnd::Pressure => i.band_bar >= cfg.drive_start_bar,
+                    PhaseEnd::Timed { drive_ticks, .. } => t > drive_ticks,
+                };
+                if moving {
                     self.enter(SeqState::Record);
                 } else if t > cfg.drive_timeout_ticks {
                     self.enter(SeqState::Fault(FaultCause::DriveTimeout));

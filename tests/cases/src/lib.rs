@@ -5,8 +5,8 @@
 //!
 //! - [`scenes`]: the model's runs, digested step by step (the exact stepper in f32 and f64,
 //!   each model-2 composition in f32);
-//! - [`rig_scenes`]: the rig cases, frames through the firmware's per-sample chain
-//!   ([`rig_core`]), digested;
+//! - [`rig_scenes`]: the rig cases, frames through the one rig
+//!   (`stickslip_model::rig::pipeline::Rig`, which the firmware runs), digested;
 //! - [`records_session`]: a rig session played without the hardware, for the log
 //!   ([`logbook`]'s records).
 #![no_std]
@@ -15,7 +15,7 @@ pub mod records_session;
 pub mod rig_scenes;
 pub mod scenes;
 
-/// The firmware's per-sample logic (`firmware/rig-core`, no HAL): the digests and the
+/// The firmware's per-sample call at its code generation (`firmware/rig-core`, no HAL): the
 /// instruction counts are of the firmware's own code.
 pub use stickslip_rig_core::rig_core;
 

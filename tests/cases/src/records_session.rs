@@ -1,13 +1,14 @@
 //! A rig session played without the hardware, for the log: the records the firmware writes,
 //! in the order and with the values it would write them, from the firmware's own code
-//! (`RigCore` for every frame, `Logbook` for what is logged, the estimator task's batch loop
+//! (the rig, `stickslip_model::rig::pipeline::Rig`, through `stickslip_rig_core::sample_words`
+//! for every frame, `Logbook` for what is logged, the estimator task's batch loop
 //! of firmware/src/main.rs), on frames of the sensor model instead of the ADC.
 //!
 //! Run by the Cortex-M4F program `tests/on-target/src/bin/records.rs`, which writes the records
 //! with defmt over semihosting (`stickslip_records`, the firmware's formatting), and by the host
 //! test `tests/tests/records_on_target.rs`, which collects them as values and compares them
 //! with what `stickslip decode` reads from the program's stream. Uses `core`,
-//! `stickslip_model`, `crate::rig_core` and `crate::logbook` (firmware/rig-core), nothing else.
+//! `stickslip_model` and `stickslip_rig_core` (firmware/rig-core), nothing else.
 //!
 //! The session (push caliper, load at the pad centre, sensor noise 0.5 m/s^2 and 0.005 bar):
 //! 1. a boot whose configuration is refused (the model's load position beyond the pad):
@@ -37,7 +38,9 @@ use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::{Caliper, Scene};
 
 use crate::logbook::{Boot, Logbook, Record, RecordSink, ResetCause};
-use crate::rig_core::{button_command, CoreConfig, CoreError, RigCore};
+use stickslip_model::rig::pipeline::{Rig, RigConfig, RigError};
+use stickslip_model::rig::sequencer::button_command;
+use stickslip_rig_core::sample_words;
 
 /// The trigger timer's clock [Hz] (TIM3 on APB1 x 2 at 168 MHz SYSCLK: firmware/src/config.rs).
 pub const TIMER_HZ: u32 = 84_000_000;
@@ -87,8 +90,8 @@ pub fn fs_hz() -> f64 {
 }
 
 /// The rig's configuration as the firmware makes it: oversampled.
-fn rig_config() -> CoreConfig {
-    let mut cfg = CoreConfig::rig(fs_hz(), true, true);
+fn rig_config() -> RigConfig {
+    let mut cfg = RigConfig::rig(fs_hz(), true, true);
     cfg.calibration.adc.oversample = OVERSAMPLE;
     cfg
 }
@@ -115,15 +118,15 @@ impl<S: SessionOut> RecordSink for Counting<'_, S> {
     }
 }
 
-fn boot_record(cfg: &CoreConfig) -> Record<'static> {
+fn boot_record(cfg: &RigConfig) -> Record<'static> {
     Record::Boot(Boot {
         fw: FW,
         reset: ResetCause::PowerOn,
         sysclk_hz: SYSCLK_HZ,
-        fs_hz: cfg.fs_hz as f32,
+        fs_hz: cfg.estimator.fs_hz as f32,
         timer_clocks: TIMER_CLOCKS,
         adc_channels: cfg.adc_channels() as u32,
-        window_samples: cfg.ticks(cfg.window_s),
+        window_samples: cfg.estimator.window_samples,
         batch_frames: BATCH_FRAMES,
         pressure: cfg.has_pressure,
         end_of_stroke: cfg.has_end_of_stroke,
@@ -131,10 +134,10 @@ fn boot_record(cfg: &CoreConfig) -> Record<'static> {
     })
 }
 
-fn config_error(e: CoreError) -> Record<'static> {
+fn config_error(e: RigError) -> Record<'static> {
     match e {
-        CoreError::Config(e) => Record::ConfigError { field: e.field, rule: e.rule, value: e.value },
-        CoreError::Model(e) => Record::ConfigError { field: e.field, rule: e.rule, value: e.value },
+        RigError::Config(e) => Record::ConfigError { field: e.field, rule: e.rule, value: e.value },
+        RigError::Model(e) => Record::ConfigError { field: e.field, rule: e.rule, value: e.value },
     }
 }
 
@@ -159,15 +162,15 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
     let cfg = rig_config();
     log.record(&boot_record(&cfg));
     let mut slot = core::mem::MaybeUninit::uninit();
-    let core = RigCore::init(&mut slot, &cfg).map_err(|_| "the rig's configuration was refused")?;
-    let model = *core.model_scene();
+    let rig = Rig::init(&mut slot, &cfg).map_err(|_| "the rig's configuration was refused")?;
+    let model = *rig.model_scene();
     log.record(&Record::Armed {
         build_us: 0,
         caliper: model.caliper.name(),
         beta_m: model.beta as f32,
         f_n_n: model.f_n as f32,
         v_m_s: model.v as f32,
-        n0_n: core.model_normal_force(),
+        n0_n: rig.model_normal_force(),
     });
     let (stack_used, stack_size) = stack();
     log.record(&Record::Start { watchdog_us: WATCHDOG_US, stack_used, stack_size });
@@ -216,7 +219,7 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
             };
             let command = if press {
                 press = false;
-                Some(button_command(core.state()))
+                Some(button_command(rig.state()))
             } else {
                 None
             };
@@ -224,17 +227,17 @@ pub fn run<S: SessionOut>(out: &mut S, stack: fn() -> (u32, u32)) -> Result<Sess
             // carries it, the other three read 0 (the same sum through the decimation)
             let mut words = [0u16; OVERSAMPLE as usize * CHANNELS];
             words[..CHANNELS].copy_from_slice(&frame.counts);
-            let o = core.sample_words(&words, &digital, command);
-            book.sample(&mut log, core, command, &o);
+            let o = sample_words(rig, &words, &digital, command);
+            book.sample(&mut log, rig, command, &o);
         }
-        book.end_batch(&mut log, core, 0);
+        book.end_batch(&mut log, rig, 0);
     }
     Ok(SessionSummary { frames: book.frames(), records: log.records })
 }
 
-/// Builds a core in a slot of its own frame (dropped on return): for the refused boot.
+/// Builds a rig in a slot of its own frame (dropped on return): for the refused boot.
 #[inline(never)]
-fn build(cfg: &CoreConfig) -> Result<(), CoreError> {
+fn build(cfg: &RigConfig) -> Result<(), RigError> {
     let mut slot = core::mem::MaybeUninit::uninit();
-    RigCore::init(&mut slot, cfg).map(|_| ())
+    Rig::init(&mut slot, cfg).map(|_| ())
 }

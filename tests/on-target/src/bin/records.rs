@@ -1,6 +1,6 @@
 //! The firmware's log on the Cortex-M4F: plays [`records_session`] (a boot refused, the rig's
 //! boot, 0.5 s of a record with an overrun, an e-stop and a reset, through the firmware's
-//! `RigCore` and `Logbook`) and writes every record with the firmware's own defmt formatting
+//! the rig through `sample_words`, and `Logbook`) and writes every record with the firmware's own defmt formatting
 //! (`stickslip_records`) over semihosting: standard output gets the raw defmt stream (rzCOBS
 //! frames), nothing else. Exits with success, or with failure after an `error` log line
 //! `session_error reason={=str}` when the session could not run.

@@ -3,11 +3,12 @@
 //!
 //! Two paths, measured on every frame of a fixed sequence (see below):
 //! - **A**, the decimation of the frame's four scans (the firmware's oversampling,
-//!   `RigCore::frame`), calibration of the six channels + `Estimator::update` (contact
+//!   `Rig::frame`), calibration of the six channels + `Estimator::update` (contact
 //!   estimate, groan band-pass, window statistics; no lockstep model):
 //!   `stickslip_rig_core::calibrate_estimate` with a calibrator and an estimator of its own;
-//! - **B**, the firmware's whole per-sample call, `RigCore::sample_words` (`firmware/rig-core`,
-//!   the crate the firmware links): frame, calibration, estimator with the lockstep model during
+//! - **B**, the firmware's whole per-sample call, `stickslip_rig_core::sample_words`
+//!   (`firmware/rig-core`, the crate the firmware links) on the one rig,
+//!   `stickslip_model::rig::pipeline::Rig`: frame, calibration, estimator with the lockstep model during
 //!   the record, sequencer, and the firmware's glue. The button's start at frame 0 takes the
 //!   sequencer through clamp and drive to record within three frames.
 //!
@@ -49,11 +50,11 @@ use cortex_m_semihosting::{debug, hprintln};
 use panic_semihosting as _;
 use stickslip_model::rig::calibration::Calibrator;
 use stickslip_model::rig::estimator::Estimator;
-use stickslip_model::rig::pipeline::DigitalInputs;
+use stickslip_model::rig::pipeline::{DigitalInputs, Rig, RigConfig};
 use stickslip_model::rig::sequencer::{Command, SeqState};
 use stickslip_model::rig::CHANNELS;
 use stickslip_model::Regime;
-use stickslip_on_target::rig_core::{calibrate_estimate, CoreConfig, RigCore};
+use stickslip_on_target::rig_core::{calibrate_estimate, sample_words};
 
 /// Scans per frame, as the firmware takes them (firmware/src/config.rs, `OVERSAMPLE`).
 const OVERSAMPLE: usize = 4;
@@ -115,7 +116,7 @@ struct Bench {
     words: [u16; OVERSAMPLE * CHANNELS],
     calibrator: Calibrator,
     estimator: Estimator,
-    core: &'static mut RigCore,
+    rig: &'static mut Rig,
     digital: DigitalInputs,
     command: Option<Command>,
 }
@@ -128,31 +129,31 @@ fn fail(msg: &str) -> ! {
 }
 
 /// The static home of the firmware's per-sample state, as in the firmware.
-static mut SLOT: MaybeUninit<RigCore> = MaybeUninit::uninit();
+static mut SLOT: MaybeUninit<Rig> = MaybeUninit::uninit();
 
 #[entry]
 fn main() -> ! {
-    let mut cfg = CoreConfig::rig(25_600.0, true, true);
+    let mut cfg = RigConfig::rig(25_600.0, true, true);
     cfg.calibration.adc.oversample = OVERSAMPLE as u32;
     let calibrator = match Calibrator::new(&cfg.calibration) {
         Ok(c) => c,
         Err(_) => fail("calibration refused"),
     };
-    let estimator = match Estimator::new(&cfg.estimator()) {
+    let estimator = match Estimator::new(&cfg.estimator) {
         Ok(e) => e,
         Err(_) => fail("estimator refused"),
     };
     // SAFETY: the only reference ever made to SLOT; single-threaded program.
     let slot = unsafe { &mut *addr_of_mut!(SLOT) };
-    let core = match RigCore::init(slot, &cfg) {
-        Ok(c) => c,
-        Err(_) => fail("rig core refused"),
+    let rig = match Rig::init(slot, &cfg) {
+        Ok(r) => r,
+        Err(_) => fail("rig refused"),
     };
     let mut bench = Bench {
         words: [0; OVERSAMPLE * CHANNELS],
         calibrator,
         estimator,
-        core,
+        rig,
         digital: DigitalInputs::default(),
         command: None,
     };
@@ -174,7 +175,7 @@ fn main() -> ! {
         // black_box by reference before the end marker: it is complete in memory there, and
         // nothing is copied for the harness.
         stickslip_mark_begin();
-        let (cal, a) = calibrate_estimate(b.core, &b.calibrator, &mut b.estimator, &b.words);
+        let (cal, a) = calibrate_estimate(b.rig, &b.calibrator, &mut b.estimator, &b.words);
         black_box(&cal);
         black_box(&a);
         stickslip_mark_end();
@@ -191,10 +192,10 @@ fn main() -> ! {
         // Path B: the firmware's per-sample call.
         b.command = if i == 0 { Some(Command::Start) } else { None };
         stickslip_mark_begin();
-        let o = b.core.sample_words(&b.words, &b.digital, b.command);
+        let o = sample_words(b.rig, &b.words, &b.digital, b.command);
         black_box(&o);
         stickslip_mark_end();
-        let model_transition = b.core.estimator().model().and_then(|m| m.stepper()).is_some_and(|s| !s.transitions().is_empty());
+        let model_transition = b.rig.estimator().model().and_then(|m| m.stepper()).is_some_and(|s| !s.transitions().is_empty());
         match () {
             _ if o.record_started => rig_class_b_record_start(),
             _ if o.before != SeqState::Record => rig_class_b_setup(),
@@ -204,8 +205,8 @@ fn main() -> ! {
             _ if o.estimate.contact.regime == Regime::Stick => rig_class_b_stick(),
             _ => rig_class_b_slip(),
         }
-        while b.core.take_window().is_some() {}
-        if i > 10 && b.core.state() != SeqState::Record {
+        while b.rig.take_window().is_some() {}
+        if i > 10 && b.rig.state() != SeqState::Record {
             fail("path B left Record");
         }
     }

@@ -19,7 +19,7 @@ use stickslip_model::rig::window::{ModelWindow, WindowReport};
 use stickslip_model::Halt;
 use stickslip_records::log;
 use stickslip_rig_core::logbook::{Boot, Record, ResetCause, WindowExtras};
-use stickslip_rig_core::rig_core::{ClosedWindow, PressureWindow};
+use stickslip_model::rig::pipeline::{ClosedWindow, PressureWindow};
 
 static FRAMES: AtomicU32 = AtomicU32::new(0);
 
