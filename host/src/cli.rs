@@ -217,6 +217,11 @@ pub struct AnalyzeArgs {
     /// Write the SVG figures (each channel against time, the spectra) into DIR
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
+    /// Write the estimator's own window statistics (100 ms windows from the first row, the
+    /// keys of the firmware's `window` record: pp, rms, groan_rms per channel, stick, ss_hz,
+    /// onsets...) to FILE as CSV, one row per window
+    #[arg(long, value_name = "FILE")]
+    pub windows: Option<PathBuf>,
     /// Start of the statistics on the file's time axis [s] (default: the first row); earlier
     /// rows only run through the estimator and its filters
     #[arg(long, value_name = "S", allow_hyphen_values = true)]

@@ -382,6 +382,7 @@ pub fn analyze(a: &crate::cli::AnalyzeArgs) -> Result<String> {
     let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &Overrides::default())?;
     let mut cfg = sil::analysis_config(&ns.scene, a.from.unwrap_or(f64::NEG_INFINITY), a.record.segment, a.plots.is_some());
     cfg.floor = floor_source(a.record.breakaway_jump, a.quiet.as_deref())?;
+    cfg.windows = a.windows.is_some();
     cfg.breakaway_jump_m_s2 = match cfg.floor {
         recorded::analysis::FloorSource::Jump => sil::breakaway_jump(&ns, a.record.breakaway_jump)?,
         _ => sil::breakaway_jump(&ns, None).unwrap_or(sil::NO_JUMP_START_M_S2),
@@ -395,6 +396,10 @@ pub fn analyze(a: &crate::cli::AnalyzeArgs) -> Result<String> {
     if let Some(dir) = &a.plots {
         let n = figures::write_all(dir, &a.file, &an)?.len();
         eprintln!("stickslip: wrote {n} SVG figures to {}", dir.display());
+    }
+    if let Some(path) = &a.windows {
+        recorded::windows::write_csv(path, &an.windows)?;
+        eprintln!("stickslip: wrote {} estimator windows to {}", an.windows.len(), path.display());
     }
     Ok(if a.json {
         to_json(&report::AnalysisJson::new(&a.file, &an))

@@ -204,3 +204,94 @@ fn standard_input_and_a_logger_preamble() {
     let w: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(w["channels"], v["channels"]);
 }
+
+/// `--windows FILE`: the estimator's own 100 ms windows, one CSV row each with the keys of the
+/// firmware's `window` record. Sines on the crests with whole periods in every window of 2 560
+/// samples at 25.6 kHz (fs / f = 512, 256, 128, 64): each window's peak-to-peak is 2 A and its
+/// RMS A / sqrt(2) (by hand, as above), its groan RMS A / sqrt(2) times the closed-form gain
+/// once the filter's transient is gone (from the second window on), its first sample and the
+/// time column at its last sample those of the rows written here. 0.35 s: three whole windows,
+/// the fourth never closes.
+#[test]
+fn windows_are_the_estimators_own_one_row_per_window() {
+    let dir = scratch("windows");
+    let fs = 25_600.0;
+    let sines = [
+        Sine { amp: 1.0, hz: 50.0 },
+        Sine { amp: 2.0, hz: 100.0 },
+        Sine { amp: 3.0, hz: 200.0 },
+        Sine { amp: 4.0, hz: 400.0 },
+    ];
+    let n = 8_960;
+    let mut s = String::from("t,disc_x,pad_x,pad_trail,pad_lead\n");
+    let mut times = vec![];
+    for i in 0..n {
+        let t = format!("{:.9}", i as f64 / fs);
+        let v: Vec<String> = (0..4).map(|c| format!("{:.6}", value(&sines[c], i, fs))).collect();
+        s.push_str(&format!("{t},{}\n", v.join(",")));
+        times.push(t);
+    }
+    let file = write(&dir, "sines.csv", s);
+    let out = dir.join("windows.csv");
+    let o = stickslip(&["analyze", &file, "--breakaway-jump", "40", "--windows", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("wrote 3 estimator windows"), "{}", stderr(&o));
+
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let mut want_header = vec!["idx", "first", "samples", "valid", "t_end_s"];
+    let names: Vec<String> = ["pp", "rms", "groan_rms"]
+        .iter()
+        .flat_map(|stat| CHANNELS.iter().map(move |c| format!("{stat}_{c}")))
+        .collect();
+    want_header.extend(names.iter().map(String::as_str));
+    want_header.extend(["stick", "ss_hz", "onsets", "saturated", "faulted", "nonfinite"]);
+    assert_eq!(header, want_header);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 3, "{text}");
+    let col = |r: &Vec<&str>, key: &str| -> f64 {
+        let k = header.iter().position(|h| *h == key).unwrap();
+        r[k].parse().unwrap_or_else(|_| panic!("{key} = {}", r[k]))
+    };
+    for (k, r) in rows.iter().enumerate() {
+        let first = 2_560 * k;
+        assert_eq!((col(r, "idx"), col(r, "first")), (k as f64, first as f64));
+        assert_eq!((col(r, "samples"), col(r, "valid")), (2_560.0, 2_560.0));
+        assert_eq!(col(r, "t_end_s"), times[first + 2_559].parse::<f64>().unwrap(), "window {k}");
+        for (c, s) in sines.iter().enumerate() {
+            let name = CHANNELS[c];
+            let pp = col(r, &format!("pp_{name}"));
+            assert!((pp - 2.0 * s.amp).abs() <= 1e-6 * s.amp, "window {k} {name}: pp {pp}");
+            let rms = col(r, &format!("rms_{name}"));
+            let want = s.amp / 2f64.sqrt();
+            assert!((rms - want).abs() <= 5e-7 + 1e-5 * want, "window {k} {name}: rms {rms}, want {want}");
+            if k >= 1 {
+                let g = col(r, &format!("groan_rms_{name}"));
+                let want = want * groan_gain(s.hz, fs);
+                assert!((g - want).abs() <= 0.01 * want + 1e-4, "window {k} {name}: groan rms {g}, want {want}");
+            }
+        }
+        assert_eq!((col(r, "stick"), col(r, "ss_hz"), col(r, "onsets")), (1.0, 0.0, 0.0), "window {k}: stick throughout");
+        assert_eq!((col(r, "saturated"), col(r, "faulted")), (0.0, 0.0));
+        assert_eq!(r[header.len() - 1], "false");
+    }
+}
+
+#[test]
+fn windows_to_an_unwritable_path_is_a_clear_error() {
+    let dir = scratch("windows_bad");
+    let mut s = String::from("t,disc_x,pad_x,pad_trail,pad_lead\n");
+    for i in 0..3000 {
+        s.push_str(&format!("{},0,0,0,0\n", i as f64 / 25_600.0));
+    }
+    let file = write(&dir, "quiet.csv", s);
+    let target = dir.join("no_such_dir").join("w.csv");
+    // an output error: exit 1 (the tool's convention, host/src/error.rs), one line naming the file
+    let o = stickslip(&["analyze", &file, "--windows", target.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: ") && err.contains("w.csv: cannot write the windows"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

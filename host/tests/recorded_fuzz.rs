@@ -25,6 +25,7 @@ fn cfg() -> AnalysisConfig {
         band_speed_m_s: 0.005,
         figures: true,
         spectra: true,
+        windows: true,
     }
 }
 

@@ -23,6 +23,10 @@
 //!   (time of the last onset - time of the first) over the n stick-to-slip onsets it decided,
 //!   none with fewer than two. Its contact thresholds come from a breakaway jump J [m/s^2]
 //!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`);
+//! - the estimator's own window statistics (with `AnalysisConfig::windows`): every window the
+//!   estimator closes, from the first row on, as the firmware's `window` records report them
+//!   (`shared::rig::window`: pp, RMS, groan RMS per channel in f32, stick fraction, stick-slip
+//!   frequency and onsets within the window), with the time column's value at its last sample;
 //! - the first slip onset: the time column's value at the estimator's first stick-to-slip
 //!   onset over the whole record, before `from_s` too. With the record's time zero at the
 //!   band's start (as the virtual rig writes it), it is the first breakaway's time, which
@@ -35,6 +39,7 @@ use stickslip_model::rig::contact::{ContactEventKind, ContactThresholds};
 use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
 use stickslip_model::rig::health::{ChannelHealth, HealthReport};
 use stickslip_model::rig::noise_floor::{NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
+use stickslip_model::rig::window::WindowReport;
 use stickslip_model::rig::{DISC_X, PAD_X};
 use stickslip_model::stats::OnsetRate;
 use stickslip_model::Regime;
@@ -78,6 +83,22 @@ pub struct AnalysisConfig {
     /// Compute the Welch spectra (the spectral peaks); off, `Analysis::spectrum` is `None`
     /// and no sample goes through an FFT (a fit that does not weigh the peaks).
     pub spectra: bool,
+    /// Keep the estimator's window statistics ([`Analysis::windows`]: one entry per
+    /// [`WINDOW_S`] of record).
+    pub windows: bool,
+}
+
+/// The estimator's window length [s]: the rig's (`stickslip_model::rig::WINDOW_S`), in whole
+/// samples at the record's rate.
+pub const WINDOW_S: f64 = stickslip_model::rig::WINDOW_S;
+
+/// One window the estimator closed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EstimatorWindow {
+    /// The time column's value at the window's last sample [s].
+    pub t_end_s: f64,
+    /// The estimator's report (`first_sample` counts rows from the first row, from 0).
+    pub report: WindowReport,
 }
 
 /// Where the contact thresholds come from.
@@ -170,6 +191,8 @@ pub struct Analysis {
     pub spectrum: Option<Spectrum>,
     /// Empty unless figures were asked for.
     pub envelope: Vec<Bucket>,
+    /// The estimator's windows, in order; empty unless `AnalysisConfig::windows`.
+    pub windows: Vec<EstimatorWindow>,
 }
 
 impl Analysis {
@@ -207,6 +230,8 @@ struct Running {
     at_range: u64,
     at_range_ch: [u64; CH],
     floor: Option<FloorOutcome>,
+    /// `Some` when the windows are kept.
+    windows: Option<Vec<EstimatorWindow>>,
 }
 
 impl Running {
@@ -225,7 +250,10 @@ impl Running {
         };
         let s = self.est.update(&cal);
         if s.window_ready {
-            let _ = self.est.take_window();
+            let report = self.est.take_window();
+            if let (Some(w), Some(report)) = (&mut self.windows, report) {
+                w.push(EstimatorWindow { t_end_s: t, report });
+            }
         }
         let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
         if onset && self.first_onset.is_none() {
@@ -459,7 +487,7 @@ impl Analyzer {
         let ecfg = EstimatorConfig {
             fs_hz: fs,
             contact: ContactThresholds::from_breakaway_jump(self.cfg.breakaway_jump_m_s2, fs),
-            window_samples: ((0.1 * fs).round() as u32).max(1),
+            window_samples: ((WINDOW_S * fs).round() as u32).max(1),
             band_speed_m_s: self.cfg.band_speed_m_s,
             face_coefficient: self.cfg.face_coefficient,
             ..EstimatorConfig::default()
@@ -497,6 +525,7 @@ impl Analyzer {
             at_range: 0,
             at_range_ch: [0; CH],
             floor,
+            windows: self.cfg.windows.then(Vec::new),
         };
         for p in &buf {
             r.process(p.t, &p.a);
@@ -633,6 +662,7 @@ impl Analyzer {
             health,
             spectrum,
             envelope: r.envelope.map(Envelope::finish).unwrap_or_default(),
+            windows: r.windows.unwrap_or_default(),
         })
     }
 }

@@ -9,6 +9,7 @@
 //! - [`spectrum`], [`envelope`]: the Welch estimator and the bounded min/max envelope;
 //! - [`sil`]: the virtual rig;
 //! - [`report`]: Markdown and JSON of the three analysis commands;
+//! - [`windows`]: the estimator's window statistics as CSV (`analyze --windows`);
 //! - [`figures`]: the SVG figures;
 //! - [`decode`]: the defmt stream decoder.
 //!
@@ -26,6 +27,7 @@ pub mod numbers;
 pub mod report;
 pub mod sil;
 pub mod spectrum;
+pub mod windows;
 
 use std::io::Read;
 

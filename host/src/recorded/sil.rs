@@ -198,6 +198,7 @@ pub fn analysis_config(scene: &stickslip_model::Scene, from_s: f64, segment: Opt
         band_speed_m_s: scene.v,
         figures,
         spectra: true,
+        windows: false,
     }
 }
 

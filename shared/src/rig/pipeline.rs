@@ -82,7 +82,7 @@ impl Timing {
     /// (`SequencerConfig::RIG`: clamp and drive within 2 s, record 1 s, vent 0.5 s), a 3 s
     /// stroke timeout, and 0.5 s / 0.3 s timed fills.
     pub const RIG: Timing = Timing {
-        window_s: 0.1,
+        window_s: super::WINDOW_S,
         clamp_timeout_s: 2.0,
         drive_timeout_s: 2.0,
         record_s: 1.0,

@@ -25,8 +25,9 @@ use super::lockstep::ModelSample;
 use super::ACCEL_CHANNELS;
 use crate::exact::Halt;
 
-/// The default window: 100 ms at 25.6 kHz.
-pub const DEFAULT_WINDOW_SAMPLES: u32 = 2560;
+/// The default window: [`super::WINDOW_S`] (100 ms) at [`super::SAMPLE_RATE_HZ`] (25.6 kHz),
+/// 2 560 samples.
+pub const DEFAULT_WINDOW_SAMPLES: u32 = (super::WINDOW_S * super::SAMPLE_RATE_HZ + 0.5) as u32;
 /// Squares are summed in f32 blocks of this many samples.
 const BLOCK: u32 = 256;
 /// Sum-of-squares slots: 4 raw channels, 4 band-passed channels, the model residual.
