@@ -38,56 +38,132 @@ impl RunStats {
     }
 }
 
-/// The slip onsets of a window and the stick-slip frequency they give, (n - 1) / (last -
-/// first) [Hz]: the one definition the model's statistics (thesis and model 2), the virtual
-/// rig's truth and the recorded-data analysis all use.
+/// The slip onsets of a stretch and the stick-slip frequency they give, (n - 1) / (last -
+/// first): the one definition the model's statistics (thesis and model 2), the virtual rig's
+/// truth, the recorded-data analysis and the rig's window statistics all use. The onsets' time
+/// `T` is seconds (`f64`, the default) or, on the rig's per-sample path, a sample index (`u32`,
+/// the frequency then scaled by the sampling rate in f32: no f64 per sample on the
+/// microcontroller).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct OnsetRate {
-    count: u64,
-    first_s: f64,
-    last_s: f64,
+pub struct OnsetRate<T = f64> {
+    count: u32,
+    first: T,
+    last: T,
 }
 
-impl OnsetRate {
-    pub const fn new() -> Self {
-        OnsetRate { count: 0, first_s: 0.0, last_s: 0.0 }
+impl<T: Copy + PartialOrd + Default> OnsetRate<T> {
+    pub fn new() -> Self {
+        OnsetRate { count: 0, first: T::default(), last: T::default() }
     }
 
-    /// A slip onset at `t_s` [s] (onsets in time order).
-    #[inline]
-    pub fn add(&mut self, t_s: f64) {
+    /// A slip onset at `t` (onsets in time order).
+    #[inline(always)]
+    pub fn add(&mut self, t: T) {
         if self.count == 0 {
-            self.first_s = t_s;
+            self.first = t;
         }
-        self.last_s = t_s;
-        self.count += 1;
+        self.last = t;
+        self.count = self.count.saturating_add(1);
     }
 
-    /// Onsets counted.
-    pub fn count(&self) -> u64 {
+    /// Onsets counted (saturating at `u32::MAX`).
+    pub fn count(&self) -> u32 {
         self.count
     }
 
-    /// The first onset's time [s], if any.
-    pub fn first_s(&self) -> Option<f64> {
-        (self.count > 0).then_some(self.first_s)
+    /// The first onset's time, if any.
+    pub fn first(&self) -> Option<T> {
+        (self.count > 0).then_some(self.first)
     }
 
-    /// The stick-slip frequency [Hz]: `None` with fewer than two onsets or none of the window's
-    /// time between them.
-    pub fn hz(&self) -> Option<f64> {
-        (self.count >= 2 && self.last_s > self.first_s).then(|| (self.count - 1) as f64 / (self.last_s - self.first_s))
+    /// Two onsets or more with time between them: (n - 1, first, last).
+    #[inline(always)]
+    fn span(&self) -> Option<(u32, T, T)> {
+        (self.count >= 2 && self.last > self.first).then_some((self.count - 1, self.first, self.last))
     }
 }
+
+impl OnsetRate<f64> {
+    /// The stick-slip frequency [Hz] of onsets in seconds: `None` with fewer than two onsets or
+    /// no time between them.
+    pub fn hz(&self) -> Option<f64> {
+        self.span().map(|(n, first, last)| n as f64 / (last - first))
+    }
+}
+
+impl OnsetRate<u32> {
+    /// The stick-slip frequency [Hz] of onsets at sample indices, sampled at `fs` [Hz]: 0 with
+    /// fewer than two onsets or no samples between them.
+    pub fn hz_at(&self, fs: f32) -> f32 {
+        self.span().map_or(0.0, |(n, first, last)| n as f32 * fs / (last - first) as f32)
+    }
+}
+
+/// Running extremes of `N` quantities: the one definition the model's statistics (thesis and
+/// model 2), the rig's window statistics and pressures, the virtual rig's truth and the
+/// recorded-data analysis use. A value replaces an extreme only when strictly beyond it, so a
+/// NaN never enters (every comparison with it is false), and an empty quantity keeps its
+/// starting values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extremes<T, const N: usize> {
+    pub min: [T; N],
+    pub max: [T; N],
+}
+
+impl<T: Copy + PartialOrd, const N: usize> Extremes<T, N> {
+    /// Every quantity at `v`: min = max = v.
+    pub const fn of(v: [T; N]) -> Self {
+        Extremes { min: v, max: v }
+    }
+
+    /// Quantity `i` takes the value `v`.
+    #[inline(always)]
+    pub fn take(&mut self, i: usize, v: T) {
+        if v < self.min[i] {
+            self.min[i] = v;
+        }
+        if v > self.max[i] {
+            self.max[i] = v;
+        }
+    }
+
+    /// Every quantity takes its value of `v`.
+    #[inline(always)]
+    pub fn take_all(&mut self, v: &[T; N]) {
+        for (i, x) in v.iter().enumerate() {
+            self.take(i, *x);
+        }
+    }
+}
+
+macro_rules! extremes_of_float {
+    ($t:ty) => {
+        impl<const N: usize> Extremes<$t, N> {
+            /// No value yet: min +inf, max -inf.
+            pub const EMPTY: Self = Extremes { min: [<$t>::INFINITY; N], max: [<$t>::NEG_INFINITY; N] };
+
+            /// Whether quantity `i` has taken a value.
+            pub fn seen(&self, i: usize) -> bool {
+                self.min[i] <= self.max[i]
+            }
+
+            /// Peak-to-peak of quantity `i`, max - min (-inf for one that took no value).
+            pub fn pp(&self, i: usize) -> $t {
+                self.max[i] - self.min[i]
+            }
+        }
+    };
+}
+extremes_of_float!(f32);
+extremes_of_float!(f64);
 
 /// Collects [`RunStats`] from the segments of steps `from_step` onward.
 #[derive(Clone, Debug)]
 pub struct StatsObserver<T: Real> {
     from_step: u64,
     t_from: f64,
-    min: [T; 4],
-    max: [T; 4],
-    seen: bool,
+    /// x, x', phi, phi' (`None` until the window's first finite state).
+    extremes: Option<Extremes<T, 4>>,
     stick_s: f64,
     window_s: f64,
     onsets: OnsetRate,
@@ -101,9 +177,7 @@ impl<T: Real> StatsObserver<T> {
         StatsObserver {
             from_step,
             t_from: from_step as f64 * dt,
-            min: [T::zero(); 4],
-            max: [T::zero(); 4],
-            seen: false,
+            extremes: None,
             stick_s: 0.0,
             window_s: 0.0,
             onsets: OnsetRate::new(),
@@ -116,33 +190,27 @@ impl<T: Real> StatsObserver<T> {
         self.t_from
     }
 
-    #[allow(clippy::needless_range_loop)] // min and max of the same component
     fn include(&mut self, z: &[T; 4]) {
         // the segments of a step that halts may hold a non-finite state: never let it in
         if !(z[0].is_finite() && z[1].is_finite() && z[2].is_finite() && z[3].is_finite()) {
             return;
         }
-        if !self.seen {
-            self.min = *z;
-            self.max = *z;
-            self.seen = true;
-            return;
-        }
-        for i in 0..4 {
-            self.min[i] = self.min[i].min(z[i]);
-            self.max[i] = self.max[i].max(z[i]);
+        match &mut self.extremes {
+            None => self.extremes = Some(Extremes::of(*z)),
+            Some(e) => e.take_all(z),
         }
     }
 
     pub fn finish(&self) -> RunStats {
         let f = |a: [T; 4]| [a[0].to_f64(), a[1].to_f64(), a[2].to_f64(), a[3].to_f64()];
         let hz = self.onsets.hz().unwrap_or(0.0);
+        let e = self.extremes.unwrap_or(Extremes::of([T::zero(); 4]));
         RunStats {
-            min: f(self.min),
-            max: f(self.max),
+            min: f(e.min),
+            max: f(e.max),
             stick_fraction: if self.window_s > 0.0 { self.stick_s / self.window_s } else { 0.0 },
             stick_slip_hz: hz,
-            slip_onsets: self.onsets.count(),
+            slip_onsets: u64::from(self.onsets.count()),
             transitions: self.transitions,
             window_s: self.window_s,
         }
@@ -258,7 +326,7 @@ impl EventWindow {
             max: [0.0; 4],
             stick_fraction: if window_s > 0.0 { stick_s / window_s } else { 0.0 },
             stick_slip_hz: hz,
-            slip_onsets: self.onsets.count(),
+            slip_onsets: u64::from(self.onsets.count()),
             transitions: self.transitions,
             window_s,
         }
@@ -267,16 +335,32 @@ impl EventWindow {
 
 #[cfg(test)]
 mod onset_rate_tests {
-    use super::OnsetRate;
+    use super::{Extremes, OnsetRate};
+
+    /// Extremes by hand: 3, -1, NaN, 2 on quantity 0 give min -1, max 3, pp 4 (the NaN never
+    /// enters); quantity 1 took nothing and is not seen.
+    #[test]
+    fn extremes_take_values_and_never_a_nan() {
+        let mut e = Extremes::<f64, 2>::EMPTY;
+        assert!(!e.seen(0) && !e.seen(1));
+        for v in [3.0, -1.0, f64::NAN, 2.0] {
+            e.take(0, v);
+        }
+        assert_eq!((e.min[0], e.max[0], e.pp(0)), (-1.0, 3.0, 4.0));
+        assert!(e.seen(0) && !e.seen(1));
+        let mut f = Extremes::of([1.0f32, 5.0]);
+        f.take_all(&[0.5, f32::NAN]);
+        assert_eq!((f.min, f.max), ([0.5, 5.0], [1.0, 5.0]));
+    }
 
     /// Onsets at 0.10, 0.20 and 0.35 s: two cycles in 0.25 s, 8 Hz; fewer than two onsets, or
     /// two at one time, give none.
     #[test]
     fn the_rate_is_cycles_over_the_time_they_span() {
         let mut r = OnsetRate::new();
-        assert_eq!((r.count(), r.first_s(), r.hz()), (0, None, None));
+        assert_eq!((r.count(), r.first(), r.hz()), (0, None, None));
         r.add(0.10);
-        assert_eq!((r.count(), r.first_s(), r.hz()), (1, Some(0.10), None));
+        assert_eq!((r.count(), r.first(), r.hz()), (1, Some(0.10), None));
         r.add(0.20);
         r.add(0.35);
         assert_eq!(r.count(), 3);
@@ -285,5 +369,22 @@ mod onset_rate_tests {
         same.add(0.5);
         same.add(0.5);
         assert_eq!(same.hz(), None);
+    }
+
+    /// The same onsets at sample indices of a 1 kHz record (100, 200, 350): 8 Hz in f32; one
+    /// onset, or two at one sample, give 0.
+    #[test]
+    fn at_sample_indices_the_rate_is_scaled_by_the_sampling_rate() {
+        let mut r = OnsetRate::<u32>::new();
+        assert_eq!((r.count(), r.first(), r.hz_at(1000.0)), (0, None, 0.0));
+        r.add(100);
+        assert_eq!((r.count(), r.first(), r.hz_at(1000.0)), (1, Some(100), 0.0));
+        r.add(200);
+        r.add(350);
+        assert_eq!(r.hz_at(1000.0), 8.0);
+        let mut same = OnsetRate::<u32>::new();
+        same.add(7);
+        same.add(7);
+        assert_eq!(same.hz_at(1000.0), 0.0);
     }
 }

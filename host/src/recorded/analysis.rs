@@ -41,7 +41,7 @@ use stickslip_model::rig::health::{ChannelHealth, HealthReport};
 use stickslip_model::rig::noise_floor::{NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
 use stickslip_model::rig::window::WindowReport;
 use stickslip_model::rig::{DISC_X, PAD_X};
-use stickslip_model::stats::OnsetRate;
+use stickslip_model::stats::{Extremes, OnsetRate};
 use stickslip_model::Regime;
 
 use super::envelope::{Bucket, Envelope};
@@ -217,8 +217,7 @@ struct Running {
     n: u64,
     t_first: f64,
     t_last: f64,
-    min: [f64; CH],
-    max: [f64; CH],
+    extremes: Extremes<f64, CH>,
     sum: [f64; CH],
     sq: [f64; CH],
     groan_sq: [f64; CH],
@@ -270,12 +269,7 @@ impl Running {
         let g = self.est.last_groan();
         for c in 0..CH {
             let v = a[c];
-            if v < self.min[c] {
-                self.min[c] = v;
-            }
-            if v > self.max[c] {
-                self.max[c] = v;
-            }
+            self.extremes.take(c, v);
             self.sum[c] += v;
             self.sq[c] += v * v;
             let d = (v - self.prev[c]).abs();
@@ -512,8 +506,7 @@ impl Analyzer {
             n: 0,
             t_first: 0.0,
             t_last: 0.0,
-            min: [f64::INFINITY; CH],
-            max: [f64::NEG_INFINITY; CH],
+            extremes: Extremes::<f64, CH>::EMPTY,
             sum: [0.0; CH],
             sq: [0.0; CH],
             groan_sq: [0.0; CH],
@@ -606,11 +599,11 @@ impl Analyzer {
         let spectrum = r.welch.and_then(|w| w.finish(sample_rate_hz));
         let n = r.n as f64;
         let channels = std::array::from_fn(|c| ChannelStats {
-            pp: r.max[c] - r.min[c],
+            pp: r.extremes.pp(c),
             rms: (r.sq[c] / n).sqrt(),
             mean: r.sum[c] / n,
-            min: r.min[c],
-            max: r.max[c],
+            min: r.extremes.min[c],
+            max: r.extremes.max[c],
             peak_hz: spectrum.as_ref().and_then(|s| s.peak(c)).map(|p| p.1),
             groan_rms: (r.groan_sq[c] / n).sqrt(),
             step: if r.step[c].is_finite() { r.step[c] } else { 0.0 },
@@ -643,7 +636,7 @@ impl Analyzer {
             channels,
             stick_fraction: r.stick as f64 / n,
             stick_slip_hz,
-            slip_onsets: r.onsets.count(),
+            slip_onsets: u64::from(r.onsets.count()),
             first_onset_s: r.first_onset,
             sample_rate_hz,
             setup_rate_hz: r.fs,

@@ -23,7 +23,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
-use stickslip_model::stats::OnsetRate;
+use stickslip_model::stats::{Extremes, OnsetRate};
 use stickslip_model::rig::contact::ContactThresholds;
 use stickslip_model::rig::prng::XorShift32;
 use stickslip_model::rig::sensor_model::{
@@ -290,7 +290,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     let mut analyzer = Analyzer::new(acfg);
     let steps_planned = run::planned_steps(scene);
     let mut truth = Truth::default();
-    let (mut tmin, mut tmax) = ([f64::INFINITY; CH], [f64::NEG_INFINITY; CH]);
+    let mut extremes = Extremes::<f64, CH>::EMPTY;
     let (mut stick, mut onsets) = (0u64, OnsetRate::new());
     let mut outcome = Outcome::Completed;
     let mut steps_done = 0;
@@ -364,9 +364,7 @@ fn sample_run<T: Real, M: Motion<T>>(
                 stick += 1;
             }
             for ch in 0..CH {
-                let v = tr.accel_m_s2[ch].to_f64();
-                tmin[ch] = tmin[ch].min(v);
-                tmax[ch] = tmax[ch].max(v);
+                extremes.take(ch, tr.accel_m_s2[ch].to_f64());
             }
             for &t_onset in sensor.motion().slip_onsets() {
                 onsets.add(t_onset);
@@ -378,8 +376,8 @@ fn sample_run<T: Real, M: Motion<T>>(
     }
     if truth.samples > 0 {
         truth.stick_fraction = stick as f64 / truth.samples as f64;
-        truth.pp = std::array::from_fn(|c| tmax[c] - tmin[c]);
-        truth.slip_onsets = onsets.count();
+        truth.pp = std::array::from_fn(|c| extremes.pp(c));
+        truth.slip_onsets = u64::from(onsets.count());
         truth.stick_slip_hz = onsets.hz();
     }
     // a run that halts early (a finding) may leave too little to analyse: no statistics then

@@ -3,28 +3,27 @@
 //! (firmware/README.md, "Log records"; `decode` reads them from the rig's log), so that a
 //! recording's windows and the rig's can be set side by side line by line.
 //!
-//! Columns: `idx` (the window's number from 0), `first` (its first sample, counting the
-//! recording's rows from 0), `samples`, `valid` (the samples that passed the input check),
-//! `t_end_s` (the time column at the window's last sample [s]), `pp_<channel>`,
-//! `rms_<channel>`, `groan_rms_<channel>` [m/s^2] for disc_x, pad_x, pad_trail, pad_lead,
-//! `stick` (stick fraction), `ss_hz` (stick-slip frequency within the window, 0 with fewer than
-//! two onsets), `onsets`, `saturated`, `faulted`, `nonfinite`. The f32 statistics are written
-//! in their shortest form that reads back to the same f32.
+//! Columns, named as `decode --kind window` names the record's fields: `idx` (the
+//! window's number from 0), `first` (its first sample, counting the recording's rows from 0),
+//! `samples`, `valid` (the samples that passed the input check), `pp_0`..`pp_3`,
+//! `rms_0`..`rms_3`, `groan_rms_0`..`groan_rms_3` [m/s^2] (channels 0 to 3: disc_x, pad_x,
+//! pad_trail, pad_lead), `stick` (stick fraction), `ss_hz` (stick-slip frequency within the
+//! window, 0 with fewer than two onsets), `onsets`, `saturated`, `faulted`, `nonfinite`; then
+//! what only a recording has, `t_end_s` (the time column at the window's last sample [s]). The
+//! f32 statistics are written in their shortest form that reads back to the same f32.
 
 use std::path::Path;
-
-use stickslip_model::rig::ACCEL_NAMES;
 
 use super::analysis::EstimatorWindow;
 use crate::error::{HostError, Result};
 
 /// The header row.
 pub fn header() -> Vec<String> {
-    let mut h: Vec<String> = ["idx", "first", "samples", "valid", "t_end_s"].map(String::from).to_vec();
+    let mut h: Vec<String> = ["idx", "first", "samples", "valid"].map(String::from).to_vec();
     for stat in ["pp", "rms", "groan_rms"] {
-        h.extend(ACCEL_NAMES.iter().map(|c| format!("{stat}_{c}")));
+        h.extend((0..4).map(|c| format!("{stat}_{c}")));
     }
-    h.extend(["stick", "ss_hz", "onsets", "saturated", "faulted", "nonfinite"].map(String::from));
+    h.extend(["stick", "ss_hz", "onsets", "saturated", "faulted", "nonfinite", "t_end_s"].map(String::from));
     h
 }
 
@@ -36,7 +35,6 @@ pub fn row(w: &EstimatorWindow) -> Vec<String> {
         r.first_sample.to_string(),
         r.samples.to_string(),
         r.valid_samples.to_string(),
-        w.t_end_s.to_string(),
     ];
     for group in [&r.pp_m_s2, &r.rms_m_s2, &r.groan_rms_m_s2] {
         v.extend(group.iter().map(f32::to_string));
@@ -48,6 +46,7 @@ pub fn row(w: &EstimatorWindow) -> Vec<String> {
         r.saturated_samples.to_string(),
         r.faulted_samples.to_string(),
         r.non_finite.to_string(),
+        w.t_end_s.to_string(),
     ]);
     v
 }

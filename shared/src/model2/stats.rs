@@ -7,6 +7,7 @@
 //! include every transition instant. Stick fraction and stick-slip frequency are as in
 //! [`crate::stats`].
 
+use crate::stats::Extremes;
 use crate::model2::stepper::{Observer2, Segment2, Transition2};
 use crate::real::Real;
 use crate::stickslip::Regime;
@@ -42,6 +43,8 @@ pub struct Stats2Observer {
     t_from: f64,
     v: f64,
     s: Stats2,
+    /// The quantities' extremes (`seen`: any finite value taken).
+    values: Extremes<f64, QUANTITIES>,
     seen: bool,
     stick_s: f64,
     t_end: f64,
@@ -68,6 +71,7 @@ impl Stats2Observer {
             t_from,
             v,
             s: Stats2::default(),
+            values: Extremes::<f64, QUANTITIES>::EMPTY,
             seen: false,
             stick_s: 0.0,
             t_end: t_from,
@@ -79,17 +83,8 @@ impl Stats2Observer {
         if !v.is_finite() {
             return;
         }
-        if !self.seen {
-            self.s.min = [f64::INFINITY; QUANTITIES];
-            self.s.max = [f64::NEG_INFINITY; QUANTITIES];
-            self.seen = true;
-        }
-        if v < self.s.min[i] {
-            self.s.min[i] = v;
-        }
-        if v > self.s.max[i] {
-            self.s.max[i] = v;
-        }
+        self.seen = true;
+        self.values.take(i, v);
     }
 
     /// The window statistics so far.
@@ -98,6 +93,7 @@ impl Stats2Observer {
         if !self.seen {
             return Stats2::default();
         }
+        (s.min, s.max) = (self.values.min, self.values.max);
         for i in 0..QUANTITIES {
             if !s.min[i].is_finite() {
                 s.min[i] = 0.0;
@@ -106,7 +102,7 @@ impl Stats2Observer {
         }
         s.window_s = self.t_end - self.t_from;
         s.stick_fraction = if s.window_s > 0.0 { self.stick_s / s.window_s } else { 0.0 };
-        s.slip_onsets = self.onsets.count();
+        s.slip_onsets = u64::from(self.onsets.count());
         s.stick_slip_hz = self.onsets.hz().unwrap_or(0.0);
         s
     }

@@ -44,6 +44,7 @@ use super::sequencer::{
 use super::window::WindowReport;
 use super::{check, ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, PRESSURE_CHANNELS};
 use crate::scene::{Scene, SceneError};
+use crate::stats::Extremes;
 
 /// The digital inputs of one sample.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -234,30 +235,23 @@ pub struct PressureWindow {
 struct PressureSums {
     n: u32,
     sum: [f32; PRESSURE_CHANNELS],
-    min: [f32; PRESSURE_CHANNELS],
-    max: [f32; PRESSURE_CHANNELS],
+    extremes: Extremes<f32, PRESSURE_CHANNELS>,
 }
 
 impl PressureSums {
     const FRESH: PressureSums = PressureSums {
         n: 0,
         sum: [0.0; PRESSURE_CHANNELS],
-        min: [f32::INFINITY; PRESSURE_CHANNELS],
-        max: [f32::NEG_INFINITY; PRESSURE_CHANNELS],
+        extremes: Extremes::<f32, PRESSURE_CHANNELS>::EMPTY,
     };
 
     #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // sum, min and max of the same channel
+    #[allow(clippy::needless_range_loop)] // sum and extremes of the same channel
     fn add(&mut self, p: &[f32; PRESSURE_CHANNELS]) {
         self.n += 1;
         for j in 0..PRESSURE_CHANNELS {
             self.sum[j] += p[j];
-            if p[j] < self.min[j] {
-                self.min[j] = p[j];
-            }
-            if p[j] > self.max[j] {
-                self.max[j] = p[j];
-            }
+            self.extremes.take(j, p[j]);
         }
     }
 
@@ -267,8 +261,8 @@ impl PressureSums {
         if self.n > 0 {
             for j in 0..PRESSURE_CHANNELS {
                 w.mean_bar[j] = self.sum[j] / self.n as f32;
-                w.min_bar[j] = self.min[j];
-                w.max_bar[j] = self.max[j];
+                w.min_bar[j] = self.extremes.min[j];
+                w.max_bar[j] = self.extremes.max[j];
             }
         }
         w

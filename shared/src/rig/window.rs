@@ -6,7 +6,8 @@
 //! - RMS of each accelerometer in the groan band (the band-pass output);
 //! - stick fraction: samples estimated in stick / samples;
 //! - stick-slip frequency: 1 / mean interval between successive stick-to-slip onsets inside the
-//!   window, (n - 1) fs / (last - first) with onsets at sample indices; 0 with fewer than two;
+//!   window, (n - 1) fs / (last - first) with onsets at sample indices (`stats::OnsetRate`, the
+//!   one definition, in f32 here); 0 with fewer than two;
 //! - for the lockstep model, over the samples it ran: its stick fraction and stick-slip
 //!   frequency (same definitions, from its own regime and transitions) and the RMS of the
 //!   residual (measured pad_x minus the model's x'').
@@ -24,6 +25,7 @@
 use super::lockstep::ModelSample;
 use super::ACCEL_CHANNELS;
 use crate::exact::Halt;
+use crate::stats::{Extremes, OnsetRate};
 
 /// The default window: [`super::WINDOW_S`] (100 ms) at [`super::SAMPLE_RATE_HZ`] (25.6 kHz),
 /// 2 560 samples.
@@ -80,32 +82,6 @@ pub struct WindowReport {
     pub non_finite: bool,
 }
 
-/// Onsets inside a window: count, first and last window-relative sample index.
-#[derive(Clone, Copy, Debug, Default)]
-struct Onsets {
-    count: u32,
-    first: u32,
-    last: u32,
-}
-
-impl Onsets {
-    #[inline(always)]
-    fn add(&mut self, at: u32) {
-        if self.count == 0 {
-            self.first = at;
-        }
-        self.last = at;
-        self.count = self.count.saturating_add(1);
-    }
-    fn hz(&self, fs: f32) -> f32 {
-        if self.count >= 2 && self.last > self.first {
-            (self.count - 1) as f32 * fs / (self.last - self.first) as f32
-        } else {
-            0.0
-        }
-    }
-}
-
 /// One sample's contribution to the window statistics.
 #[derive(Clone, Copy, Debug)]
 pub struct SampleStats<'a> {
@@ -129,18 +105,18 @@ struct WindowSums {
     /// Samples in the window (valid or not), and the window-relative index of the next.
     n: u32,
     valid: u32,
-    min: [f32; ACCEL_CHANNELS],
-    max: [f32; ACCEL_CHANNELS],
+    extremes: Extremes<f32, ACCEL_CHANNELS>,
     sq_block: [f32; SQ],
     sq_total: [f32; SQ],
     block_n: u32,
     stick: u32,
-    onsets: Onsets,
+    /// Slip onsets at window-relative sample indices.
+    onsets: OnsetRate<u32>,
     saturated: u32,
     faulted: u32,
     model_n: u32,
     model_stick: u32,
-    model_onsets: Onsets,
+    model_onsets: OnsetRate<u32>,
     model_seen: bool,
     model_halt: Option<Halt>,
 }
@@ -152,18 +128,17 @@ impl WindowSums {
             first_sample,
             n: 0,
             valid: 0,
-            min: [f32::INFINITY; ACCEL_CHANNELS],
-            max: [f32::NEG_INFINITY; ACCEL_CHANNELS],
+            extremes: Extremes::<f32, ACCEL_CHANNELS>::EMPTY,
             sq_block: [0.0; SQ],
             sq_total: [0.0; SQ],
             block_n: 0,
             stick: 0,
-            onsets: Onsets { count: 0, first: 0, last: 0 },
+            onsets: OnsetRate::new(),
             saturated: 0,
             faulted: 0,
             model_n: 0,
             model_stick: 0,
-            model_onsets: Onsets { count: 0, first: 0, last: 0 },
+            model_onsets: OnsetRate::new(),
             model_seen: false,
             model_halt: None,
         }
@@ -195,19 +170,19 @@ impl WindowSums {
         let mut rms_raw = [0.0f32; ACCEL_CHANNELS];
         let mut rms_groan = [0.0f32; ACCEL_CHANNELS];
         for i in 0..ACCEL_CHANNELS {
-            pp[i] = clean(if valid > 0 { self.max[i] - self.min[i] } else { 0.0 });
+            pp[i] = clean(if valid > 0 { self.extremes.pp(i) } else { 0.0 });
             rms_raw[i] = clean(rms(self.sq_total[i], valid));
             rms_groan[i] = clean(rms(self.sq_total[ACCEL_CHANNELS + i], valid));
         }
         let stick_fraction = clean(if valid > 0 { self.stick as f32 / valid as f32 } else { 0.0 });
-        let stick_slip_hz = clean(self.onsets.hz(fs));
+        let stick_slip_hz = clean(self.onsets.hz_at(fs));
         let model = if self.model_seen {
             let n = self.model_n;
             Some(ModelWindow {
                 samples: n,
                 stick_fraction: clean(if n > 0 { self.model_stick as f32 / n as f32 } else { 0.0 }),
-                stick_slip_hz: clean(self.model_onsets.hz(fs)),
-                slip_onsets: self.model_onsets.count,
+                stick_slip_hz: clean(self.model_onsets.hz_at(fs)),
+                slip_onsets: self.model_onsets.count(),
                 residual_rms_m_s2: clean(rms(self.sq_total[RESIDUAL], n)),
                 halt: self.model_halt,
             })
@@ -224,7 +199,7 @@ impl WindowSums {
             groan_rms_m_s2: rms_groan,
             stick_fraction,
             stick_slip_hz,
-            slip_onsets: self.onsets.count,
+            slip_onsets: self.onsets.count(),
             saturated_samples: self.saturated,
             faulted_samples: self.faulted,
             model,
@@ -267,12 +242,7 @@ impl WindowAccumulator {
         let at = w.n;
         for i in 0..ACCEL_CHANNELS {
             let a = s.accel_m_s2[i];
-            if a < w.min[i] {
-                w.min[i] = a;
-            }
-            if a > w.max[i] {
-                w.max[i] = a;
-            }
+            w.extremes.take(i, a);
             w.sq_block[i] += a * a;
             let g = s.groan_m_s2[i];
             w.sq_block[ACCEL_CHANNELS + i] += g * g;
