@@ -307,7 +307,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
              the samples fall on the sharpest part of the waveform (with falling friction, the last slip samples before a \
              re-stick), not only on the parameters; e.g. push_lead's pad_x peak-to-peak in docs/fit.md's known truth is 142 \
              m/s^2 at k_b = 7e5 N/m and 176 m/s^2 at 0.07 % less. Tables are fitted on theirs (weight {})",
-            crate::recorded::report::num(weights.iter().find(|(k, _)| *k == Stat::Pp).map_or(0.0, |(_, w)| *w))
+            crate::output::format::num(weights.iter().find(|(k, _)| *k == Stat::Pp).map_or(0.0, |(_, w)| *w))
         ));
     }
     // held-out cases

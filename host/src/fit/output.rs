@@ -12,12 +12,9 @@ use crate::output::style;
 use super::stat::Stat;
 use super::{rms_log_ratio, Compared, FitReport};
 use crate::error::{HostError, Result};
-use crate::recorded::report::num;
+use crate::output::format::{num, opt};
 use crate::scenes::scene_file;
 
-fn opt(v: Option<f64>) -> String {
-    v.map_or("none".into(), num)
-}
 
 fn pct(v: f64) -> String {
     if v.is_finite() {

@@ -5,7 +5,7 @@ use std::path::Path;
 use super::cell::{CellJson, RunCell};
 use super::MapJson;
 use crate::error::{HostError, Result};
-use crate::output::report::sig4;
+use crate::output::format::sig4;
 
 /// The regimes in the order the summary lists them, with their letter in the text grid.
 pub const REGIMES: [(&str, char); 8] = [

@@ -13,7 +13,7 @@ use super::cell::{CellJson, RunCell};
 use super::output::{by_index, REGIMES};
 use super::MapJson;
 use crate::error::Result;
-use crate::output::report::sig4;
+use crate::output::format::sig4;
 use crate::output::style;
 
 fn regime_color(r: &str) -> RGBColor {

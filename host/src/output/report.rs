@@ -5,39 +5,12 @@
 use serde::Serialize;
 use stickslip_model::{Coefficients, Halt};
 
+use super::format::{num, pm, sci, sig4};
 use crate::scenes::run::{Outcome, RunReport};
 use crate::scenes::scene_source::NamedScene;
 
-/// Scientific notation with `sig` significant digits, or "n/a".
-pub fn sci(v: Option<f64>, sig: usize) -> String {
-    match v {
-        Some(v) if v.is_finite() => format!("{:.*e}", sig.saturating_sub(1), v),
-        _ => "n/a".into(),
-    }
-}
 
-/// `mean ± sd` with the sd to two significant digits and the mean to the same decimal place.
-pub fn pm(mean: f64, sd: f64) -> String {
-    if sd.is_nan() || sd <= 0.0 {
-        return format!("{} ± 0", sig6(mean));
-    }
-    let d = 1 - sd.log10().floor() as i32;
-    if d > 9 {
-        return format!("{} ± {:.1e}", sig6(mean), sd);
-    }
-    let d = d.max(0) as usize;
-    format!("{mean:.d$} ± {sd:.d$}")
-}
 
-/// Six significant digits, plain notation where reasonable.
-fn sig6(v: f64) -> String {
-    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
-        let d = (5 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
-        format!("{v:.d$}")
-    } else {
-        format!("{v:.5e}")
-    }
-}
 
 fn finite(v: f64) -> Option<f64> {
     v.is_finite().then_some(v)
@@ -220,7 +193,7 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
                 pm(m, sd),
                 c.stick_fraction.n
             ),
-            (Some(m), None) => format!("; the one complete cycle: {}", sig6(m)),
+            (Some(m), None) => format!("; the one complete cycle: {}", num(m)),
             _ => String::new(),
         };
         line(
@@ -234,7 +207,7 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
                     pm(m * 1e3, sd * 1e3),
                     c.period.n
                 ),
-                (Some(m), None) => format!("; period {} ms (one cycle)", sig6(m * 1e3)),
+                (Some(m), None) => format!("; period {} ms (one cycle)", num(m * 1e3)),
                 _ => String::new(),
             };
             format!("{:.4} Hz = 1 / mean period{period}", r.stats.stick_slip_hz)
@@ -457,14 +430,6 @@ pub struct CasesJson {
     pub cases: Vec<CaseJson>,
 }
 
-/// Four significant digits, plain notation.
-pub fn sig4(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let d = (3 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
-    format!("{v:.d$}")
-}
 
 /// The Markdown tables of `cases`: the values (in the manner of the thesis's Table 2.1) and
 /// their cycle-to-cycle spread, with a caption and notes.
@@ -549,7 +514,7 @@ pub fn cases_table(runs: &[(NamedScene, RunReport)]) -> String {
         let c = &r.cycles;
         let cell = |w: &crate::scenes::cycles::Welford, scale: f64| match (w.mean(), w.sd()) {
             (Some(m), Some(sd)) => pm(m * scale, sd * scale),
-            (Some(m), None) => sig6(m * scale),
+            (Some(m), None) => num(m * scale),
             _ => "n/a".into(),
         };
         out.push_str(&format!(

@@ -6,28 +6,10 @@ use stickslip_model::rig::noise_floor::A_REL;
 use stickslip_model::rig::ACCEL_NAMES;
 
 use super::analysis::{Analysis, ChannelStats};
+use crate::output::format::{num, opt};
 use super::sil::SilReport;
 
-/// Six significant digits, plain notation between 1e-3 and 1e6.
-pub fn num(v: f64) -> String {
-    if !v.is_finite() {
-        return "n/a".into();
-    }
-    if v == 0.0 {
-        return "0".into();
-    }
-    let a = v.abs();
-    if (1e-3..1e6).contains(&a) {
-        let d = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
-        format!("{v:.d$}")
-    } else {
-        format!("{v:.5e}")
-    }
-}
 
-fn opt(v: Option<f64>) -> String {
-    v.map_or("none".into(), num)
-}
 
 #[derive(Serialize, Clone, Copy)]
 pub struct ChannelJson {
