@@ -22,8 +22,8 @@
 //! precision on the Cortex-M4F, about 0.1 s), far more than one sample's time. [`Rig::init`]
 //! therefore builds, once, a second estimator whose model is already started ("armed") from
 //! the clamp setpoint pressure; when the sequencer enters Record, the running estimator is
-//! replaced by a copy of the armed one (one `memcpy` of about 8 KB: some 10 000 instructions,
-//! that one sample). So each record starts with a fresh estimator: contact estimate in stick
+//! replaced by a copy of the armed one (one `memcpy` of the estimator, that one sample: the
+//! `b_record_start` class of `scripts/count-instructions.sh` counts it). So each record starts with a fresh estimator: contact estimate in stick
 //! (with the thresholds the last clamp designed), filters at rest, window statistics from the
 //! record's first sample and the model from its initial state (stick, at rest under the load).
 //! The model's load is the clamp setpoint's (F_N = p_set A): the sequencer only leaves a

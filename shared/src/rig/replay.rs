@@ -7,8 +7,9 @@
 //! A [`Script`] presses the button and the e-stop at given frames: by default the button at the
 //! first frame (start) and nothing else, with the rig's sequencer recording to the end of the
 //! run (its record length is the frame count); the sensor model is open loop, so the frames do
-//! not depend on the valves. No allocation; the rig (two estimators, about 16 KB) is built in
-//! place in the caller's frame, the sensor model (6.9 KB) beside it.
+//! not depend on the valves. No allocation; the rig (two estimators) is built in place in the
+//! caller's frame, the sensor model beside it (their sizes: `cargo test -p stickslip-model
+//! --test rig_replay state_sizes -- --nocapture`).
 //!
 //! Every output of every frame is fed to a [`Fnv1a64`] digest, in this order and layout
 //! (f32 as their bits, integers little-endian, see [`crate::digest`]):
