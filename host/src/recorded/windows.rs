@@ -1,7 +1,9 @@
 //! The estimator's window statistics of an analysis as CSV (`analyze --windows FILE`): one row
 //! per window the estimator closed, with the keys of the firmware's `window` record
 //! (firmware/README.md, "Log records"; `decode` reads them from the rig's log), so that a
-//! recording's windows and the rig's can be set side by side line by line.
+//! recording's windows and the rig's can be set side by side line by line. On the same samples
+//! with the rig's thresholds they are the same to the bit: `tests/tests/analyze_windows_vs_rig.rs`
+//! runs a record through the firmware's rig and its calibrated channels through `analyze`.
 //!
 //! Columns, named as `decode --kind window` names the record's fields: `idx` (the
 //! window's number from 0), `first` (its first sample, counting the recording's rows from 0),
