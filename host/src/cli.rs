@@ -281,6 +281,10 @@ pub struct SilArgs {
     /// Write the SVG figures of the statistics window into DIR
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
+    /// Write the rig's estimator's window statistics (100 ms windows from the first frame, the
+    /// quiet lead's included; the columns of `analyze --windows`) to FILE as CSV
+    #[arg(long, value_name = "FILE")]
+    pub windows: Option<PathBuf>,
     /// The front end: rig (noise, 700 m/s^2 clipping, 12-bit ADC, calibration: the rig as
     /// built) or ideal (the accelerations plus the noise only: a high-resolution logger)
     #[arg(long, value_name = "rig|ideal", default_value = "rig", value_parser = ["rig", "ideal"])]

@@ -426,6 +426,7 @@ fn sil_options(
         gain: gains(&noise.gain)?,
         oversample: noise.oversample,
         adc_noise_counts: noise.adc_noise,
+        windows: false,
     })
 }
 
@@ -438,10 +439,17 @@ pub fn sil(a: &crate::cli::SilArgs) -> Result<String> {
     if a.front_end == "ideal" {
         opts.sensor = sil::SensorPath::Ideal;
     }
+    opts.windows = a.windows.is_some();
     let r = sil::run(&ns, a.run.precision, &opts, a.csv.as_deref())?;
     if let (Some(dir), Some(m)) = (&a.plots, &r.measured) {
         let n = figures::write_all(dir, &format!("virtual rig, {}", ns.name), m)?.len();
         eprintln!("stickslip: wrote {n} SVG figures to {}", dir.display());
+    }
+    if let Some(path) = &a.windows {
+        // a run that leaves nothing to analyse has no windows: an empty table, said so
+        let windows = r.measured.as_ref().map_or(&[][..], |m| &m.windows[..]);
+        crate::recorded::windows::write_csv(path, windows)?;
+        eprintln!("stickslip: wrote {} estimator windows to {}", windows.len(), path.display());
     }
     Ok(if a.json { to_json(&report::SilJson::new(&r)) } else { report::sil_markdown(&r) })
 }

@@ -18,7 +18,7 @@ fn named(name: &str, scene: Scene) -> NamedScene {
 /// Writes the virtual-rig recording of `scene` (front end `sensor`, noise `noise` m/s^2 rms,
 /// seed `seed`) to `path`.
 fn record(scene: &Scene, sensor: SensorPath, noise: f64, seed: u32, path: &std::path::Path) {
-    let opts = SilOptions { noise_m_s2: noise, seed, segment: None, figures: false, breakaway_jump_m_s2: None, sensor, spectra: false, quiet_s: 0.0, gain: sil::RIG_GAIN, oversample: 1, adc_noise_counts: 0.0 };
+    let opts = SilOptions { noise_m_s2: noise, seed, segment: None, figures: false, breakaway_jump_m_s2: None, sensor, spectra: false, quiet_s: 0.0, gain: sil::RIG_GAIN, oversample: 1, adc_noise_counts: 0.0, windows: false };
     sil::run(&named("truth", *scene), Precision::F64, &opts, Some(path)).expect("the virtual rig runs");
 }
 

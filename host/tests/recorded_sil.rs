@@ -116,3 +116,23 @@ fn markdown_and_the_csv_it_writes() {
         }
     }
 }
+
+/// `sil --windows` and `analyze --windows` on sil's own CSV: the same estimator on the same
+/// samples (the CSV's values read back to the same f32, its times to the same f64), so the two
+/// tables are the same byte for byte; 0.1 s of quiet lead and 1 s of run are 11 windows of
+/// 100 ms, the first of them the quiet lead's (stick, nothing moves).
+#[test]
+fn sil_windows_equal_analyze_windows_of_its_csv() {
+    let dir = scratch("sil_windows");
+    let (csv, sw, aw) = (dir.join("run.csv"), dir.join("sil_windows.csv"), dir.join("analyze_windows.csv"));
+    let p = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    ok(&["sil", "pull_lead", "--csv", &p(&csv), "--windows", &p(&sw)]);
+    ok(&["analyze", &p(&csv), "--scene", "pull_lead", "--windows", &p(&aw)]);
+    let (s, a) = (std::fs::read_to_string(&sw).unwrap(), std::fs::read_to_string(&aw).unwrap());
+    assert_eq!(s, a);
+    let rows: Vec<&str> = s.lines().collect();
+    assert_eq!(rows.len(), 1 + 11, "{s}");
+    assert!(rows[1].starts_with("0,0,2560,2560,0,0,0,0,"), "the quiet lead's window: {}", rows[1]);
+    let onsets: u32 = rows[1..].iter().map(|r| r.split(',').nth(18).unwrap().parse::<u32>().unwrap()).sum();
+    assert!(onsets >= 5, "the run stick-slips: {onsets} onsets");
+}

@@ -91,6 +91,7 @@ pub fn statistics(name: &str, scene: &Scene, jump_m_s2: f64, segment: Option<usi
         adc_noise_counts: 0.0,
         sensor: SensorPath::Ideal,
         spectra,
+        windows: false,
     };
     let r = sil::run(&ns, Precision::F64, &opts, None).map_err(|e| e.to_string())?;
     if r.outcome != "completed" {

@@ -89,6 +89,9 @@ pub struct SilOptions {
     pub oversample: u32,
     /// The converter's own noise per conversion [counts rms] (0: none).
     pub adc_noise_counts: f64,
+    /// Keep the estimator's window statistics (`Analysis::windows`, from the first frame,
+    /// the quiet lead's included).
+    pub windows: bool,
 }
 
 /// The rig's accelerometer front-end gains [V/V].
@@ -280,6 +283,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     let from_eff = scene.stats_from - 0.25 * dt;
     let mut acfg = analysis_config(scene, scene.stats_from, opts.segment, opts.figures);
     acfg.spectra = opts.spectra;
+    acfg.windows = opts.windows;
     acfg.breakaway_jump_m_s2 = breakaway_jump(ns, opts.breakaway_jump_m_s2).unwrap_or(crate::recorded::sil::NO_JUMP_START_M_S2);
     if opts.breakaway_jump_m_s2.is_some() || opts.quiet_s == 0.0 {
         // fixed thresholds: the given jump, or the scene's without a quiet phase to measure

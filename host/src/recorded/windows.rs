@@ -48,7 +48,8 @@ pub fn row(w: &EstimatorWindow) -> Vec<String> {
         r.saturated_samples.to_string(),
         r.faulted_samples.to_string(),
         r.non_finite.to_string(),
-        w.t_end_s.to_string(),
+        // + 0.0: a time of -0 (the last sample of a quiet lead ending at t = 0) prints as 0
+        (w.t_end_s + 0.0).to_string(),
     ]);
     v
 }
