@@ -84,13 +84,9 @@ pub struct AnalysisConfig {
     /// and no sample goes through an FFT (a fit that does not weigh the peaks).
     pub spectra: bool,
     /// Keep the estimator's window statistics ([`Analysis::windows`]: one entry per
-    /// [`WINDOW_S`] of record).
+    /// `stickslip_model::rig::WINDOW_S` of record, in whole samples at the record's rate).
     pub windows: bool,
 }
-
-/// The estimator's window length [s]: the rig's (`stickslip_model::rig::WINDOW_S`), in whole
-/// samples at the record's rate.
-pub const WINDOW_S: f64 = stickslip_model::rig::WINDOW_S;
 
 /// One window the estimator closed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -481,7 +477,7 @@ impl Analyzer {
         let ecfg = EstimatorConfig {
             fs_hz: fs,
             contact: ContactThresholds::from_breakaway_jump(self.cfg.breakaway_jump_m_s2, fs),
-            window_samples: ((WINDOW_S * fs).round() as u32).max(1),
+            window_samples: ((stickslip_model::rig::WINDOW_S * fs).round() as u32).max(1),
             band_speed_m_s: self.cfg.band_speed_m_s,
             face_coefficient: self.cfg.face_coefficient,
             ..EstimatorConfig::default()

@@ -20,7 +20,7 @@ use super::analysis::EstimatorWindow;
 use crate::error::{HostError, Result};
 
 /// The header row.
-pub fn header() -> Vec<String> {
+fn header() -> Vec<String> {
     let mut h: Vec<String> = ["idx", "first", "samples", "valid"].map(String::from).to_vec();
     for stat in ["pp", "rms", "groan_rms"] {
         h.extend((0..4).map(|c| format!("{stat}_{c}")));
@@ -30,7 +30,7 @@ pub fn header() -> Vec<String> {
 }
 
 /// One window's row, in the order of [`header`].
-pub fn row(w: &EstimatorWindow) -> Vec<String> {
+fn row(w: &EstimatorWindow) -> Vec<String> {
     let r = &w.report;
     let mut v = vec![
         r.index.to_string(),

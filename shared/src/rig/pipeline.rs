@@ -318,13 +318,12 @@ pub struct Rig {
     pending: Option<ClosedWindow>,
     /// The scene the lockstep model runs in every record.
     model_scene: Scene,
-    /// The contact thresholds and a_rel bias the last clamp's noise floor designed (each
-    /// record's estimator starts with them).
-    floor_design: Option<(ContactThresholds, f32)>,
-    /// The last floor and its design, until [`Rig::take_floor`].
-    floor_out: Option<(FloorReport, ContactThresholds)>,
-    /// The last floor designed from (for the channels' health in the records' windows).
-    floor_last: Option<FloorReport>,
+    /// The last clamp's noise floor that designed thresholds, and that design: each record's
+    /// estimator starts with its thresholds and a_rel's mean as the bias, the records'
+    /// windows are judged against its channels (`window_health`).
+    floor: Option<(FloorReport, ContactThresholds)>,
+    /// `floor` is new and [`Rig::take_floor`] has not given it out yet.
+    floor_unread: bool,
 }
 
 impl Rig {
@@ -371,9 +370,8 @@ impl Rig {
             closed_pressure: PressureWindow::default(),
             pending: None,
             model_scene,
-            floor_design: None,
-            floor_out: None,
-            floor_last: None,
+            floor: None,
+            floor_unread: false,
         });
         rig.armed.start_model(&cfg.model_template, setpoint).map_err(RigError::Model)?;
         Ok(rig)
@@ -483,17 +481,20 @@ impl Rig {
             return false;
         }
         let design = self.estimator.finish_floor(self.calibrator.a_rel_quantum_m_s2());
-        if let Some((r, th)) = design {
-            self.floor_design = Some((th, r.mean_m_s2[A_REL]));
-            self.floor_last = Some(r);
+        if design.is_some() {
+            self.floor = design;
         }
-        self.floor_out = design;
-        design.is_some()
+        self.floor_unread = design.is_some();
+        self.floor_unread
     }
 
     /// The last floor designed (see [`SampleOut::floor_ready`]), once.
     pub fn take_floor(&mut self) -> Option<(FloorReport, ContactThresholds)> {
-        self.floor_out.take()
+        if core::mem::take(&mut self.floor_unread) {
+            self.floor
+        } else {
+            None
+        }
     }
 
     /// The accelerometers' health over a closed window ([`super::health`]):
@@ -501,7 +502,7 @@ impl Rig {
     /// signal. Saturation is not judged here: on the rig it is a sequencer fault (valves
     /// vented, a `state` record with cause `accel_saturation`).
     pub fn window_health(&self, w: &WindowReport) -> HealthReport {
-        let floor = self.floor_last.as_ref();
+        let floor = self.floor.as_ref().map(|(r, _)| r);
         HealthReport::new(core::array::from_fn(|c| {
             ChannelHealth::assess(w.pp_m_s2[c], w.rms_m_s2[c], false, floor.map(|f| (f.mean_m_s2[c], f.sigma_m_s2[c])))
         }))
@@ -517,8 +518,8 @@ impl Rig {
         // One `memcpy` of plain data (`Estimator` is `Copy`: numbers, arrays, enums and options
         // of them), not a field-by-field clone through a temporary.
         self.estimator = self.armed;
-        if let Some((th, bias)) = self.floor_design {
-            self.estimator.set_contact(th, bias);
+        if let Some((r, th)) = &self.floor {
+            self.estimator.set_contact(*th, r.mean_m_s2[A_REL]);
         }
         self.pressure = PressureSums::FRESH;
         self.record = self.record.wrapping_add(1);

@@ -298,8 +298,6 @@ impl SequencerConfig {
             ("clamp_timeout_ticks", self.clamp_timeout_ticks),
             ("drive_timeout_ticks", self.drive_timeout_ticks),
             ("vent_ticks", self.vent_ticks),
-            ("phase_end.clamp_ticks", if let PhaseEnd::Timed { clamp_ticks, .. } = self.phase_end { clamp_ticks } else { 1 }),
-            ("phase_end.drive_ticks", if let PhaseEnd::Timed { drive_ticks, .. } = self.phase_end { drive_ticks } else { 1 }),
             (
                 "record",
                 match self.record {
@@ -309,6 +307,10 @@ impl SequencerConfig {
             ),
         ] {
             check(n >= 1, field, "must be >= 1 tick", n as f64)?;
+        }
+        if let PhaseEnd::Timed { clamp_ticks, drive_ticks } = self.phase_end {
+            check(clamp_ticks >= 1, "phase_end.clamp_ticks", "must be >= 1 tick", clamp_ticks as f64)?;
+            check(drive_ticks >= 1, "phase_end.drive_ticks", "must be >= 1 tick", drive_ticks as f64)?;
         }
         Ok(())
     }
