@@ -235,3 +235,66 @@ fn the_thesis_friction_law_runs_through_the_whole_chain() {
     assert_eq!(r.windows, 9, "the record's 25 598 samples");
     assert!(r.slip_onsets >= 1);
 }
+
+/// A recording played back (`Rig::for_recording` + `Rig::play`, what `analyze` and `sil` run):
+/// the record is the rig's record 1 from the first row, with the floor's thresholds and no
+/// model; its windows carry the pressures' statistics (checked against the closed form of a
+/// ramp) and are judged against the floor as the clamp's would be.
+#[test]
+fn a_recording_plays_back_as_the_rigs_record_one_with_its_floor() {
+    use stickslip_model::rig::calibration::{Calibrated, Saturation};
+    use stickslip_model::rig::contact::ContactThresholds;
+    use stickslip_model::rig::estimator::EstimatorConfig;
+    use stickslip_model::rig::noise_floor::FloorReport;
+
+    let fs = SAMPLE_RATE_HZ;
+    let ecfg = EstimatorConfig { fs_hz: fs, window_samples: 10, ..EstimatorConfig::default() };
+    let th = ContactThresholds::from_noise_floor(0.05, 0.01, fs);
+    assert_ne!(th, ecfg.contact, "the floor's thresholds must differ from the configuration's for this test");
+    let sigma = 0.05f32;
+    let floor = FloorReport {
+        samples: 512,
+        mean_m_s2: core::array::from_fn(|_| 0.0),
+        sigma_m_s2: core::array::from_fn(|_| sigma),
+        pp_m_s2: core::array::from_fn(|_| 0.3),
+    };
+    let cfg = RigConfig::recording(ecfg);
+    let mut rig = Rig::for_recording(&cfg, Some((floor, th))).unwrap();
+    assert_eq!(rig.record(), 1);
+    assert_eq!(*rig.estimator().contact().thresholds(), th);
+    assert!(rig.estimator().model().is_none(), "a recording has no setpoint: no lockstep model");
+    let plain = Rig::for_recording(&cfg, None).unwrap();
+    assert_eq!(*plain.estimator().contact().thresholds(), ecfg.contact);
+
+    // 25 rows: the actuator line a ramp of 0.1 bar per row, the band line at 2 bar, every
+    // accelerometer +-A (A = sigma: RMS A, under twice the floor's sigma: noisier than the signal)
+    let a = sigma;
+    let mut closed = vec![];
+    for i in 0..25u32 {
+        let s = if i % 2 == 0 { a } else { -a };
+        let cal = Calibrated {
+            accel_m_s2: [s; 4],
+            pressure_bar: [0.1 * i as f32, 2.0],
+            saturation: Saturation { bits: 0 },
+        };
+        if rig.play(&cal).window_ready {
+            closed.push(rig.take_window().expect("a window closed"));
+        }
+    }
+    assert_eq!(closed.len(), 2, "windows of 10 rows in 25");
+    for (k, w) in closed.iter().enumerate() {
+        assert_eq!(w.record, 1);
+        assert_eq!(w.report.first_sample, 10 * k as u64);
+        assert_eq!(w.report.samples, 10);
+        // the ramp 0.1 i over i = 10k .. 10k + 9: mean 0.1 (10k + 4.5)
+        let mean = 0.1 * (10.0 * k as f64 + 4.5);
+        assert!((w.pressure.mean_bar[0] as f64 - mean).abs() < 1e-5, "window {k}: {:?}", w.pressure);
+        assert!((w.pressure.min_bar[0] as f64 - 0.1 * (10 * k) as f64).abs() < 1e-6);
+        assert!((w.pressure.max_bar[0] as f64 - 0.1 * (10 * k + 9) as f64).abs() < 1e-6);
+        assert_eq!((w.pressure.mean_bar[1], w.pressure.min_bar[1], w.pressure.max_bar[1]), (2.0, 2.0, 2.0));
+        assert!((w.report.pp_m_s2[1] - 2.0 * a).abs() < 1e-7 && (w.report.rms_m_s2[1] - a).abs() < 1e-7);
+        // judged against the floor: pad_x noisier than the signal; without a floor it cannot be
+        assert!(rig.window_health(&w.report).channels[1].noisy());
+        assert!(!plain.window_health(&w.report).channels[1].noisy());
+    }
+}

@@ -3,7 +3,8 @@
 //! the button at frame 0, the record to the end) gives the `window` records the firmware would
 //! log; the same record's calibrated accelerations, written as a CSV recording (f32 values in
 //! their shortest form, time k / 25.6 kHz), go through `stickslip analyze`'s analysis with the
-//! rig's thresholds (the scene's breakaway jump). Every statistic of every window must be the
+//! rig's thresholds (the scene's breakaway jump), where a `Rig` made for the recording plays
+//! them back (`Rig::for_recording`, `Rig::play`: no sequencer, no calibration). Every statistic of every window must be the
 //! same to the bit: pp, RMS and groan RMS per channel, stick fraction, stick-slip frequency,
 //! onsets, sample counts. (The lockstep model's part is the rig's alone: a recording has no
 //! model.)

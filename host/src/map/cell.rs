@@ -20,7 +20,7 @@
 //! exact window statistics (as `simulate` reports them).
 
 use serde::{Deserialize, Serialize};
-use stickslip_model::rig::bandpass::{BandPass, SectionState, GROAN_BAND_HZ, GROAN_SECTIONS};
+use stickslip_model::rig::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use stickslip_model::Scene;
 
 use crate::error::Result;
@@ -117,7 +117,7 @@ struct CellSink {
     /// The groan filter runs from here (its settling time before the window).
     filter_from: f64,
     groan: Option<BandPass<GROAN_SECTIONS>>,
-    groan_state: [SectionState; GROAN_SECTIONS],
+    groan_state: CascadeState<GROAN_SECTIONS>,
     acc: (f64, f64),
     v: (f64, f64),
     groan_sq: f64,

@@ -17,12 +17,15 @@
 //!   500 Hz, bilinear transform, f32: `shared::rig::bandpass`, run inside the estimator);
 //! - spectral peak: the largest bin above 0 Hz of the Welch PSD (see [`super::spectrum`]),
 //!   good to one bin (the resolution is reported);
-//! - stick fraction and stick-slip frequency from the rig's estimator (`shared::rig::estimator`,
-//!   the code the firmware runs), fed every row as calibrated accelerations (f32) from the first
-//!   row on: stick fraction = samples estimated in stick / samples; frequency = (n - 1) /
+//! - stick fraction and stick-slip frequency from the rig's estimator, run by the rig itself
+//!   (`shared::rig::pipeline::Rig`, the type the firmware runs, made for a recording by
+//!   `Rig::for_recording`: the record is the rig's record 1, and every row goes through
+//!   `Rig::play`, the firmware's per-sample chain after its calibration), fed every row as
+//!   calibrated accelerations (f32) from the first row on: stick fraction = samples estimated in stick / samples; frequency = (n - 1) /
 //!   (time of the last onset - time of the first) over the n stick-to-slip onsets it decided,
 //!   none with fewer than two. Its contact thresholds come from a breakaway jump J [m/s^2]
-//!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`);
+//!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`), or from the noise floor
+//!   of the record's quiet stretch, which the rig holds as it holds its clamp's;
 //! - the estimator's own window statistics (with `AnalysisConfig::windows`): every window the
 //!   estimator closes, from the first row on, as the firmware's `window` records report them
 //!   (`shared::rig::window`: pp, RMS, groan RMS per channel in f32, stick fraction, stick-slip
@@ -36,9 +39,10 @@
 use stickslip_model::rig::bandpass::GROAN_BAND_HZ;
 use stickslip_model::rig::calibration::{Calibrated, Saturation};
 use stickslip_model::rig::contact::{ContactEventKind, ContactThresholds};
-use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
+use stickslip_model::rig::estimator::EstimatorConfig;
 use stickslip_model::rig::health::{ChannelHealth, HealthReport};
 use stickslip_model::rig::noise_floor::{NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
+use stickslip_model::rig::pipeline::{Rig, RigConfig};
 use stickslip_model::rig::window::WindowReport;
 use stickslip_model::rig::{DISC_X, PAD_X};
 use stickslip_model::stats::{Extremes, OnsetRate};
@@ -207,7 +211,8 @@ struct Pending {
 struct Running {
     fs: f64,
     from_eff: f64,
-    est: Estimator,
+    /// The rig, playing the record back (`Rig::for_recording`): its estimator and windows.
+    rig: Box<Rig>,
     welch: Option<Welch>,
     envelope: Option<Envelope>,
     n: u64,
@@ -243,11 +248,11 @@ impl Running {
             pressure_bar: [0.0; 2],
             saturation: Saturation { bits },
         };
-        let s = self.est.update(&cal);
+        let s = self.rig.play(&cal);
         if s.window_ready {
-            let report = self.est.take_window();
-            if let (Some(w), Some(report)) = (&mut self.windows, report) {
-                w.push(EstimatorWindow { t_end_s: t, report });
+            let closed = self.rig.take_window();
+            if let (Some(w), Some(closed)) = (&mut self.windows, closed) {
+                w.push(EstimatorWindow { t_end_s: t, report: closed.report });
             }
         }
         let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
@@ -262,7 +267,7 @@ impl Running {
         }
         self.t_last = t;
         self.n += 1;
-        let g = self.est.last_groan();
+        let g = self.rig.estimator().last_groan();
         for c in 0..CH {
             let v = a[c];
             self.extremes.take(c, v);
@@ -482,21 +487,18 @@ impl Analyzer {
             face_coefficient: self.cfg.face_coefficient,
             ..EstimatorConfig::default()
         };
-        let mut est = Estimator::new(&ecfg).map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
+        ecfg.validate().map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
         let floor = self.design_floor(&buf, fs)?;
-        if let Some(f) = &floor {
-            let th = ContactThresholds::from_noise_floor(
-                f.report.sigma_m_s2[A_REL] as f64,
-                f.quantum_m_s2,
-                fs,
-            );
-            est.set_contact(th, f.report.mean_m_s2[A_REL]);
-        }
+        let design = floor.as_ref().map(|f| {
+            (f.report, ContactThresholds::from_noise_floor(f.report.sigma_m_s2[A_REL] as f64, f.quantum_m_s2, fs))
+        });
+        let rig = Rig::for_recording(&RigConfig::recording(ecfg), design)
+            .map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
         let segment = self.cfg.segment.unwrap_or_else(|| default_segment(fs));
         let mut r = Running {
             fs,
             from_eff: self.cfg.from_s - 0.25 / fs,
-            est,
+            rig: Box::new(rig),
             welch: self.cfg.spectra.then(|| Welch::new(segment)),
             envelope: self.cfg.figures.then(Envelope::new),
             n: 0,
@@ -605,7 +607,7 @@ impl Analyzer {
             step: if r.step[c].is_finite() { r.step[c] } else { 0.0 },
         });
         let stick_slip_hz = r.onsets.hz();
-        let thresholds = *r.est.contact().thresholds();
+        let thresholds = *r.rig.estimator().contact().thresholds();
         // the rig's rule (stickslip_model::rig::health): flat, saturated, noisier than the
         // signal; pad_x must carry a signal, disc_x must not be saturated
         let verdict = HealthReport::new(std::array::from_fn(|c| {

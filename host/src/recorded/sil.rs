@@ -10,8 +10,10 @@
 //!    through the front end (100 mV/g, gain 0.2) into the 12-bit ADC;
 //! 2. `shared::rig::calibration::Calibrator` turns the counts back into m/s^2 (0.395 m/s^2 per
 //!    count), as the firmware does;
-//! 3. the calibrated channels go into [`super::analysis::Analyzer`], whose estimator is the
-//!    firmware's (`shared::rig::estimator`), with the scene's breakaway jump.
+//! 3. the calibrated channels go into [`super::analysis::Analyzer`], which plays them back
+//!    through the rig (`shared::rig::pipeline::Rig::for_recording`: the firmware's rig type,
+//!    each row through `Rig::play`, the firmware's chain after its calibration), its contact
+//!    thresholds from the floor of the quiet lead (or the scene's breakaway jump).
 //!
 //! The truth, over the same samples (t >= stats_from): stick fraction = samples at which the
 //! model is in stick / samples; stick-slip frequency = (n - 1) / (t_n - t_1) over the exact

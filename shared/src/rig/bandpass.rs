@@ -46,13 +46,26 @@ pub struct Section<T> {
     pub a2: T,
 }
 
-/// The past inputs and outputs of one section (direct form I).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SectionState {
-    x1: f32,
-    x2: f32,
-    y1: f32,
-    y2: f32,
+/// The past values of a cascade of `N` sections (direct form I): the cascade's last two inputs,
+/// and each section's last two outputs, which are also the next section's last two inputs (kept
+/// once).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CascadeState<const N: usize> {
+    /// x[-1], x[-2] of the cascade's input.
+    x: [f32; 2],
+    /// y[-1], y[-2] of each section.
+    y: [[f32; 2]; N],
+}
+
+impl<const N: usize> CascadeState<N> {
+    /// At rest: every past value 0.
+    pub const ZERO: Self = CascadeState { x: [0.0; 2], y: [[0.0; 2]; N] };
+}
+
+impl<const N: usize> Default for CascadeState<N> {
+    fn default() -> Self {
+        Self::ZERO
+    }
 }
 
 /// A designed band-pass: the f64 design and its f32 coefficients.
@@ -142,16 +155,18 @@ impl<const N: usize> BandPass<N> {
     }
 
     /// Filters one sample through the cascade; `state` holds one channel's past values.
+    /// Section k's input is section k - 1's output, so its x[-2] is that section's y[-2] (read
+    /// before the update): each past value is loaded and stored once.
     #[inline(always)]
-    pub fn run(&self, state: &mut [SectionState; N], x: f32) -> f32 {
+    pub fn run(&self, state: &mut CascadeState<N>, x: f32) -> f32 {
         let mut v = x;
-        for (s, st) in self.sections.iter().zip(state.iter_mut()) {
-            let y = s.b0 * (v - st.x2) - s.a1 * st.y1 - s.a2 * st.y2;
-            st.x2 = st.x1;
-            st.x1 = v;
-            st.y2 = st.y1;
-            st.y1 = y;
-            v = y;
+        let mut v2 = state.x[1];
+        state.x = [x, state.x[0]];
+        for (s, y) in self.sections.iter().zip(state.y.iter_mut()) {
+            let out = s.b0 * (v - v2) - s.a1 * y[0] - s.a2 * y[1];
+            v2 = y[1];
+            *y = [out, y[0]];
+            v = out;
         }
         v
     }

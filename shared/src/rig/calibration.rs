@@ -185,6 +185,14 @@ impl AccelChannel {
         count_from_fractional(self.offset_counts + a_m_s2 * self.counts_per_m_s2(adc), adc.max_count() as f64)
     }
 
+    /// The frame counts of -range and +range (lo, hi): each rounded like the ADC rounds (half
+    /// up), times the conversions summed per frame. They may lie outside the ADC span.
+    pub fn range_counts(&self, adc: &Adc) -> (i32, i32) {
+        let cpu = self.counts_per_m_s2(adc);
+        let at = |a: f64| adc.oversample as i32 * libm::floor(self.offset_counts + a * cpu + 0.5) as i32;
+        (at(-self.range_m_s2), at(self.range_m_s2))
+    }
+
     fn validate(&self, adc: &Adc) -> Result<(), ConfigError> {
         let ok = |v: f64| v.is_finite() && v > 0.0;
         check(
@@ -297,11 +305,25 @@ pub struct Calibrator {
     /// value = (count - offset) * scale, per frame channel.
     offset: [f32; CHANNELS],
     scale: [f32; CHANNELS],
-    /// Range flags: count >= range_hi or count <= range_lo (counts of +-range, may lie outside
-    /// the ADC span, then the flag cannot fire).
-    range_hi: [i32; ACCEL_CHANNELS],
-    range_lo: [i32; ACCEL_CHANNELS],
-    max_count: u16,
+    /// Range flags, count >= range_hi or count <= range_lo (the counts of +-range, which may
+    /// lie outside the ADC span: then the flag cannot fire), as one unsigned comparison per
+    /// channel ([`range_test`]): flagged iff count - `range_from`, wrapped, >= `range_span`.
+    range_from: [u32; ACCEL_CHANNELS],
+    range_span: [u32; ACCEL_CHANNELS],
+    /// Rail flags, count == 0 or count >= the frame's top count, as one comparison: count - 1,
+    /// wrapped, >= `rail_span` (the top count - 1).
+    rail_span: u32,
+}
+
+/// The range flag's one comparison for the bounds `lo`, `hi` (flag: count <= lo or count >=
+/// hi): (`from`, `span`) such that a count c in 0..=65535 is flagged iff
+/// `c.wrapping_sub(from) >= span`. The bounds are first clamped to -1..=65536 (the same flags
+/// for every u16 count); then from = lo + 1 (0..=65537) and span = hi - lo - 1, at least 0: a
+/// count below `from` wraps to at least 2^32 - 65537, above any span.
+pub(crate) fn range_test(lo: i32, hi: i32) -> (u32, u32) {
+    let lo = lo.clamp(-1, 65_536);
+    let hi = hi.clamp(-1, 65_536);
+    ((lo + 1) as u32, (hi - lo - 1).max(0) as u32)
 }
 
 impl Calibrator {
@@ -313,21 +335,21 @@ impl Calibrator {
         let n = adc.oversample as f64;
         let mut offset = [0.0f32; CHANNELS];
         let mut scale = [0.0f32; CHANNELS];
-        let mut range_hi = [0i32; ACCEL_CHANNELS];
-        let mut range_lo = [0i32; ACCEL_CHANNELS];
+        let mut range_from = [0u32; ACCEL_CHANNELS];
+        let mut range_span = [0u32; ACCEL_CHANNELS];
         for (i, a) in cal.accel.iter().enumerate() {
             let cpu = a.counts_per_m_s2(adc);
             offset[i] = (n * a.offset_counts) as f32;
             scale[i] = (1.0 / (n * cpu)) as f32;
             // the counts of +-range, rounded like the ADC rounds (half up), n of them
-            range_hi[i] = adc.oversample as i32 * libm::floor(a.offset_counts + a.range_m_s2 * cpu + 0.5) as i32;
-            range_lo[i] = adc.oversample as i32 * libm::floor(a.offset_counts - a.range_m_s2 * cpu + 0.5) as i32;
+            let (lo, hi) = a.range_counts(adc);
+            (range_from[i], range_span[i]) = range_test(lo, hi);
         }
         for (j, p) in cal.pressure.iter().enumerate() {
             offset[ACCEL_CHANNELS + j] = (n * p.zero_counts(adc)) as f32;
             scale[ACCEL_CHANNELS + j] = (vpc / (n * p.pin_volts_per_bar())) as f32;
         }
-        Ok(Calibrator { offset, scale, range_hi, range_lo, max_count: adc.frame_max_count() })
+        Ok(Calibrator { offset, scale, range_from, range_span, rail_span: u32::from(adc.frame_max_count()).saturating_sub(1) })
     }
 
     /// m/s^2 (accelerometers) or bar (pressures) per frame count, per frame channel.
@@ -353,8 +375,7 @@ impl Calibrator {
         let mut bits = 0u16;
         for i in 0..ACCEL_CHANNELS {
             out.accel_m_s2[i] = (c[i] as f32 - self.offset[i]) * self.scale[i];
-            let ci = c[i] as i32;
-            if ci >= self.range_hi[i] || ci <= self.range_lo[i] {
+            if u32::from(c[i]).wrapping_sub(self.range_from[i]) >= self.range_span[i] {
                 bits |= 1 << i;
             }
         }
@@ -363,11 +384,55 @@ impl Calibrator {
             out.pressure_bar[j] = (c[k] as f32 - self.offset[k]) * self.scale[k];
         }
         for (j, &cj) in c.iter().enumerate() {
-            if cj == 0 || cj >= self.max_count {
+            if u32::from(cj).wrapping_sub(1) >= self.rail_span {
                 bits |= 1 << (ACCEL_CHANNELS + j);
             }
         }
         out.saturation = Saturation { bits };
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The calibrator's one-comparison range and rail flags against the two comparisons they
+    /// stand for (count <= lo or count >= hi; count == 0 or count >= the top count), for every
+    /// u16 count: the rig's channel, oversampled, a gain whose range passes the ADC's span, one
+    /// whose range lies inside it off-centre, and bounds past the u16 span either way.
+    #[test]
+    fn one_comparison_flags_are_the_two_comparisons() {
+        let settings = [(0.2, 2048.0, 1), (0.2, 2048.0, 4), (2.0, 2048.0, 16), (0.05, 1000.0, 1), (0.2, 0.0, 1), (0.2, 4095.0, 3)];
+        let cals = settings.map(|(gain, offset, oversample)| {
+            let mut c = RIG_CALIBRATION;
+            c.adc.oversample = oversample;
+            for a in c.accel.iter_mut() {
+                a.front_end_gain = gain;
+                a.offset_counts = offset;
+            }
+            c
+        });
+        for cal in &cals {
+            let k = Calibrator::new(cal).unwrap();
+            let top = cal.adc.frame_max_count();
+            let (lo, hi) = cal.accel[0].range_counts(&cal.adc);
+            for c in 0..=u16::MAX {
+                let frame = Frame { counts: [c; CHANNELS] };
+                let bits = k.calibrate(&frame).saturation.bits;
+                let range = i32::from(c) <= lo || i32::from(c) >= hi;
+                let rail = c == 0 || c >= top;
+                assert_eq!(bits & 1 != 0, range, "count {c}, range {lo}..{hi}");
+                assert_eq!(bits & (1 << ACCEL_CHANNELS) != 0, rail, "count {c}, top {top}");
+            }
+        }
+        // bounds past the u16 span, and empty ranges
+        for (lo, hi) in [(-70_000, 70_000), (-5, 3), (100, 101), (100, 100), (200, 100), (65_535, 65_540), (-1, 0), (i32::MIN, i32::MAX)] {
+            let (from, span) = range_test(lo, hi);
+            for c in 0..=u16::MAX {
+                let want = i32::from(c) <= lo || i32::from(c) >= hi;
+                assert_eq!(u32::from(c).wrapping_sub(from) >= span, want, "count {c}, bounds {lo}, {hi}");
+            }
+        }
     }
 }

@@ -23,7 +23,7 @@
 //! firmware issue's bound for path A is 1,500). A lockstep step with a transition costs
 //! several thousand more (the stepper's in-step transition search).
 
-use super::bandpass::{BandPass, SectionState, GROAN_BAND_HZ, GROAN_SECTIONS};
+use super::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use super::calibration::Calibrated;
 use super::contact::{ContactEstimator, ContactEventKind, ContactSample, ContactThresholds};
 use super::lockstep::{LockstepModel, ModelSample};
@@ -182,7 +182,7 @@ pub struct Estimator {
     contact: ContactEstimator,
     last_contact: ContactSample,
     groan: BandPass<GROAN_SECTIONS>,
-    groan_state: [[SectionState; GROAN_SECTIONS]; ACCEL_CHANNELS],
+    groan_state: [CascadeState<GROAN_SECTIONS>; ACCEL_CHANNELS],
     last_groan: [f32; ACCEL_CHANNELS],
     window: WindowAccumulator,
     model: LockstepModel,
@@ -220,7 +220,7 @@ impl Estimator {
             contact: ContactEstimator::new(cfg.contact, cfg.fs_hz),
             last_contact: ContactSample { regime: Regime::Stick, v_r_m_s: 0.0, a_rel_m_s2: 0.0, event: None, lead_samples: 0 },
             groan,
-            groan_state: [[SectionState::default(); GROAN_SECTIONS]; ACCEL_CHANNELS],
+            groan_state: [CascadeState::<GROAN_SECTIONS>::ZERO; ACCEL_CHANNELS],
             last_groan: [0.0; ACCEL_CHANNELS],
             window: WindowAccumulator::new(cfg.window_samples, cfg.fs_hz),
             model: LockstepModel::stopped(),

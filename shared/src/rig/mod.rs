@@ -18,8 +18,9 @@
 //! host == Cortex-M4F cross-checks. [`sensor_model::SensorModel`] runs the other way (model
 //! motion to counts) for tests and the virtual rig; [`replay`] digests a whole synthetic run
 //! through the rig for the bit-identity test on the Cortex-M4F. The recorded-data tools (`sil`,
-//! `analyze`) run the estimator stage on calibrated channels: a recording has neither ADC words
-//! nor valves.
+//! `analyze`) play their calibrated rows back through the same type
+//! ([`pipeline::Rig::for_recording`], [`pipeline::Rig::play`]: the chain after the calibration,
+//! without the sequencer): a recording has neither ADC words nor valves.
 //!
 //! Channel order in a [`calibration::Frame`]: the four accelerometers `disc_x`, `pad_x`,
 //! `pad_trail`, `pad_lead` (the thesis's names, Table 3.1), then the actuator (normal-load) line

@@ -4,12 +4,16 @@
 //! the pressures per window, the noise floor of the clamped phase. The firmware runs it (through
 //! the opt-level-3 shim `firmware/rig-core`), and so do the replay digests
 //! ([`super::replay`]), the host == Cortex-M4F cross-checks and the log session of
-//! `tests/cases`.
+//! `tests/cases`. A recording (`analyze`, and the virtual rig `sil`, whose frames are
+//! calibrated by the same [`Calibrator`]) is played back through the same type: its rows,
+//! already calibrated, go through [`Rig::play`], steps 2 and 3 below, of a rig made by
+//! [`Rig::for_recording`] (one record from the first row, the floor of the recording's quiet
+//! stretch, no sequencer, no model).
 //!
 //! Per sample ([`Rig::sample`]):
 //! 1. [`Calibrator::calibrate`]: counts to m/s^2 and bar, saturation flags;
 //! 2. [`Estimator::update`]: contact, groan band-pass, window statistics, lockstep model;
-//! 3. the pressures' window statistics (mean, min, max per line);
+//! 3. the pressures' window statistics (mean, min, max per line) (2 and 3: [`Rig::play`]);
 //! 4. [`Sequencer::tick`]: faults, the command, the state's progress, the valves. Without
 //!    pressure transducers the sequencer's Clamp and Drive are timed
 //!    ([`super::sequencer::PhaseEnd::Timed`]) and the pressure channels read 0 bar;
@@ -164,6 +168,15 @@ impl RigConfig {
             has_end_of_stroke,
             model_template: *template,
         }
+    }
+
+    /// A recording's playback ([`Rig::for_recording`]): `estimator` as given, the nominal
+    /// calibration, no transducers or switch, timed phases (none of which runs) and the lockstep
+    /// model's default pad (never started).
+    pub fn recording(estimator: EstimatorConfig) -> Self {
+        let mut cfg = Self::rig(estimator.fs_hz, false, false);
+        cfg.estimator = estimator;
+        cfg
     }
 
     /// What the parts fitted allow: pressure-checked phases need the transducers, a record
@@ -340,6 +353,13 @@ impl Rig {
     /// need dropping).
     #[inline(never)]
     pub fn init<'a>(slot: &'a mut MaybeUninit<Rig>, cfg: &RigConfig) -> Result<&'a mut Rig, RigError> {
+        Self::build(slot, cfg, true)
+    }
+
+    /// Everything, in `slot` (see [`Self::init`]); the armed estimator's model only if
+    /// `armed_model`.
+    #[inline(always)]
+    fn build<'a>(slot: &'a mut MaybeUninit<Rig>, cfg: &RigConfig, armed_model: bool) -> Result<&'a mut Rig, RigError> {
         cfg.validate()?;
         let ecfg = &cfg.estimator;
         let setpoint = cfg.sequencer.clamp_setpoint_bar as f64;
@@ -373,8 +393,29 @@ impl Rig {
             floor: None,
             floor_unread: false,
         });
-        rig.armed.start_model(&cfg.model_template, setpoint).map_err(RigError::Model)?;
+        if armed_model {
+            rig.armed.start_model(&cfg.model_template, setpoint).map_err(RigError::Model)?;
+        }
         Ok(rig)
+    }
+
+    /// The rig that plays a recording back: a recording is one record, already made, its rows
+    /// already in m/s^2 and bar. Its rows go through [`Self::play`], the chain of
+    /// [`Self::sample`] between the calibration and the sequencer (the estimator, the window
+    /// statistics of the pressures, the window hand-off), from the first row on: record 1
+    /// starts here, as [`Self::sample`] starts a record when the sequencer enters Record
+    /// (a copy of the armed estimator with the last floor's thresholds). No sequencer runs (the
+    /// recording's phases are over) and no lockstep model (a recording has no setpoint).
+    /// `floor`: the noise floor and the contact thresholds designed from the recording's quiet
+    /// stretch (the clamp's part on the rig), held as the clamp's are (for
+    /// [`Self::window_health`] too); `None`: `cfg.estimator.contact` as given. `analyze` and the
+    /// virtual rig (`sil`) run their rows through this.
+    pub fn for_recording(cfg: &RigConfig, floor: Option<(FloorReport, ContactThresholds)>) -> Result<Rig, RigError> {
+        let mut slot = MaybeUninit::uninit();
+        let rig = Self::build(&mut slot, cfg, false)?;
+        rig.floor = floor;
+        rig.start_record();
+        Ok(rig.clone())
     }
 
     /// [`Self::init`] by value (for tests: the value is moved, mind the stack).
@@ -407,26 +448,16 @@ impl Rig {
 
     /// One frame from the ADC words of one frame: `oversample` scans of `adc_channels()` words
     /// each (frame order), summed channel by channel (the decimation, see
-    /// [`super::calibration`]: a boxcar of N; N - 1 additions per channel);
-    /// without pressure transducers the pressure channels read 0 bar. A 12-bit word summed
-    /// 16 times at most cannot overflow (the calibration's validation).
+    /// [`super::calibration`]: a boxcar of N); without pressure transducers the pressure
+    /// channels read 0 bar. See [`decimate`] for how the sum is taken.
     #[inline]
     pub fn frame(&self, words: &[u16]) -> Frame {
         let mut counts = [0u16; CHANNELS];
         if self.has_pressure {
-            counts.copy_from_slice(&words[..CHANNELS]);
-            for scan in words[CHANNELS..].chunks_exact(CHANNELS).take(self.oversample - 1) {
-                for (c, w) in counts.iter_mut().zip(scan) {
-                    *c = c.wrapping_add(*w);
-                }
-            }
+            counts = decimate::<CHANNELS, { CHANNELS / 2 }>(words, self.oversample);
         } else {
-            counts[..ACCEL_CHANNELS].copy_from_slice(&words[..ACCEL_CHANNELS]);
-            for scan in words[ACCEL_CHANNELS..].chunks_exact(ACCEL_CHANNELS).take(self.oversample - 1) {
-                for (c, w) in counts[..ACCEL_CHANNELS].iter_mut().zip(scan) {
-                    *c = c.wrapping_add(*w);
-                }
-            }
+            counts[..ACCEL_CHANNELS]
+                .copy_from_slice(&decimate::<ACCEL_CHANNELS, { ACCEL_CHANNELS / 2 }>(words, self.oversample));
             counts[ACCEL_CHANNELS..].copy_from_slice(&self.zero_bar_counts);
         }
         Frame { counts }
@@ -437,12 +468,7 @@ impl Rig {
     #[inline]
     pub fn sample(&mut self, frame: &Frame, digital: &DigitalInputs, command: Option<Command>) -> SampleOut {
         let calibrated = self.calibrator.calibrate(frame);
-        let estimate = self.estimator.update(&calibrated);
-        self.pressure.add(&calibrated.pressure_bar);
-        if estimate.window_ready {
-            self.closed_pressure = self.pressure.report();
-            self.pressure = PressureSums::FRESH;
-        }
+        let estimate = self.play(&calibrated);
         let before = self.sequencer.state();
         let inputs = SequencerInputs {
             actuator_bar: calibrated.pressure_bar[ACTUATOR],
@@ -469,6 +495,21 @@ impl Rig {
             }
         }
         SampleOut { calibrated, estimate, before, sequencer, record_started, floor_ready }
+    }
+
+    /// One calibrated sample through the estimator and the pressures' window statistics; a
+    /// window that closes waits for [`Self::take_window`]. The part of [`Self::sample`] that does
+    /// not depend on where the sample came from: a recording's rows run through it alone
+    /// ([`Self::for_recording`]).
+    #[inline(always)]
+    pub fn play(&mut self, calibrated: &Calibrated) -> EstimatorSample {
+        self.pressure.add(&calibrated.pressure_bar);
+        let estimate = self.estimator.update(calibrated);
+        if estimate.window_ready {
+            self.closed_pressure = self.pressure.report();
+            self.pressure = PressureSums::FRESH;
+        }
+        estimate
     }
 
     /// Clamp ended: into Drive, the floor designs the contact thresholds (kept for the
@@ -539,5 +580,68 @@ impl Rig {
     /// Closed windows replaced before they were taken (of the running estimator).
     pub fn windows_dropped(&self) -> u32 {
         self.estimator.windows_dropped()
+    }
+}
+
+/// The sum, channel by channel, of the first `scans` scans of `N` words each in `words` (the
+/// decimation of [`Rig::frame`]), two channels per 32-bit addition: channels 2k and 2k + 1 of a
+/// scan are packed as the low and high half of one `u32` (`P` = N / 2 of them) and the packed
+/// words summed. The halves cannot carry into each other: a converter word is 12 bits at most
+/// (the STM32F4's right-aligned data register) and the calibration refuses an `oversample` whose
+/// sum could pass 65535 (`adc.oversample`), so each half's sum is the channel's exact sum, as
+/// the `u16` additions of one channel at a time give it (`decimation_sums_are_the_channels_own`
+/// tests both ways). Half the additions, and the two halves are loaded as one word
+/// where the compiler combines the loads.
+#[inline(always)]
+fn decimate<const N: usize, const P: usize>(words: &[u16], scans: usize) -> [u16; N] {
+    let mut sums = [0u32; P];
+    for scan in words.chunks_exact(N).take(scans) {
+        for (k, s) in sums.iter_mut().enumerate() {
+            *s = s.wrapping_add(u32::from(scan[2 * k]) | u32::from(scan[2 * k + 1]) << 16);
+        }
+    }
+    let mut counts = [0u16; N];
+    for (k, s) in sums.iter().enumerate() {
+        counts[2 * k] = *s as u16;
+        counts[2 * k + 1] = (*s >> 16) as u16;
+    }
+    counts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::decimate;
+
+    /// The packed sums against one channel at a time, over every word a 12-bit converter gives
+    /// at the channel's extremes and between, for 1 to 16 scans (the calibration's range).
+    #[test]
+    fn decimation_sums_are_the_channels_own() {
+        let mut words = [0u16; 16 * 6];
+        let mut x = 12345u32;
+        for trial in 0..200 {
+            for w in words.iter_mut() {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                // the rails most often: the sums' worst case
+                *w = match trial % 3 {
+                    0 => 4095,
+                    1 => (x % 4096) as u16,
+                    _ => [0, 4095][(x & 1) as usize],
+                };
+            }
+            for scans in 1..=16 {
+                let got = decimate::<6, 3>(&words, scans);
+                let got4 = decimate::<4, 2>(&words[..scans * 4], scans);
+                for c in 0..6 {
+                    let want: u32 = (0..scans).map(|s| u32::from(words[6 * s + c])).sum();
+                    assert_eq!(u32::from(got[c]), want, "trial {trial}, {scans} scans, channel {c} of 6");
+                    if c < 4 {
+                        let want4: u32 = (0..scans).map(|s| u32::from(words[4 * s + c])).sum();
+                        assert_eq!(u32::from(got4[c]), want4, "trial {trial}, {scans} scans, channel {c} of 4");
+                    }
+                }
+            }
+        }
     }
 }
