@@ -109,8 +109,9 @@ PSD (periodic Hann window, 50 % overlap, each segment's mean removed; the sample
 last complete segment are left out; a record shorter than a segment is one segment), good to
 one bin; groan-band RMS [m/s^2]: RMS of the rig's 100-500 Hz
 band-pass (4th-order Butterworth) output. Stick fraction [-] and stick-slip frequency [Hz]:
-from the rig's estimator (shared::rig::estimator, the firmware's code) fed every row as
-calibrated accelerations: samples estimated in stick / samples; (n - 1) / (t_last onset -
+from the rig's estimator, run by the firmware's rig type (shared::rig::pipeline::Rig, made
+for the recording: every row goes through the chain the firmware runs after its calibration)
+fed every row as calibrated accelerations: samples estimated in stick / samples; (n - 1) / (t_last onset -
 t_first onset) over its n stick-to-slip onsets (null with fewer than two); each onset dated
 back to where a_rel first left the noise. Its thresholds come from the noise floor of a quiet
 stretch (nothing moves): --quiet FROM:TO, else the first run of 256 rows or more whose

@@ -140,15 +140,21 @@ enum Verdict {
 /// Runs a method over the scene: its halt, if any, and whether the pad ever left stick.
 fn run_method<T: Real>(kind: MethodKind, scene: &Scene) -> Result<(Option<Halt>, bool)> {
     let mut m = AnyMethod::<T>::new(kind, scene).map_err(|e| HostError::Input(format!("stability scene: {e}")))?;
+    Ok(run_steps(scene, || m.step().map(|_| m.regime())))
+}
+
+/// round(duration / dt) steps of `step` (which returns the regime after the step): the halt, if
+/// any, and whether the regime was ever other than stick (a halt counts as having slipped).
+fn run_steps<E>(scene: &Scene, mut step: impl FnMut() -> core::result::Result<Regime, E>) -> (Option<E>, bool) {
     let n = (scene.duration / scene.dt).round() as u64;
     let mut slipped = false;
     for _ in 0..n {
-        if let Err(h) = m.step() {
-            return Ok((Some(h), true));
+        match step() {
+            Ok(regime) => slipped |= regime != Regime::Stick,
+            Err(h) => return (Some(h), true),
         }
-        slipped |= m.regime() != Regime::Stick;
     }
-    Ok((None, slipped))
+    (None, slipped)
 }
 
 /// The model's own verdict on a scene: the exact f64 run, plus self-locking in stick.
@@ -268,15 +274,7 @@ pub fn run(opts: &Options) -> Result<Report> {
 /// Runs the model-2 stepper over a scene: its halt, if any, and whether the pad ever slipped.
 fn run_model2<T: Real>(scene: &Scene) -> Result<(Option<Halt>, bool)> {
     let mut m = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(format!("stability scene: {e}")))?;
-    let n = (scene.duration / scene.dt).round() as u64;
-    let mut slipped = false;
-    for _ in 0..n {
-        if let Err(h) = m.step() {
-            return Ok((Some(h), true));
-        }
-        slipped |= m.regime() != Regime::Stick;
-    }
-    Ok((None, slipped))
+    Ok(run_steps(scene, || m.step().map(|_| m.regime())))
 }
 
 /// The model-2 sweeps: f64 is the arbiter of the model's own findings (sprag, contact loss);
