@@ -21,7 +21,8 @@
 //!   (`shared::rig::pipeline::Rig`, the type the firmware runs, made for a recording by
 //!   `Rig::for_recording`: the record is the rig's record 1, and every row goes through
 //!   `Rig::play`, the firmware's per-sample chain after its calibration), fed every row as
-//!   calibrated accelerations (f32) from the first row on: stick fraction = samples estimated in stick / samples; frequency = (n - 1) /
+//!   calibrated accelerations (f32) from the first row on: stick fraction = samples estimated
+//!   in stick / samples; frequency = (n - 1) /
 //!   (time of the last onset - time of the first) over the n stick-to-slip onsets it decided,
 //!   none with fewer than two. Its contact thresholds come from a breakaway jump J [m/s^2]
 //!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`), or from the noise floor
