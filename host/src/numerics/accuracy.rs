@@ -152,28 +152,44 @@ fn periodic_truth(o: &Observed) -> Truth {
 
 fn model2_row<T: Real>(name: &str, truth: &Truth, scene: &Scene, repeats: usize) -> Result<Row> {
     let o = observe_model2::<T>(scene)?;
-    let (error, ep, ea, ef) = measure(truth, &o);
     let (best, steps) = time_loop(
         steps_of(scene),
         repeats,
         || AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string())),
         |m| std::hint::black_box(m.step()).is_ok(),
     )?;
-    Ok(Row {
-        scene: name.into(),
-        method: MODEL2_METHOD.into(),
-        precision: T::NAME.into(),
+    Ok(fixed_step_row(name, MODEL2_METHOD, T::NAME, scene, truth, &o, best, steps))
+}
+
+/// The row of a fixed-step run: its errors against `truth` and its best time `run_s` over
+/// `steps` steps.
+#[allow(clippy::too_many_arguments)]
+fn fixed_step_row(
+    scene_name: &str,
+    method: &str,
+    precision: &str,
+    scene: &Scene,
+    truth: &Truth,
+    o: &Observed,
+    run_s: f64,
+    steps: u64,
+) -> Row {
+    let (error, ep, ea, ef) = measure(truth, o);
+    Row {
+        scene: scene_name.into(),
+        method: method.into(),
+        precision: precision.into(),
         dt: Some(scene.dt),
         error,
-        ns_per_step: (steps > 0).then(|| best * 1e9 / steps as f64),
-        run_s: best,
+        ns_per_step: (steps > 0).then(|| run_s * 1e9 / steps as f64),
+        run_s,
         steps,
         outcome: outcome_word(&o.halt),
         rtol: None,
         error_period: ep,
         error_amplitude: ea,
         error_final: ef,
-    })
+    }
 }
 
 fn model2_adaptive_row(name: &str, truth: &Truth, scene: &Scene, rtol: f64, repeats: usize) -> Result<Row> {
@@ -505,23 +521,8 @@ fn outcome_word(h: &Option<Halt>) -> String {
 
 fn method_row<T: Real>(scene_name: &str, truth: &Truth, kind: MethodKind, scene: &Scene, repeats: usize) -> Result<Row> {
     let o = observe::<T>(kind, scene)?;
-    let (error, ep, ea, ef) = measure(truth, &o);
     let (run_s, steps) = time_steps::<T>(kind, scene, repeats)?;
-    Ok(Row {
-        scene: scene_name.into(),
-        method: kind.name().into(),
-        precision: T::NAME.into(),
-        dt: Some(scene.dt),
-        error,
-        ns_per_step: (steps > 0).then(|| run_s * 1e9 / steps as f64),
-        run_s,
-        steps,
-        outcome: outcome_word(&o.halt),
-        rtol: None,
-        error_period: ep,
-        error_amplitude: ea,
-        error_final: ef,
-    })
+    Ok(fixed_step_row(scene_name, kind.name(), T::NAME, scene, truth, &o, run_s, steps))
 }
 
 fn adaptive_row(scene_name: &str, truth: &Truth, scene: &Scene, rtol: f64, repeats: usize) -> Result<Row> {

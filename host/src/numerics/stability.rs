@@ -123,6 +123,38 @@ pub struct Row {
     pub detail: String,
 }
 
+impl Row {
+    /// The row of a run of `scene` in `sweep`: its parameters, halt and outcome. The method,
+    /// precision, damping ratio and omega dt are left empty or 0, the model-2 fields null: the
+    /// caller sets them.
+    fn of(sweep: &str, scene: &Scene, co: &Coefficients, halt: Option<Halt>, outcome: &str, detail: String) -> Row {
+        Row {
+            sweep: sweep.into(),
+            method: String::new(),
+            precision: String::new(),
+            dt: scene.dt,
+            contact_stiffness: scene.k_l,
+            k_g: scene.k_g,
+            mu_s: scene.mu_s,
+            mu_k: scene.mu_k,
+            v: scene.v,
+            beta: scene.beta,
+            f_n: scene.f_n,
+            damping_ratio: 0.0,
+            v_s: None,
+            k_b: None,
+            m_b: None,
+            k_pivot: None,
+            omega_dt: 0.0,
+            omega_dt_limit: None,
+            outcome: outcome.into(),
+            t_halt: halt.map(|h| h.time()),
+            stiffness_margin: co.sprag_margin(scene),
+            detail,
+        }
+    }
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
     pub rows: Vec<Row>,
@@ -234,28 +266,12 @@ pub fn run(opts: &Options) -> Result<Report> {
                         if precision == "f64" { run_method::<f64>(kind, &scene)? } else { run_method::<f32>(kind, &scene)? };
                     let (outcome, detail) = classify(halt, slipped, model);
                     rows.push(Row {
-                        sweep: sweep.key.into(),
                         method: kind.name().into(),
                         precision: precision.into(),
-                        dt: scene.dt,
-                        contact_stiffness: scene.k_l,
-                        k_g: scene.k_g,
-                        mu_s: scene.mu_s,
-                        mu_k: scene.mu_k,
-                        v: scene.v,
-                        beta: scene.beta,
-                        f_n: scene.f_n,
                         damping_ratio: zeta,
-                        v_s: None,
-                        k_b: None,
-                        m_b: None,
-                        k_pivot: None,
                         omega_dt,
                         omega_dt_limit: kind.omega_dt_limit(),
-                        outcome: outcome.into(),
-                        t_halt: halt.map(|h| h.time()),
-                        stiffness_margin: co.sprag_margin(&scene),
-                        detail,
+                        ..Row::of(sweep.key, &scene, &co, halt, outcome, detail)
                     });
                     if let Some(b) = &bar {
                         b.inc(1);
@@ -305,28 +321,15 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
                 let (halt, slipped) = if precision == "f64" { (h64, slipped64) } else { run_model2::<f32>(&scene)? };
                 let (outcome, detail) = classify(halt, slipped, model);
                 rows.push(Row {
-                    sweep: sweep.key.into(),
                     method: MODEL2_METHOD.into(),
                     precision: precision.into(),
-                    dt: scene.dt,
-                    contact_stiffness: scene.k_l,
-                    k_g: scene.k_g,
-                    mu_s: scene.mu_s,
-                    mu_k: scene.mu_k,
-                    v: scene.v,
-                    beta: scene.beta,
-                    f_n: scene.f_n,
                     damping_ratio: if sweep.key == "damping_ratio_all" { value } else { 0.02 },
                     v_s: Some(scene.v_s),
                     k_b: Some(scene.k_b),
                     m_b: Some(scene.m_b),
                     k_pivot: scene.floating().then_some(scene.k_pivot),
                     omega_dt: rate * scene.dt,
-                    omega_dt_limit: None,
-                    outcome: outcome.into(),
-                    t_halt: halt.map(|h| h.time()),
-                    stiffness_margin: co.sprag_margin(&scene),
-                    detail,
+                    ..Row::of(sweep.key, &scene, &co, halt, outcome, detail)
                 });
             }
         }
