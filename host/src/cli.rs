@@ -23,7 +23,14 @@ Exit codes: 0 success (a run that halts, e.g. on contact loss or sprag, is a fin
 exits 0, with the outcome reported); 2 bad input (unknown scene, unreadable or invalid scene
 file or recording, bad option value), with one line on stderr naming the file or option, the
 field (or line and column) and the rule; 1 an output file could not be written; 3 a bound of
-`accuracy --check` or `stability --check` failed (the report is still printed).";
+`accuracy --check` or `stability --check` failed (the report is still printed).
+
+Limits: files read whole are at most 1 MiB (scene files, `fit --table`), 64 MiB (a `map merge`
+shard, the `decode --elf` firmware); recordings and defmt streams are streamed. A run's work is
+budgeted: substeps per step (the exact steppers' quarter-radian rule) x steps at most 2^28
+(268435456; about a minute at the slowest substeps), and fewer than 1000000 substeps per step;
+a run over it is not stepped and ends with the outcome `budget` and its cause (exit 0, as any
+classified halt). Counts given on the command line are capped as each option's help says.";
 
 #[derive(Debug, Parser)]
 #[command(
@@ -201,8 +208,9 @@ pub struct RecordOptions {
     /// with a resolution of 2 Hz or finer, 16384 at 25.6 kHz, at most 65536)
     #[arg(long, value_name = "N")]
     pub segment: Option<usize>,
-    /// Fixed contact thresholds from a breakaway jump J [m/s^2]: slip onset above J/2, stick
-    /// at most J/4 (default: thresholds from the noise floor of the record's quiet stretch)
+    /// Fixed contact thresholds from a breakaway jump J [m/s^2], 0 < J <= 1e6: slip onset above
+    /// J/2, stick at most J/4 (default: thresholds from the noise floor of the record's quiet
+    /// stretch)
     #[arg(long, value_name = "M_S2", allow_hyphen_values = true)]
     pub breakaway_jump: Option<f64>,
 }
@@ -243,27 +251,27 @@ pub struct AnalyzeArgs {
 /// The virtual rig's sensor noise.
 #[derive(Debug, Args)]
 pub struct SilNoise {
-    /// White noise on each accelerometer [m/s^2 rms] (bounded at 3.46 sigma; 0: none)
+    /// White noise on each accelerometer [m/s^2 rms], 0 (none) to 10000 (bounded at 3.46 sigma)
     #[arg(long, value_name = "M_S2", default_value_t = crate::recorded::sil::DEFAULT_NOISE_M_S2, allow_hyphen_values = true)]
     pub noise: f64,
     /// Seed of the noise generator
     #[arg(long, value_name = "N", default_value_t = crate::recorded::sil::DEFAULT_SEED)]
     pub seed: u32,
-    /// Front-end gain of the accelerometers [V/V]: one value for all four, or four
-    /// (disc_x,pad_x,pad_trail,pad_lead). 0.2 spans +-809 m/s^2 at 0.395 m/s^2 per count; 10
-    /// spans +-16 m/s^2 at 7.9 mm/s^2 per count (Table 3.1's levels)
+    /// Front-end gain of the accelerometers [V/V], 0.001 to 1000: one value for all four, or
+    /// four (disc_x,pad_x,pad_trail,pad_lead). 0.2 spans +-809 m/s^2 at 0.395 m/s^2 per count;
+    /// 10 spans +-16 m/s^2 at 7.9 mm/s^2 per count (Table 3.1's levels)
     #[arg(long, value_name = "G[,G,G,G]", value_delimiter = ',', allow_hyphen_values = true)]
     pub gain: Vec<f64>,
-    /// The clamped, band-still phase before the run [s]: quiet frames written before t = 0,
-    /// whose noise floor sets the contact thresholds (0: none, the scene's breakaway jump)
+    /// The clamped, band-still phase before the run [s], 0 to 60: quiet frames written before
+    /// t = 0, whose noise floor sets the contact thresholds (0: none, the scene's breakaway jump)
     #[arg(long, value_name = "S", default_value_t = crate::recorded::sil::DEFAULT_QUIET_S, allow_hyphen_values = true)]
     pub quiet_lead: f64,
     /// Conversions summed per frame, 1 to 16 (the firmware's oversampling: 4; 1: none): each
     /// frame count is the sum of N conversions of the same frame
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub oversample: u32,
-    /// The converter's own noise on each conversion [counts rms] (0: none; it dithers the
-    /// oversampled conversions, the sensor's noise is drawn once per frame)
+    /// The converter's own noise on each conversion [counts rms], 0 (none) to 4096 (it dithers
+    /// the oversampled conversions, the sensor's noise is drawn once per frame)
     #[arg(long, value_name = "COUNTS", default_value_t = 0.0, allow_hyphen_values = true)]
     pub adc_noise: f64,
 }
@@ -327,7 +335,7 @@ pub struct CompareArgs {
 
 #[derive(Debug, Args)]
 pub struct DecodeArgs {
-    /// The firmware ELF the stream came from (its .defmt section and symbols)
+    /// The firmware ELF the stream came from (its .defmt section and symbols), at most 64 MiB
     #[arg(long, value_name = "FIRMWARE_ELF")]
     pub elf: PathBuf,
     /// The raw defmt byte stream (`-` or nothing: standard input)
@@ -349,7 +357,11 @@ them under QEMU (`qemu-system-arm ... -semihosting-config enable=on,target=nativ
 A truncated or corrupted stream decodes what can be recovered: a frame that does not decode is
 dropped and its bytes skipped, bytes after the last frame separator are an incomplete frame;
 stderr gets one line with the counts (frames decoded and dropped, bytes skipped, incomplete
-bytes). defmt has no checksum: a corrupted frame that still decodes gives a wrong record.
+bytes). defmt has no checksum, but a frame must fit its format: a frame whose format (named by
+its index in the ELF's table) does not use exactly its bytes is dropped, and a stream of 8
+frames or more of which more than half are dropped is refused (exit 2): it is not from this
+ELF's build (another build's indices name other formats) or is damaged beyond use. A corrupted
+frame that still fits its format gives a wrong record.
 
 Kinds: the records of the firmware's log (see firmware/README.md, Log records): boot, armed,
 config_error, start, state, command, event, window, overrun, stall, input, panic. Each is laid
@@ -365,7 +377,8 @@ has none).
 \"frames_dropped\", \"bytes_skipped\", \"incomplete_bytes\"}}.
 
 Exit codes: 0 (also when frames were lost: the counts say so), 2 an unreadable or defmt-less
-ELF, a --kind with no record, an unreadable stream.";
+ELF (at most 64 MiB), a stream that does not fit the ELF's table (see above), a --kind with
+no record, an unreadable stream.";
 
 const ACCURACY_AFTER: &str = "\
 Steps 1e-6, 1e-5, 1/25600, 1e-4, 2.5e-4 and 1e-3 s (--quick: 1/25600, 2.5e-4, 1e-3 s); methods
@@ -421,9 +434,9 @@ pub struct AccuracyArgs {
     /// Exit with code 3 if a bound fails (see below)
     #[arg(long)]
     pub check: bool,
-    /// Timing repeats; the minimum is kept (default 3, --quick 1)
-    #[arg(long, value_name = "N")]
-    pub repeats: Option<usize>,
+    /// Timing repeats, 1 to 100; the minimum is kept (default 3, --quick 1)
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=100))]
+    pub repeats: Option<u8>,
 }
 
 #[derive(Debug, Args)]
@@ -582,21 +595,21 @@ pub struct MapArgs {
     #[arg(value_name = "SCENE|FILE", required = true)]
     pub scene: Option<String>,
     /// A swept key: KEY=FROM:TO:N (N values, evenly spaced) or KEY=FROM:TO:N:log (geometric);
-    /// any numeric scene key (beta, f_n, v, mu_s, mu_k, v_s, k_pivot, c_x, zeta_x, ...); give
-    /// one or two
+    /// any numeric scene key (beta, f_n, v, mu_s, mu_k, v_s, k_pivot, c_x, zeta_x, ...) that
+    /// acts in SCENE; give one or two; N from 1 to 100000, at most 10000000 cells
     #[arg(long = "sweep", value_name = "KEY=FROM:TO:N[:log]", required = true, allow_hyphen_values = true)]
     pub sweeps: Vec<String>,
     /// The start from sliding: velocity kick relative to the band speed V (x' and y' by kick V,
     /// phi' by kick V / l), 0 < kick <= 0.5
     #[arg(long, value_name = "K", default_value_t = 0.01, allow_hyphen_values = true)]
     pub kick: f64,
-    /// Run only every N-th cell starting at K (0 <= K < N), for a job array; join the shards'
-    /// --json with `map merge`
-    #[arg(long, value_name = "K/N")]
+    /// Run only every N-th cell starting at K (0 <= K < N <= 10000000), for a job array; join
+    /// the shards' --json with `map merge`
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
     pub shard: Option<String>,
-    /// Worker threads (default: every core)
-    #[arg(long, value_name = "N")]
-    pub jobs: Option<usize>,
+    /// Worker threads, 1 to 1024 (default: every core)
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub jobs: Option<u16>,
     #[command(flatten)]
     pub run: RunOptions,
     #[command(flatten)]
@@ -615,8 +628,8 @@ pub struct FitArgs {
     /// Recordings, CASE=FILE (see below)
     #[arg(value_name = "CASE=FILE")]
     pub recordings: Vec<String>,
-    /// A table of measured statistics: CSV case,channel,statistic,value (or the built-in
-    /// thesis_table_3_1)
+    /// A table of measured statistics: CSV case,channel,statistic,value, at most 1 MiB (or the
+    /// built-in thesis_table_3_1)
     #[arg(long, value_name = "FILE")]
     pub table: Vec<String>,
     /// Cases to leave out of the fit and predict, comma-separated
@@ -631,8 +644,8 @@ pub struct FitArgs {
     /// Start of a recording's statistics on its time axis [s] (default SCENE's stats_from)
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub from: Option<f64>,
-    /// Starts of the search (the scene's values, then points spread over +-30 %; with
-    /// horizon stages, the best points of a screen of the first horizon)
+    /// Starts of the search, 1 to 1000 (the scene's values, then points spread over +-30 %;
+    /// with horizon stages, the best points of a screen of the first horizon)
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_STARTS)]
     pub starts: usize,
     /// Horizon stages before the whole record, in stick-slip periods after each recording's
@@ -641,18 +654,18 @@ pub struct FitArgs {
     #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS)]
     pub horizons: Vec<f64>,
     /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its
-    /// Levenberg-Marquardt run)
+    /// Levenberg-Marquardt run), 1 to 1000000
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_MAX_ITERS)]
     pub max_iters: u64,
-    /// Bootstrap resamples over the recordings' windows (0: none)
+    /// Bootstrap resamples over the recordings' windows, 0 (none) to 100000
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_BOOTSTRAP)]
     pub bootstrap: usize,
     /// Seed of the bootstrap's resampling
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub seed: u32,
-    /// No search: the cost along one free key, N values log-spaced from LO to HI, the other
-    /// free keys at SCENE's values (the basin's width, a flat direction, a jump where the cycle
-    /// changes)
+    /// No search: the cost along one free key, N values (2 to 1000) log-spaced from LO to HI
+    /// (both finite, 0 < LO < HI), the other free keys at SCENE's values (the basin's width, a
+    /// flat direction, a jump where the cycle changes)
     #[arg(long, value_name = "KEY=LO:HI:N")]
     pub profile: Option<String>,
     /// Write the fitted scene as a scene file (for simulate, sil, compare)

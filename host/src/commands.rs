@@ -6,6 +6,7 @@ use crate::scenes::builtin;
 use crate::cli::{AccuracyArgs, CasesArgs, RunOptions, ScenesAction, ScenesArgs, SimulateArgs, StabilityArgs};
 use crate::numerics::{accuracy, stability};
 use crate::output::numerics_plots;
+use crate::output::format::short;
 use crate::error::{HostError, Result};
 use crate::output::plots::{self, FigureContext, Line};
 use crate::output::report::{self, CaseJson, CasesJson, SimulateJson};
@@ -54,7 +55,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<String> {
 fn plot_window(a: &CasesArgs, ns: &NamedScene) -> Result<(f64, f64)> {
     let run_s = run::planned_steps(&ns.scene) as f64 * ns.scene.dt;
     let from = a.plot_from.unwrap_or(ns.scene.stats_from);
-    let bad = |opt: &str, v: f64, rule: String| Err(HostError::Input(format!("{opt} {v}: {rule}")));
+    let bad = |opt: &str, v: f64, rule: String| Err(HostError::Input(format!("{opt} {}: {rule}", short(v))));
     if !(from.is_finite() && from >= 0.0 && from < run_s) {
         return bad(
             "--plot-from",
@@ -258,12 +259,9 @@ fn stderr_is_terminal() -> bool {
 }
 
 pub fn accuracy(a: &AccuracyArgs) -> Result<String> {
-    if a.repeats == Some(0) {
-        return Err(HostError::Input("--repeats: must be at least 1".into()));
-    }
     let opts = accuracy::Options {
         quick: a.quick,
-        repeats: a.repeats.unwrap_or(if a.quick { 1 } else { 3 }),
+        repeats: a.repeats.map_or(if a.quick { 1 } else { 3 }, usize::from),
         progress: stderr_is_terminal(),
     };
     let rep = accuracy::run(&opts)?;
@@ -321,11 +319,29 @@ fn check_segment(segment: Option<usize>) -> Result<()> {
 
 fn check_jump(jump: Option<f64>) -> Result<()> {
     match jump {
-        Some(j) if !(j.is_finite() && j > 0.0) => Err(HostError::Input(format!(
-            "--breakaway-jump {j}: must be a finite acceleration > 0 m/s^2"
+        Some(j) if !(j.is_finite() && j > 0.0 && j <= crate::limits::BREAKAWAY_JUMP_MAX_M_S2) => Err(HostError::Input(format!(
+            "--breakaway-jump {}: must be an acceleration with 0 < J <= {} m/s^2",
+            short(j),
+            short(crate::limits::BREAKAWAY_JUMP_MAX_M_S2)
         ))),
         _ => Ok(()),
     }
+}
+
+/// The virtual rig's noise options within their ranges (`--help`): one line naming the option.
+fn check_sil_noise(n: &crate::cli::SilNoise) -> Result<()> {
+    use crate::limits::{ADC_NOISE_MAX_COUNTS, NOISE_MAX_M_S2, QUIET_LEAD_MAX_S};
+    let bad = |opt: &str, v: f64, rule: String| Err(HostError::Input(format!("{opt} {}: {rule}", short(v))));
+    if !(n.noise.is_finite() && (0.0..=NOISE_MAX_M_S2).contains(&n.noise)) {
+        return bad("--noise", n.noise, format!("the sensor noise must be from 0 to {} m/s^2 rms", short(NOISE_MAX_M_S2)));
+    }
+    if !(n.quiet_lead.is_finite() && (0.0..=QUIET_LEAD_MAX_S).contains(&n.quiet_lead)) {
+        return bad("--quiet-lead", n.quiet_lead, format!("the quiet lead must be from 0 to {} s", short(QUIET_LEAD_MAX_S)));
+    }
+    if !(n.adc_noise.is_finite() && (0.0..=ADC_NOISE_MAX_COUNTS).contains(&n.adc_noise)) {
+        return bad("--adc-noise", n.adc_noise, format!("the converter noise must be from 0 to {} counts rms", short(ADC_NOISE_MAX_COUNTS)));
+    }
+    Ok(())
 }
 
 /// The contact thresholds' source from `--breakaway-jump` and `--quiet FROM:TO`.
@@ -359,9 +375,10 @@ fn gains(g: &[f64]) -> Result<[f64; 4]> {
         4 => [g[0], g[1], g[2], g[3]],
         n => return Err(HostError::Input(format!("--gain: {n} values: give one (all four channels) or four"))),
     };
+    let (lo, hi) = crate::limits::GAIN_RANGE;
     for v in out {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(HostError::Input(format!("--gain {v}: must be a finite gain > 0")));
+        if !(v.is_finite() && v >= lo && v <= hi) {
+            return Err(HostError::Input(format!("--gain {}: the front-end gain must be from {} to {} V/V", short(v), short(lo), short(hi))));
         }
     }
     Ok(out)
@@ -369,7 +386,7 @@ fn gains(g: &[f64]) -> Result<[f64; 4]> {
 
 fn check_from(from: Option<f64>) -> Result<()> {
     match from {
-        Some(f) if !f.is_finite() => Err(HostError::Input(format!("--from {f}: must be a finite time in s"))),
+        Some(f) if !f.is_finite() => Err(HostError::Input(format!("--from {}: must be a finite time in s", short(f)))),
         _ => Ok(()),
     }
 }
@@ -414,6 +431,7 @@ fn sil_options(
     figures: bool,
     breakaway_jump_m_s2: Option<f64>,
 ) -> Result<crate::recorded::sil::SilOptions> {
+    check_sil_noise(noise)?;
     Ok(crate::recorded::sil::SilOptions {
         noise_m_s2: noise.noise,
         seed: noise.seed,
@@ -510,16 +528,14 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
                 return Err(HostError::Input(format!("--kick {}: must satisfy 0 < kick <= 0.5", a.kick)));
             }
             let shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(HostError::Input)?;
-            if a.jobs == Some(0) {
-                return Err(HostError::Input("--jobs 0: give at least one worker thread".into()));
-            }
+
             let spec = MapSpec {
                 scene_name: ns.name.clone(),
                 base: ns.scene,
                 grid,
                 options: CellOptions { precision: a.run.precision, kick: a.kick },
                 shard,
-                jobs: a.jobs,
+                jobs: a.jobs.map(usize::from),
                 progress: true,
             };
             let (m, t) = map::run_map(&spec)?;
@@ -551,6 +567,19 @@ pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
     check_from(a.from)?;
     if a.starts == 0 || a.max_iters == 0 {
         return Err(HostError::Input("--starts and --max-iters must be at least 1".into()));
+    }
+    use crate::limits::{FIT_MAX_BOOTSTRAP, FIT_MAX_ITERS, FIT_MAX_STARTS};
+    if a.starts > FIT_MAX_STARTS {
+        return Err(HostError::Input(format!("--starts {}: at most {FIT_MAX_STARTS} starts", a.starts)));
+    }
+    if a.max_iters > FIT_MAX_ITERS {
+        return Err(HostError::Input(format!("--max-iters {}: at most {FIT_MAX_ITERS} iterations", a.max_iters)));
+    }
+    if a.bootstrap > FIT_MAX_BOOTSTRAP {
+        return Err(HostError::Input(format!("--bootstrap {}: at most {FIT_MAX_BOOTSTRAP} resamples", a.bootstrap)));
+    }
+    if a.horizons.len() > 16 {
+        return Err(HostError::Input(format!("--horizons: {} stages, at most 16", a.horizons.len())));
     }
     let ns = scene_source::prepare(scene_source::resolve(&a.scene)?, &Overrides::default())?;
     let req = FitRequest {

@@ -10,12 +10,14 @@
 //! - [`map`]: regime maps: `map`;
 //! - [`fit`]: identification: `fit`;
 //! - [`output`]: the tables, JSON and figures of the scene and numerics commands;
+//! - [`limits`]: the size of every file read whole, the caps on counts, the work budget;
 //! - [`cli`] parses, [`commands`] dispatches, [`error`] is what a command returns on failure.
 
 pub mod cli;
 pub mod commands;
 pub mod error;
 pub mod fit;
+pub mod limits;
 pub mod map;
 pub mod numerics;
 pub mod output;

@@ -181,6 +181,9 @@ fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String]) -> Result<V
         if keys.iter().any(|k| k.key == item) {
             return Err(bad("given twice".into()));
         }
+        if let Some(why) = scene_file::inert_key(&scene.scene, item) {
+            return Err(bad(format!("does nothing in scene `{}`: {why}", scene.name)));
+        }
         if !(start.is_finite() && start > 0.0) {
             return Err(bad(format!(
                 "starts at {start} in scene `{}`: a fit searches each key on a log scale and needs a start > 0 (set one in a scene file)",
@@ -274,7 +277,11 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     for (case, file, scene) in &recs {
         let cfg = sil::analysis_config(scene, from, req.segment, false);
         let cfg = crate::recorded::analysis::AnalysisConfig { breakaway_jump_m_s2: jump, spectra: weight_of(Stat::PeakHz) > 0.0, ..cfg };
-        let rec = target::read_recording(case, file, &cfg)?;
+        let rec = target::read_recording(case, file, &cfg).map_err(|e| match (e, req.from_s) {
+            // the start came from the scene, not from a --from the user gave: say so
+            (HostError::Input(m), None) => HostError::Input(m.replace("--from ", "the statistics start (SCENE's stats_from; no --from given) ")),
+            (e, _) => e,
+        })?;
         let rate = 1.0 / scene.dt;
         if (rec.analysis.sample_rate_hz / rate - 1.0).abs() > 0.01 {
             notes.push(format!(
@@ -580,10 +587,32 @@ fn parse_profile(spec: &str) -> Result<(String, f64, f64, usize)> {
     if !(lo > 0.0 && hi.is_finite() && lo < hi) {
         return Err(bad("needs 0 < LO < HI (the points are log-spaced)"));
     }
-    if n < 2 {
-        return Err(bad("needs N >= 2 points"));
+    if !(2..=crate::limits::PROFILE_MAX_POINTS).contains(&n) {
+        return Err(bad(&format!("needs N from 2 to {} points", crate::limits::PROFILE_MAX_POINTS)));
     }
     Ok((key.trim().to_string(), lo, hi, n))
+}
+
+/// N values log-spaced from `lo` to `hi` (0 < lo < hi, both finite, N >= 2): the ends exactly
+/// `lo` and `hi`, every value finite and inside [lo, hi] (a ratio hi / lo that overflows, 1e-300
+/// to 1e300, is spaced on ln instead).
+pub fn profile_values(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    let ratio = hi / lo;
+    (0..n)
+        .map(|i| {
+            let f = i as f64 / (n - 1) as f64;
+            let v = if i == 0 {
+                lo
+            } else if i + 1 == n {
+                hi
+            } else if ratio.is_finite() {
+                lo * ratio.powf(f)
+            } else {
+                (lo.ln() + f * (hi.ln() - lo.ln())).exp()
+            };
+            v.clamp(lo, hi)
+        })
+        .collect()
 }
 
 /// The cost profile along one free key (`spec` = `KEY=LO:HI:N`): N values log-spaced from LO
@@ -599,9 +628,12 @@ pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Pro
         HostError::Input(format!("--profile {spec}: `{key}` is not a free key (give it in --free)"))
     })?;
     let start = problem.free[k].start;
-    problem.free[k].lo = problem.free[k].lo.min(lo);
-    problem.free[k].hi = problem.free[k].hi.max(hi);
-    let values: Vec<f64> = (0..n).map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64)).collect();
+    // the search's parameters are u = ln(value / start): each end as the problem will see it
+    // after the round trip start exp(u) (4 can come back as 4.000000000000001) is inside
+    let round_trip = |v: f64| start * (v / start).ln().exp();
+    problem.free[k].lo = problem.free[k].lo.min(lo).min(round_trip(lo));
+    problem.free[k].hi = problem.free[k].hi.max(hi).max(round_trip(hi));
+    let values = profile_values(lo, hi, n);
     let points = values
         .iter()
         .map(|&v| {

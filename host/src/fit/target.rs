@@ -10,6 +10,7 @@
 use std::path::Path;
 
 use crate::error::{HostError, Result};
+use crate::output::format::short;
 use crate::recorded::analysis::{Analysis, AnalysisConfig, Analyzer};
 use crate::recorded::csv_in::RowReader;
 
@@ -58,6 +59,19 @@ pub fn parse_recording_arg(arg: &str) -> Result<(String, String)> {
         _ => Err(HostError::Input(format!(
             "target `{arg}`: a recording target is CASE=FILE (e.g. pull_center=run.csv); a table is --table FILE"
         ))),
+    }
+}
+
+/// The values a measured statistic can have [lo, hi] and its unit: a stick fraction is a
+/// fraction (at most 1); accelerations from 1 um/s^2 (below any accelerometer's noise) to 1e6
+/// m/s^2 (beyond any accelerometer's range); frequencies from 1 mHz to 1 MHz; the first slip
+/// within a day of the start.
+fn sane_range(stat: Stat) -> (f64, f64, &'static str) {
+    match stat {
+        Stat::StickFraction => (1e-9, 1.0, "(a fraction, > 0 and <= 1)"),
+        Stat::Pp | Stat::Rms | Stat::GroanRms => (1e-6, 1e6, "m/s^2"),
+        Stat::PeakHz | Stat::StickSlipHz => (1e-3, 1e6, "Hz"),
+        Stat::FirstSlipS => (1e-9, 86_400.0, "s"),
     }
 }
 
@@ -116,7 +130,14 @@ pub fn read_table(label: &str, text: &str) -> Result<Vec<Measured>> {
         // a decimal comma is a separator here: the table is comma-separated
         let v: f64 = value.parse().map_err(|_| bad(line, format!("value `{value}` is not a number")))?;
         if !(v.is_finite() && v > 0.0) {
-            return Err(bad(line, format!("value {v}: must be finite and > 0 (a fit compares log ratios)")));
+            return Err(bad(line, format!("value {}: must be finite and > 0 (a fit compares log ratios)", short(v))));
+        }
+        let (lo, hi, unit) = sane_range(stat);
+        if !(lo..=hi).contains(&v) {
+            return Err(bad(
+                line,
+                format!("{} value {}: outside the range a measurement can have, {} to {} {unit}", stat.name(), short(v), short(lo), short(hi)),
+            ));
         }
         let key = StatKey { case: case.to_string(), channel, stat };
         if let Some(prev) = out.iter().find(|m| m.key == key) {
@@ -138,7 +159,7 @@ pub fn load_table(arg: &str) -> Result<Vec<Measured>> {
     if arg == THESIS_TABLE_3_1_NAME && !Path::new(arg).exists() {
         return read_table(THESIS_TABLE_3_1_NAME, THESIS_TABLE_3_1);
     }
-    let text = std::fs::read_to_string(arg).map_err(|e| HostError::Input(format!("{arg}: cannot read the table: {e}")))?;
+    let text = crate::limits::read_text(Path::new(arg), "table", crate::limits::TABLE_FILE_MAX_BYTES)?;
     read_table(arg, &text)
 }
 

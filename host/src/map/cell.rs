@@ -172,6 +172,7 @@ impl Sink for CellSink {
 /// The regime of a run (see the module's documentation).
 pub fn classify(report: &RunReport, slide_v_pp: f64, steady_limit: f64) -> &'static str {
     match report.outcome {
+        Outcome::Budget(_) => "budget",
         Outcome::Halted { .. } => match report.outcome.keyword() {
             "contact_loss" => "contact_loss",
             "sprag" => "sprag",

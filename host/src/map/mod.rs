@@ -35,11 +35,11 @@ pub struct Shard {
 impl Shard {
     /// Reads `K/N`.
     pub fn parse(arg: &str) -> std::result::Result<Shard, String> {
-        let bad = || format!("--shard {arg}: expected K/N with whole numbers 0 <= K < N");
+        let bad = || format!("--shard {arg}: expected K/N with whole numbers 0 <= K < N <= {}", crate::limits::MAP_MAX_CELLS);
         let (k, n) = arg.split_once('/').ok_or_else(bad)?;
         let k: usize = k.trim().parse().map_err(|_| bad())?;
         let n: usize = n.trim().parse().map_err(|_| bad())?;
-        if n == 0 || k >= n {
+        if n == 0 || k >= n || n > crate::limits::MAP_MAX_CELLS {
             return Err(bad());
         }
         Ok(Shard { k, n })
@@ -147,9 +147,120 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
     ))
 }
 
+/// Checks a map's JSON (a shard or a whole map) against its own header before anything
+/// trusts it: the sweeps as `--sweep` would accept them, the cell count their product, the
+/// shard's K/N, the run settings (dt > 0, duration > 0, 0 <= stats_from < duration, precision
+/// f32/f64, 0 < kick <= 0.5, the steady-sliding factor of this build), the base scene a valid
+/// scene file, and every cell: its index in the shard (ascending, i mod N = K), its parameters
+/// the grid's keys and values at that index, its regimes known words. The error names the
+/// file (`name`), the cell and the field.
+pub fn validate(name: &str, m: &MapJson) -> std::result::Result<(), String> {
+    use crate::output::format::short as sig4;
+    let bad = |what: String| Err(format!("map merge: {name}: {what}"));
+    let sweeps: Vec<Sweep> = match m.sweeps.iter().map(|sw| Sweep::parse(&sw.spec())).collect::<std::result::Result<Vec<_>, _>>() {
+        Ok(v) => v,
+        Err(e) => return bad(format!("sweeps: {e}")),
+    };
+    if sweeps != m.sweeps {
+        return bad("sweeps: a sweep does not read back as given (not written by `map`)".into());
+    }
+    let grid = match Grid::new(sweeps) {
+        Ok(g) => g,
+        Err(e) => return bad(format!("sweeps: {e}")),
+    };
+    if grid.cells() != m.cells_total {
+        return bad(format!("cells_total = {} but the sweeps give {} cells", m.cells_total, grid.cells()));
+    }
+    let fin = |v: f64| v.is_finite();
+    if !(fin(m.dt_s) && m.dt_s > 0.0) {
+        return bad(format!("dt_s = {}: the step must be a finite time > 0 s", sig4(m.dt_s)));
+    }
+    if !(fin(m.duration_s) && m.duration_s > 0.0) {
+        return bad(format!("duration_s = {}: the run length must be a finite time > 0 s", sig4(m.duration_s)));
+    }
+    if !(fin(m.stats_from_s) && m.stats_from_s >= 0.0 && m.stats_from_s < m.duration_s) {
+        return bad(format!("stats_from_s = {}: must satisfy 0 <= stats_from < duration_s", sig4(m.stats_from_s)));
+    }
+    if !matches!(m.precision.as_str(), "f32" | "f64") {
+        return bad(format!("precision `{}`: must be f32 or f64", m.precision));
+    }
+    if !(fin(m.kick) && m.kick > 0.0 && m.kick <= 0.5) {
+        return bad(format!("kick = {}: must satisfy 0 < kick <= 0.5", sig4(m.kick)));
+    }
+    if m.steady_pp_over_kick_v != cell::STEADY_PP {
+        return bad(format!(
+            "steady_pp_over_kick_v = {}: this build classifies with {} (a map of another version)",
+            sig4(m.steady_pp_over_kick_v),
+            cell::STEADY_PP
+        ));
+    }
+    if let Err(e) = crate::scenes::scene_file::parse(&m.scene_toml) {
+        return bad(format!("scene_toml: not a scene file: {}", e.message));
+    }
+    let (k, n) = match m.shard {
+        Some(sh) if sh.n == 0 || sh.k >= sh.n => return bad(format!("shard {}/{}: needs 0 <= K < N", sh.k, sh.n)),
+        Some(sh) => (sh.k, sh.n),
+        None => (0, 1),
+    };
+    let expected = if k < m.cells_total { (m.cells_total - k).div_ceil(n) } else { 0 };
+    if m.cells.len() != expected {
+        return bad(format!(
+            "{} cells, but shard {k}/{n} of {} cells holds {expected}",
+            m.cells.len(),
+            m.cells_total
+        ));
+    }
+    let words: Vec<&str> = output::REGIMES.iter().map(|(r, _)| *r).collect();
+    for (j, c) in m.cells.iter().enumerate() {
+        let want = k + j * n;
+        if c.index != want {
+            return bad(format!("cell {} at position {j}: shard {k}/{n} has cell {want} there", c.index));
+        }
+        let params = grid.params(c.index);
+        let keys_ok = c.params.len() == params.len() && c.params.keys().zip(&params).all(|(a, (b, _))| a == b);
+        if !keys_ok {
+            return bad(format!("cell {}: params {:?}: must be the swept keys {:?}", c.index, c.params.keys().collect::<Vec<_>>(), params.iter().map(|(k, _)| k).collect::<Vec<_>>()));
+        }
+        for (key, v) in &params {
+            match c.params.get(key).and_then(|x| x.as_f64()) {
+                Some(x) if x == *v => {}
+                Some(x) => return bad(format!("cell {}: {key} = {}: the grid's value there is {}", c.index, sig4(x), sig4(*v))),
+                None => return bad(format!("cell {}: {key} is not a number", c.index)),
+            }
+        }
+        let runs = [("from_sliding", &c.from_sliding), ("from_rest", &c.from_rest)];
+        match &c.invalid {
+            Some(_) if c.linear.is_some() || runs.iter().any(|(_, r)| r.is_some()) => {
+                return bad(format!("cell {}: an invalid cell with results", c.index));
+            }
+            Some(_) => {}
+            None => {
+                for (what, r) in runs {
+                    let Some(r) = r else { return bad(format!("cell {}: {what} missing", c.index)) };
+                    if !words.contains(&r.regime.as_str()) || r.regime == "invalid" {
+                        return bad(format!("cell {}: {what}.regime `{}`: not a regime ({})", c.index, r.regime, words.join(", ")));
+                    }
+                    let vals = [r.stick_fraction, r.stick_slip_hz, r.pad_x_pp, r.groan_rms, r.slide_v_pp, r.halt_s];
+                    if vals.iter().flatten().any(|v| !v.is_finite() || *v < 0.0) {
+                        return bad(format!("cell {}: {what}: a value is negative or not finite", c.index));
+                    }
+                    if r.stick_fraction.is_some_and(|f| f > 1.0) {
+                        return bad(format!("cell {}: {what}.stick_fraction > 1", c.index));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Joins shards of one map: every shard must come from the same job (scene, sweeps, options),
-/// no cell twice, none missing. `names` label the inputs in errors.
+/// no cell twice, none missing. `names` label the inputs in errors. Each shard is
+/// [`validate`]d first.
 pub fn merge(parts: Vec<(String, MapJson)>) -> std::result::Result<MapJson, String> {
+    for (name, m) in &parts {
+        validate(name, m)?;
+    }
     let mut it = parts.into_iter();
     let Some((first_name, first)) = it.next() else {
         return Err("map merge: give the shards' JSON files".into());
@@ -193,6 +304,6 @@ pub fn merge(parts: Vec<(String, MapJson)>) -> std::result::Result<MapJson, Stri
 
 /// Reads a map's JSON file (`map merge`).
 pub fn read_json(path: &std::path::Path) -> Result<MapJson> {
-    let text = std::fs::read_to_string(path).map_err(|e| HostError::Input(format!("{}: cannot read: {e}", path.display())))?;
+    let text = crate::limits::read_text(path, "map shard", crate::limits::SHARD_FILE_MAX_BYTES)?;
     serde_json::from_str(&text).map_err(|e| HostError::Input(format!("{}: not a map's JSON: {e}", path.display())))
 }

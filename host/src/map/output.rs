@@ -8,7 +8,7 @@ use crate::error::{HostError, Result};
 use crate::output::format::sig4;
 
 /// The regimes in the order the summary lists them, with their letter in the text grid.
-pub const REGIMES: [(&str, char); 8] = [
+pub const REGIMES: [(&str, char); 9] = [
     ("steady_sliding", 's'),
     ("stick_slip", 'x'),
     ("sliding_oscillation", 'o'),
@@ -17,6 +17,8 @@ pub const REGIMES: [(&str, char); 8] = [
     ("contact_loss", 'c'),
     ("method_unstable", 'm'),
     ("invalid", '?'),
+    // not run: over the work budget (listed in the grid's legend only where a cell has it)
+    ("budget", 'b'),
 ];
 
 fn letter(regime: &str) -> char {
@@ -194,7 +196,12 @@ fn grid_text(m: &MapJson) -> String {
         b.key,
         sig4(b.from),
         sig4(b.to),
-        REGIMES.iter().map(|(r, c)| format!("{c} {r}")).collect::<Vec<_>>().join(", ")
+        REGIMES
+            .iter()
+            .filter(|(r, _)| *r != "budget" || m.cells.iter().any(|c| regime_of(c.from_rest.as_ref()) == "budget"))
+            .map(|(r, c)| format!("{c} {r}"))
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     for j in (0..b.n).rev() {
         for i in 0..a.n {

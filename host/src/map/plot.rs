@@ -25,6 +25,7 @@ fn regime_color(r: &str) -> RGBColor {
         "sprag" => RGBColor(148, 103, 189),
         "contact_loss" => RGBColor(31, 119, 180),
         "method_unstable" => RGBColor(0, 0, 0),
+        "budget" => RGBColor(255, 0, 255),
         _ => RGBColor(235, 235, 235),
     }
 }

@@ -43,8 +43,14 @@ impl Sweep {
         let from = num("FROM", parts[0])?;
         let to = num("TO", parts[1])?;
         let n: usize = match parts[2].parse() {
-            Ok(n) if n >= 1 => n,
-            _ => return bad(format!("N `{}` must be a whole number >= 1", parts[2])),
+            Ok(n) if (1..=crate::limits::SWEEP_MAX_N).contains(&n) => n,
+            _ => {
+                return bad(format!(
+                    "N `{}` must be a whole number from 1 to {} (values of one sweep)",
+                    parts[2],
+                    crate::limits::SWEEP_MAX_N
+                ))
+            }
         };
         if n >= 2 && from == to {
             return bad(format!("FROM = TO = {from} with N = {n}: give N = 1 or a range"));
@@ -104,6 +110,14 @@ impl Grid {
                 scene_file::field_of(&sweeps[0].key)
             ));
         }
+        let cells = sweeps.iter().fold(1usize, |c, s| c.saturating_mul(s.n));
+        if cells > crate::limits::MAP_MAX_CELLS {
+            return Err(format!(
+                "--sweep {}: {cells} cells, more than a map's {} (split the ranges into several maps)",
+                sweeps.iter().map(Sweep::spec).collect::<Vec<_>>().join(" --sweep "),
+                crate::limits::MAP_MAX_CELLS
+            ));
+        }
         Ok(Grid { sweeps })
     }
 
@@ -138,7 +152,7 @@ impl Grid {
         for (k, v) in &params {
             scene_file::set_numeric(&mut s, k, *v)?;
         }
-        s.validate().map_err(|e| format!("field `{}` = {}: {}", e.field, e.value, e.rule))?;
+        s.validate().map_err(|e| format!("field `{}` = {}: {}", e.field, crate::output::format::short(e.value), e.rule))?;
         Ok(s)
     }
 
@@ -146,6 +160,13 @@ impl Grid {
     /// sweep's value rescues it): the error names the sweep, the value and the first cell's
     /// reason. Cells invalid only in combination are reported per cell.
     pub fn check(&self, base: &Scene) -> Result<(), String> {
+        // a key that does nothing in the base scene (and no other sweep makes it act)
+        for sw in &self.sweeps {
+            let enabled_by_other = sw.key == "c_y" && self.sweeps.iter().any(|o| o.key == "k_pivot");
+            if let (Some(why), false) = (scene_file::inert_key(base, &sw.key), enabled_by_other) {
+                return Err(format!("--sweep {}: `{}` does nothing in the base scene: {why}", sw.spec(), sw.key));
+            }
+        }
         let mut any_ok: Vec<Vec<bool>> = self.sweeps.iter().map(|s| vec![false; s.n]).collect();
         for i in 0..self.cells() {
             if self.scene(base, i).is_ok() {
@@ -160,7 +181,7 @@ impl Grid {
                     .find(|&i| self.coords(i)[d] == j)
                     .and_then(|i| self.scene(base, i).err())
                     .unwrap_or_default();
-                return Err(format!("--sweep {}: {} = {}: the scene rejects it: {why}", sw.spec(), sw.key, sw.value(j)));
+                return Err(format!("--sweep {}: {} = {}: the scene rejects it: {why}", sw.spec(), sw.key, crate::output::format::short(sw.value(j))));
             }
         }
         Ok(())

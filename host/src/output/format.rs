@@ -33,6 +33,21 @@ pub fn sig4(v: f64) -> String {
     format!("{v:.d$}")
 }
 
+/// A number for a one-line message: as given when that is short (`-1`, `0.25`, `1e-5`, `inf`),
+/// else four significant digits ([`sig4`] between 1e-3 and 1e6, scientific outside: `1.000e300`),
+/// never the 300 digits of a plain f64.
+pub fn short(v: f64) -> String {
+    let plain = format!("{v}");
+    if plain.len() <= 10 {
+        return plain;
+    }
+    if (1e-3..1e6).contains(&v.abs()) {
+        sig4(v)
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
 /// Scientific notation with `sig` significant digits, or "n/a".
 pub fn sci(v: Option<f64>, sig: usize) -> String {
     match v {
@@ -65,6 +80,7 @@ mod tests {
         assert_eq!((num(1.5e7), num(2.5e-4), num(f64::NAN)), ("1.50000e7".into(), "2.50000e-4".into(), "n/a".into()));
         assert_eq!((opt(None), opt(Some(2.0))), ("none".into(), "2.00000".into()));
         assert_eq!((sig4(123.456), sig4(0.0123456)), ("123.5".into(), "0.01235".into()));
+        assert_eq!((short(-1.0), short(1e300), short(1e-300), short(0.1 + 0.2)), ("-1".into(), "1.000e300".into(), "1.000e-300".into(), "0.3000".into()));
         assert_eq!((sci(Some(12345.0), 3), sci(None, 3)), ("1.23e4".into(), "n/a".into()));
         assert_eq!((pm(1.23456, 0.0123), pm(2.0, 0.0)), ("1.235 ± 0.012".into(), "2.00000 ± 0".into()));
     }

@@ -20,6 +20,7 @@ fn finite(v: f64) -> Option<f64> {
 pub fn outcome_line(o: &Outcome) -> String {
     match o {
         Outcome::Completed => "completed".into(),
+        Outcome::Budget(b) => format!("halted, budget: {}", b.cause()),
         Outcome::Halted { halt, self_locked } => {
             let kw = o.keyword();
             let what = match *halt {

@@ -258,7 +258,7 @@ impl<R: Read> RowReader<R> {
             }
             line_no += 1;
             if buf.last() != Some(&b'\n') && n as u64 >= MAX_HEADER_BYTES {
-                return Err(bad(format!("line {line_no}: longer than {MAX_HEADER_BYTES} bytes before any header")));
+                return Err(bad(format!("line {line_no}: longer than {MAX_HEADER_BYTES} bytes before any header{}", if buf.contains(&b'\r') { " (its lines end in CR alone, old Mac style: convert the line endings to LF or CR LF)" } else { "" })));
             }
             let mut line: &[u8] = &buf;
             if line_no == 1 {

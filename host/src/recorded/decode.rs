@@ -11,7 +11,10 @@
 //! skipped as garbage. The raw encoding (`encoding-raw`) has no separators: decoding stops at
 //! the first frame that does not decode and the rest is counted as skipped.
 //!
-//! defmt has no checksum: a corrupted frame that still decodes gives a wrong record.
+//! defmt has no checksum, but a frame must fit its format: the decoded frame's bytes must be
+//! exactly its format's (index, timestamp, arguments) plus the rzCOBS padding, or it is
+//! dropped; a stream of which most frames are dropped is refused ([`check_match`]): it is not
+//! this ELF's build. A corrupted frame that still fits its format gives a wrong record.
 //! defmt-decoder 1.2 reserves memory for a format slice (`{=[?]}`) before reading its
 //! elements, so a corrupted frame whose format has one could ask for gigabytes; the rig
 //! firmware's table has no format slice.
@@ -222,6 +225,54 @@ pub fn load_table(label: &str, elf: &[u8]) -> Result<Table> {
     }
 }
 
+/// One rzCOBS frame (without its 0x00 separator) back to its bytes (the inverse of defmt's
+/// rzCOBS encoder, as defmt-decoder 1.2's stream decoder reads it, whose decoder does not
+/// return how much of a frame its format used): the frame is read from its end, each group
+/// byte 0x01..=0x7F standing for 7 bytes (a set bit: a zero byte), 0x80..=0xFE for a zero
+/// and (x & 0x7F) + 7 bytes, 0xFF for 134 bytes. `None` if the frame is malformed. The
+/// result may end with up to 6 zero bytes of padding (a last, partial group).
+pub fn rzcobs_decode(data: &[u8]) -> Option<Vec<u8>> {
+    let mut res = Vec::with_capacity(data.len() + data.len() / 7 + 7);
+    let mut it = data.iter().rev().copied();
+    while let Some(x) = it.next() {
+        match x {
+            0 => return None,
+            0x01..=0x7f => {
+                for i in 0..7 {
+                    if x & (1 << (6 - i)) == 0 {
+                        res.push(it.next()?);
+                    } else {
+                        res.push(0);
+                    }
+                }
+            }
+            0x80..=0xfe => {
+                res.push(0);
+                for _ in 0..(x & 0x7f) + 7 {
+                    res.push(it.next()?);
+                }
+            }
+            0xff => {
+                for _ in 0..134 {
+                    res.push(it.next()?);
+                }
+            }
+        }
+    }
+    res.reverse();
+    Some(res)
+}
+
+/// The frame `raw` decoded with `table`, if its format uses all of it: what is left after the
+/// format's arguments may only be the rzCOBS padding (fewer than 7 zero bytes). A frame of
+/// another firmware's table (its index naming another format here) seldom fits its bytes
+/// exactly: such a frame is dropped, not turned into a record of made-up values.
+fn fitted<'t>(table: &'t Table, raw: &[u8]) -> Option<defmt_decoder::Frame<'t>> {
+    let (frame, used) = table.decode(raw).ok()?;
+    let rest = raw.get(used..)?;
+    (rest.len() < 7 && rest.iter().all(|&b| b == 0)).then_some(frame)
+}
+
 /// Decodes a whole stream; each record goes to `sink` as it is decoded. Memory: one frame.
 pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(Record)) -> std::io::Result<StreamStats> {
     let mut st = StreamStats::default();
@@ -230,7 +281,6 @@ pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(
     match table.encoding() {
         Encoding::Rzcobs => {
             st.encoding = "rzcobs";
-            let mut dec = table.new_stream_decoder();
             let mut pending: Vec<u8> = Vec::new();
             let mut pending_offset = 0u64;
             let mut overlong = false;
@@ -268,16 +318,14 @@ pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(
                     if pending.is_empty() {
                         continue; // a separator
                     }
-                    pending.push(0);
-                    dec.received(&pending);
-                    match dec.decode() {
-                        Ok(frame) => {
+                    match rzcobs_decode(&pending).and_then(|raw| fitted(table, &raw).map(|f| (f, raw.len()))) {
+                        Some((frame, _)) => {
                             sink(record(&frame, number, pending_offset));
                             st.frames_decoded += 1;
                         }
-                        Err(_) => {
+                        None => {
                             st.frames_dropped += 1;
-                            st.bytes_skipped += pending.len() as u64 - 1;
+                            st.bytes_skipped += pending.len() as u64;
                         }
                     }
                     number += 1;
@@ -353,7 +401,7 @@ pub struct DecodeRequest<'a> {
 /// `stickslip decode`.
 pub fn run(a: &DecodeRequest) -> Result<String> {
     let elf_label = a.elf.display().to_string();
-    let elf = std::fs::read(a.elf).map_err(|e| HostError::Input(format!("{elf_label}: cannot read the ELF: {e}")))?;
+    let elf = crate::limits::read_bytes(a.elf, "ELF", crate::limits::ELF_FILE_MAX_BYTES)?;
     let table = load_table(&elf_label, &elf)?;
     let mut records = Vec::new();
     let (label, stats) = if a.input == "-" {
@@ -364,10 +412,30 @@ pub fn run(a: &DecodeRequest) -> Result<String> {
         (a.input.to_string(), decode_stream(&table, std::io::BufReader::new(f), |r| records.push(r)))
     };
     let stats = stats.map_err(|e| HostError::Input(format!("{label}: cannot read the stream: {e}")))?;
+    check_match(&label, &elf_label, &stats)?;
     let out = render(a, &label, &records, &stats)?;
     // after the output is known to be good: an error stays one line
     eprintln!("stickslip: {label}: {}", stats.summary());
     Ok(out)
+}
+
+/// Fewest frames for [`check_match`] to judge a stream by.
+pub const MATCH_MIN_FRAMES: u64 = 8;
+
+/// Whether the stream is the ELF's: with [`MATCH_MIN_FRAMES`] frames or more, at least half
+/// must decode and fit their format's length exactly ([`fitted`]). A stream of another build
+/// (its format indices naming other formats here) fails that; so does a stream damaged beyond
+/// use. The error names both files.
+pub fn check_match(label: &str, elf_label: &str, st: &StreamStats) -> Result<()> {
+    let total = st.frames_decoded + st.frames_dropped;
+    if total >= MATCH_MIN_FRAMES && st.frames_dropped * 2 > total {
+        return Err(HostError::Input(format!(
+            "{label}: {} of {total} frames do not fit the defmt table of {elf_label}: the stream is not from this \
+             firmware build (give the ELF of the firmware that sent it) or is damaged beyond use",
+            st.frames_dropped
+        )));
+    }
+    Ok(())
 }
 
 fn render(a: &DecodeRequest, label: &str, records: &[Record], stats: &StreamStats) -> Result<String> {

@@ -310,16 +310,40 @@ pub struct SilJson {
     pub stick_slip_hz: VsTruth,
     pub slip_onsets: VsTruth,
     pub channels: Channels<SilChannelJson>,
+    /// Why the estimator cannot decide (the channel-health verdict of `analyze`); only when
+    /// it cannot.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub undecided: Option<String>,
+    /// Each channel's health words; only when the estimator cannot decide or a channel is
+    /// saturated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub health: Option<Channels<Vec<&'static str>>>,
 }
 
+/// The estimates against the truth. The channel-health verdict of `analyze` applies to the
+/// virtual recording too: where the estimator cannot decide (pad_x flat, saturated or noisier
+/// than the signal; disc_x saturated) the stick fraction, the frequency and the onsets are not
+/// estimated, and a saturated channel's peak-to-peak (the range's, not the signal's) is not.
 fn sil_parts(r: &SilReport) -> (VsTruth, VsTruth, VsTruth, [VsTruth; 4]) {
     let m = r.measured.as_ref();
+    let decided = m.filter(|a| a.undecided.is_none());
     let have = r.truth.samples > 0;
-    let sf = VsTruth::new(m.map(|a| a.stick_fraction), have.then_some(r.truth.stick_fraction));
-    let hz = VsTruth::new(m.and_then(|a| a.stick_slip_hz), r.truth.stick_slip_hz);
-    let on = VsTruth::new(m.map(|a| a.slip_onsets as f64), have.then_some(r.truth.slip_onsets as f64));
-    let pp = std::array::from_fn(|c| VsTruth::new(m.map(|a| a.channels[c].pp), have.then_some(r.truth.pp[c])));
+    let sf = VsTruth::new(decided.map(|a| a.stick_fraction), have.then_some(r.truth.stick_fraction));
+    let hz = VsTruth::new(decided.and_then(|a| a.stick_slip_hz), r.truth.stick_slip_hz);
+    let on = VsTruth::new(decided.map(|a| a.slip_onsets as f64), have.then_some(r.truth.slip_onsets as f64));
+    let pp = std::array::from_fn(|c| {
+        let est = m.filter(|a| !a.health[c].contains(&"saturated")).map(|a| a.channels[c].pp);
+        VsTruth::new(est, have.then_some(r.truth.pp[c]))
+    });
     (sf, hz, on, pp)
+}
+
+/// The virtual recording's health where it matters (the estimator cannot decide, or a channel
+/// is saturated): why, and each channel's words; None for a healthy recording.
+fn sil_health(r: &SilReport) -> Option<(Option<String>, [Vec<&'static str>; 4])> {
+    let a = r.measured.as_ref()?;
+    let saturated = a.health.iter().any(|h| h.contains(&"saturated"));
+    (a.undecided.is_some() || saturated).then(|| (a.undecided.clone(), a.health.clone()))
 }
 
 impl SilJson {
@@ -355,12 +379,20 @@ impl SilJson {
                 peak_hz: m.and_then(|a| a.channels[c].peak_hz),
                 groan_rms: m.map(|a| a.channels[c].groan_rms),
             }),
+            undecided: sil_health(r).and_then(|(u, _)| u),
+            health: sil_health(r).map(|(_, h)| Channels::from_fn(|c| h[c].clone())),
         }
     }
 }
 
+/// A relative error as a percentage; n/a if it does not exist, four significant digits in
+/// scientific notation beyond 1e6 % (never an infinite or 300-digit percentage).
 fn pct(e: Option<f64>) -> String {
-    e.map_or("n/a".into(), |e| format!("{:+.3} %", 100.0 * e))
+    match e {
+        Some(e) if e.is_finite() && (100.0 * e).abs() < 1e6 => format!("{:+.3} %", 100.0 * e),
+        Some(e) if e.is_finite() => format!("{:+.3e} %", 100.0 * e),
+        _ => "n/a".into(),
+    }
 }
 
 /// The Markdown summary of `sil`.
@@ -435,6 +467,19 @@ pub fn sil_markdown(r: &SilReport) -> String {
     }
     if r.saturated_frames > 0 {
         s.push_str(&format!("{} frames had an accelerometer at its range or an ADC rail.\n", r.saturated_frames));
+    }
+    if let Some((why, health)) = sil_health(r) {
+        if let Some(why) = why {
+            s.push_str(&format!("Stick fraction and stick-slip frequency: cannot decide ({why}).\n"));
+        }
+        for (c, h) in health.iter().enumerate() {
+            if !h.is_empty() {
+                s.push_str(&format!("Channel {}: {}.\n", ACCEL_NAMES[c], h.join(", ")));
+            }
+        }
+    }
+    if let Some(b) = r.over_budget {
+        s.push_str(&format!("Not run: {}.\n", b.cause()));
     }
     s
 }

@@ -179,6 +179,8 @@ pub struct SilReport {
     /// The analysis of the virtual rig's channels; `None` if the run halted before
     /// `stats_from`.
     pub measured: Option<Analysis>,
+    /// The run was over the work budget and not stepped (outcome `budget`).
+    pub over_budget: Option<run::OverBudget>,
 }
 
 /// Runs `ns` through the virtual rig; writes every frame's calibrated channels to `csv` if
@@ -243,11 +245,13 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     // a scene with Stribeck friction or the band runs model 2 (disc_x = the band's x_b'')
     if scene.uses_model2() {
         let motion = Model2Motion::<T>::new(scene).map_err(|e| to_input(e.into()))?;
+        let budget = run::OverBudget::of(motion.stepper().substeps(), run::planned_steps(scene));
         let sensor = SensorModel::with_motion(motion, scene, &cfg).map_err(to_input)?;
-        sample_run(ns, opts, csv, sensor)
+        sample_run(ns, opts, csv, sensor, budget)
     } else {
+        let budget = run::over_budget(scene)?;
         let sensor = SensorModel::<T>::new(scene, &cfg).map_err(to_input)?;
-        sample_run(ns, opts, csv, sensor)
+        sample_run(ns, opts, csv, sensor, budget)
     }
 }
 
@@ -267,6 +271,7 @@ fn sample_run<T: Real, M: Motion<T>>(
     opts: &SilOptions,
     csv: Option<&Path>,
     mut sensor: SensorModel<T, M>,
+    budget: Option<run::OverBudget>,
 ) -> Result<SilReport> {
     let scene = &ns.scene;
     let calibration = rig_calibration(opts);
@@ -298,7 +303,8 @@ fn sample_run<T: Real, M: Motion<T>>(
     let mut truth = Truth::default();
     let mut extremes = Extremes::<f64, CH>::EMPTY;
     let (mut stick, mut onsets) = (0u64, OnsetRate::new());
-    let mut outcome = Outcome::Completed;
+    // a run over the work budget is not stepped (outcome `budget`)
+    let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
     let mut saturated_frames = 0;
     // the converter's error: sum of (calibrated - converter input)^2 per channel
@@ -323,7 +329,7 @@ fn sample_run<T: Real, M: Motion<T>>(
             .push(q + 2, t, 0.0, &a)
             .map_err(|m| HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
     }
-    for i in 0..steps_planned {
+    for i in 0..if budget.is_some() { 0 } else { steps_planned } {
         let frame = match sensor.next_frame() {
             Ok(f) => f,
             Err(halt) => {
@@ -411,6 +417,7 @@ fn sample_run<T: Real, M: Motion<T>>(
         stats_from: scene.stats_from,
         outcome: outcome.keyword(),
         halt_t_s: outcome.halt_time(),
+        over_budget: budget,
         noise_m_s2: opts.noise_m_s2,
         seed: opts.seed,
         gain: opts.gain,

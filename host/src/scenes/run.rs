@@ -28,10 +28,68 @@ impl Precision {
     }
 }
 
+/// A run over the work budget ([`crate::limits::SUBSTEP_BUDGET`]): what it would have taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OverBudget {
+    /// Substeps per step the quarter-radian rule asks for (at the steppers' cap
+    /// [`crate::limits::SUBSTEPS_PER_STEP_CAP`]: more were needed).
+    pub substeps_per_step: u32,
+    /// Steps of the run, round(duration / dt).
+    pub steps: u64,
+}
+
+impl OverBudget {
+    /// Whether a run of `steps` steps of `substeps_per_step` substeps each is over the budget.
+    pub fn of(substeps_per_step: u32, steps: u64) -> Option<OverBudget> {
+        let capped = substeps_per_step >= crate::limits::SUBSTEPS_PER_STEP_CAP;
+        let work = u64::from(substeps_per_step).saturating_mul(steps);
+        (capped || work > crate::limits::SUBSTEP_BUDGET).then_some(OverBudget { substeps_per_step, steps })
+    }
+
+    /// The cause, for the summary: which limit, and what to change.
+    pub fn cause(&self) -> String {
+        use crate::output::format::sig4;
+        if self.substeps_per_step >= crate::limits::SUBSTEPS_PER_STEP_CAP {
+            format!(
+                "the scene's fastest mode needs more than {} substeps per step (a quarter radian each): a mass, \
+                 inertia or damping too small or a stiffness too large for dt; not run",
+                sig4(f64::from(crate::limits::SUBSTEPS_PER_STEP_CAP))
+            )
+        } else {
+            format!(
+                "{} substeps per step x {} steps = {} substeps, over the work budget of {} (minutes to hours \
+                 of computing): a shorter duration, a smaller dt or a slower fastest mode; not run",
+                self.substeps_per_step,
+                self.steps,
+                sig4(u64::from(self.substeps_per_step).saturating_mul(self.steps) as f64),
+                sig4(crate::limits::SUBSTEP_BUDGET as f64)
+            )
+        }
+    }
+}
+
+/// Substeps per step the scene's stepper takes (its tables built in f32, the same count as
+/// in f64: the rule is evaluated in f64). For a validated scene.
+pub fn substeps_per_step(scene: &Scene) -> Result<u32> {
+    if scene.uses_model2() {
+        let st = AnyModel2Stepper::<f32>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+        Ok(st.substeps())
+    } else {
+        Ok(Propagator::<f32>::new(scene, &Coefficients::of(scene), scene.dt).n_sub)
+    }
+}
+
+/// The scene's run over the work budget, if it is.
+pub fn over_budget(scene: &Scene) -> Result<Option<OverBudget>> {
+    Ok(OverBudget::of(substeps_per_step(scene)?, planned_steps(scene)))
+}
+
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Outcome {
     Completed,
+    /// Not run: over the work budget (classified `budget`, with its cause).
+    Budget(OverBudget),
     /// `self_locked`: the scene's pad can never slip forward (its rotational stiffness at the
     /// static limit, K - s mu_s w c_N, is <= 0), so a divergence in stick is the sprag lock.
     Halted {
@@ -53,6 +111,7 @@ impl Outcome {
     pub fn keyword(&self) -> &'static str {
         match self {
             Outcome::Completed => "completed",
+            Outcome::Budget(_) => "budget",
             Outcome::Halted { halt, self_locked } => match *halt {
                 Halt::ContactLoss { .. } => "contact_loss",
                 Halt::Diverged {
@@ -73,6 +132,7 @@ impl Outcome {
     pub fn halt_time(&self) -> Option<f64> {
         match self {
             Outcome::Completed => None,
+            Outcome::Budget(_) => Some(0.0),
             Outcome::Halted { halt, .. } => Some(halt.time()),
         }
     }
@@ -254,12 +314,14 @@ type Starts<'a, S> = [(Option<[f64; 8]>, &'a mut S)];
 fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
     // The caller validated the scene; a failure here still gets a message, not a panic.
     let proto = ExactStepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
-    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, proto.clone(), *z0, full, &mut **sink)).collect()
+    let budget = OverBudget::of(proto.propagator().n_sub, planned_steps(scene));
+    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, proto.clone(), *z0, full, budget, &mut **sink)).collect()
 }
 
 fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
     let proto = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
-    starts.iter_mut().map(|(z0, sink)| run_model2_in(scene, precision, proto.clone(), *z0, full, &mut **sink)).collect()
+    let budget = OverBudget::of(proto.substeps(), planned_steps(scene));
+    starts.iter_mut().map(|(z0, sink)| run_model2_in(scene, precision, proto.clone(), *z0, full, budget, &mut **sink)).collect()
 }
 
 /// The model-2 run's observers: window statistics, cycle spread, transition log.
@@ -299,6 +361,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
     mut stepper: AnyModel2Stepper<T>,
     z0: Option<[f64; 8]>,
     full: bool,
+    budget: Option<OverBudget>,
     sink: &mut S,
 ) -> Result<RunReport> {
     if let Some(z0) = z0 {
@@ -313,9 +376,9 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
     };
     let steps_planned = planned_steps(scene);
     let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
-    let mut outcome = Outcome::Completed;
+    let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
-    for _ in 0..steps_planned {
+    for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
         if let Err(halt) = stepper.step_observed(&mut obs) {
             outcome = Outcome::halted(scene, halt);
             break;
@@ -378,6 +441,7 @@ fn run_in<T: Real, S: Sink + ?Sized>(
     mut stepper: ExactStepper<T>,
     z0: Option<[f64; 8]>,
     full: bool,
+    budget: Option<OverBudget>,
     sink: &mut S,
 ) -> Result<RunReport> {
     if let Some(z) = z0 {
@@ -396,9 +460,9 @@ fn run_in<T: Real, S: Sink + ?Sized>(
     };
     let steps_planned = planned_steps(scene);
     let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
-    let mut outcome = Outcome::Completed;
+    let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
-    for _ in 0..steps_planned {
+    for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
         let stepped = if full {
             stepper.step_observed(&mut obs)
         } else {

@@ -402,6 +402,22 @@ pub const NUMERIC_KEYS: [&str; 29] = [
     "duration", "stats_from",
 ];
 
+/// Why the numeric key `key` does nothing in scene `s` (None: it acts): the Stribeck keys
+/// under Coulomb friction, the band's keys without the band, the floating pad's damping on a
+/// hinged pad. A fit or a sweep of such a key would vary nothing and report it as a finding.
+pub fn inert_key(s: &Scene, key: &str) -> Option<&'static str> {
+    match key {
+        "v_s" | "stribeck_exponent" if s.friction == stickslip_model::FrictionLaw::Coulomb => {
+            Some("the scene has Coulomb friction (friction = \"coulomb\"): the Stribeck keys do nothing; set friction = \"stribeck\"")
+        }
+        "m_b" | "k_b" | "c_b" | "zeta_b" if !s.band => {
+            Some("the scene has no band (band = false): the band's keys do nothing; set band = true")
+        }
+        "c_y" if !s.floating() => Some("the pad is hinged (k_pivot = inf): c_y does nothing; give a finite k_pivot"),
+        _ => None,
+    }
+}
+
 /// Sets the numeric key `key` of `s` to `value` (SI units, as in a scene file). A damping ratio
 /// (`zeta_x`, `zeta_phi`, `zeta_b`) sets its viscous coefficient from the scene's stiffness and
 /// inertia as they are now, so set it after them. The scene is not validated here. Errors:

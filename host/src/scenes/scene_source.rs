@@ -75,8 +75,7 @@ pub fn resolve(arg: &str) -> Result<NamedScene> {
 /// Reads and parses a scene file (syntax, types and unknown keys are checked here).
 pub fn load_file(path: &Path) -> Result<NamedScene> {
     let shown = path.display();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| HostError::Input(format!("{shown}: cannot read the scene file: {e}")))?;
+    let text = crate::limits::read_text(path, "scene file", crate::limits::SCENE_FILE_MAX_BYTES)?;
     let parsed = scene_file::parse(&text).map_err(|e| {
         let at = e
             .line_col
@@ -120,7 +119,7 @@ impl Overrides {
             ("--stats-from", self.stats_from),
         ] {
             if let Some(v) = v {
-                parts.push(format!("{opt} {v}"));
+                parts.push(format!("{opt} {}", crate::output::format::short(v)));
             }
         }
         parts.join(" ")
@@ -143,14 +142,35 @@ pub fn prepare(mut ns: NamedScene, ov: &Overrides) -> Result<NamedScene> {
     if let Some(v) = ov.stats_from {
         ns.scene.stats_from = v;
     }
-    match ns.scene.validate() {
-        Ok(()) => Ok(ns),
-        Err(e) => Err(HostError::Input(validation_message(&ns, ov, &e))),
+    if let Err(e) = ns.scene.validate() {
+        return Err(HostError::Input(validation_message(&ns, ov, &e)));
     }
+    // the statistics window must hold a step: with dt about the window's length every
+    // statistic would be n/a
+    let s = &ns.scene;
+    let steps = crate::scenes::run::planned_steps(s);
+    let from_step = (s.stats_from / s.dt).round();
+    if from_step >= steps as f64 {
+        use crate::output::format::short;
+        let culprit = match (ov.dt, ov.duration, ov.stats_from) {
+            (Some(_), _, _) => "--dt".to_string(),
+            (None, Some(_), _) => "--duration".to_string(),
+            (None, None, Some(_)) => "--stats-from".to_string(),
+            _ => ns.origin_label(),
+        };
+        return Err(HostError::Input(format!(
+            "{culprit}: the statistics window from stats_from = {} s to duration = {} s holds no step of dt = {} s \
+             (the window starts at the step nearest stats_from): give a dt below duration - stats_from",
+            short(s.stats_from),
+            short(s.duration),
+            short(s.dt)
+        )));
+    }
+    Ok(ns)
 }
 
 fn validation_message(ns: &NamedScene, ov: &Overrides, e: &SceneError) -> String {
-    let value = e.value;
+    let value = crate::output::format::short(e.value);
     let detail = format!("field `{}` = {value}: {}", e.field, e.rule);
     if let Some((opt, _)) = ov.option_for(e.field) {
         return format!("{opt}: {detail} (scene `{}`)", ns.name);

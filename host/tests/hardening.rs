@@ -1,0 +1,214 @@
+//! No silent wrong answer (issue 33): one test per class of bad or careless input, each through
+//! the binary as a user runs it, asserting exit code 2 and one line naming the file or option
+//! and the rule (or, for a run that would take hours, the classified outcome `budget`).
+//! Expected figures are worked out here from the inputs (closed forms), not read from the tool.
+
+mod recorded_common;
+
+use recorded_common::*;
+use serde_json::Value;
+
+/// A scene file of the given keys (every other key: the default pad's).
+fn scene(dir: &std::path::Path, name: &str, keys: &str) -> String {
+    write(dir, name, keys)
+}
+
+#[test]
+fn files_read_whole_are_bounded() {
+    let dir = scratch("hardening-files");
+    // /dev/zero never ends: each reader stops at its limit, with one line naming the file
+    if std::path::Path::new("/dev/zero").exists() {
+        bad(&["simulate", "/dev/zero"], &["/dev/zero", "scene file", "larger than 1 MiB"]);
+        bad(&["fit", "--scene", "push_center", "--free", "mu_k", "--table", "/dev/zero"], &["/dev/zero", "table", "larger than 1 MiB"]);
+        bad(&["map", "merge", "/dev/zero"], &["/dev/zero", "map shard", "larger than 64 MiB"]);
+        bad(&["decode", "--elf", "/dev/zero", "/dev/null"], &["/dev/zero", "ELF", "larger than 64 MiB"]);
+    }
+    // a regular file one byte over the scene limit (1 MiB = 1048576 bytes): a comment line
+    let big = "#".repeat(1 << 20) + "\n";
+    let f = write(&dir, "big.toml", big);
+    bad(&["simulate", &f], &["big.toml", "larger than 1 MiB"]);
+    // a directory is not a scene file
+    bad(&["simulate", dir.to_str().unwrap()], &["directory"]);
+}
+
+#[test]
+fn runs_that_would_take_hours_halt_as_budget() {
+    let dir = scratch("hardening-budget");
+    // m = 1e-30 kg: the x mode's rate sqrt(k_g / m) is about 1e18 1/s; at dt = 1/25600 s the
+    // quarter-radian rule asks for 1e18 * 3.9e-5 / 0.25 = 1.6e14 substeps per step, far past
+    // the steppers' cap of 1e6
+    let tiny_m = scene(&dir, "tiny_m.toml", "m = 1e-30\n");
+    let band_stiff = scene(&dir, "band_stiff.toml", "friction = \"stribeck\"\nband = true\nk_b = 1e30\n");
+    let zeta = scene(&dir, "zeta.toml", "zeta_x = 1e6\n");
+    for f in [&tiny_m, &band_stiff, &zeta] {
+        let j = json(&["simulate", f, "--json"]);
+        assert_eq!(j["outcome"], "budget", "{f}: {j}");
+        assert_eq!(j["steps"], 0, "{f}: not stepped");
+        let text = ok(&["simulate", f]);
+        assert!(text.contains("halted, budget:") && text.contains("substeps per step"), "{f}: {text}");
+        let s = json(&["sil", f, "--json"]);
+        assert_eq!(s["outcome"], "budget", "{f}: {s}");
+    }
+    // a run whose substeps are few but whose steps are many: 2^28 = 268435456 is the budget;
+    // 1e4 s at 1/25600 s is 2.56e8 steps of one substep each: under it; 2e4 s is over
+    let long = json(&["simulate", "push_center", "--duration", "20000", "--json"]);
+    assert_eq!(long["outcome"], "budget");
+    // through a map: k_b = 1e6 runs, 1e18 and 1e30 are over the budget
+    let m = json(&["map", "rig_push_center", "--sweep", "k_b=1e6:1e30:3:log", "--duration", "0.05", "--stats-from", "0.02", "--json"]);
+    let regimes: Vec<&str> = m["cells"].as_array().unwrap().iter().map(|c| c["from_rest"]["regime"].as_str().unwrap()).collect();
+    assert_ne!(regimes[0], "budget");
+    assert_eq!(&regimes[1..], ["budget", "budget"]);
+}
+
+#[test]
+fn counts_are_capped_and_name_their_option() {
+    bad(&["map", "push_center", "--sweep", "beta=0.01:0.07:1000000000"], &["--sweep", "1000000000", "100000"]);
+    bad(&["map", "push_center", "--sweep", "beta=0.01:0.07:10000", "--sweep", "mu_s=0.4:0.8:10000"], &["cells", "10000000"]);
+    bad(&["map", "push_center", "--sweep", "beta=0.01:0.07:3", "--shard", "0/1000000000"], &["--shard 0/1000000000"]);
+    bad(&["map", "push_center", "--sweep", "beta=0.01:0.07:3", "--shard", "-1/3"], &["--shard -1/3"]);
+    bad(&["map", "push_center", "--sweep", "beta=0.01:0.07:3", "--jobs", "0"], &["--jobs"]);
+    bad(&["fit", "--scene", "push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--profile", "mu_k=0.1:0.4:1000000000"], &["--profile", "1000"]);
+    bad(&["fit", "--scene", "push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--starts", "100000"], &["--starts 100000"]);
+    bad(&["sil", "push_center", "--quiet-lead", "1e6"], &["--quiet-lead", "60"]);
+    bad(&["sil", "push_center", "--oversample", "17"], &["--oversample"]);
+    bad(&["accuracy", "--repeats", "1000"], &["--repeats"]);
+}
+
+#[test]
+fn the_virtual_rig_noise_and_gain_are_checked_and_its_health_applied() {
+    // out of range: one line, the number short
+    let l = bad(&["sil", "push_center", "--noise", "1e300"], &["--noise 1.000e300", "m/s^2"]);
+    assert!(l.len() < 200, "{l}");
+    bad(&["sil", "push_center", "--gain", "1e6"], &["--gain 1000000", "V/V"]);
+    bad(&["sil", "push_center", "--gain", "1e-300"], &["--gain 1.000e-300"]);
+    bad(&["compare", "push_center", "/dev/null", "--gain", "0"], &["--gain 0"]);
+    // in range but every frame saturated: gain 1000 spans +-0.16 m/s^2 (100 mV/g x 1000 over
+    // the ADC's +-1.65 V), and push_center's pad_x swings by hundreds of m/s^2
+    let j = json(&["sil", "push_center", "--gain", "1000", "--json"]);
+    assert!(j["saturated_frames"].as_u64().unwrap() > 0);
+    assert!(j["undecided"].as_str().unwrap().contains("pad_x"), "{j}");
+    assert!(j["health"]["pad_x"].as_array().unwrap().iter().any(|w| w == "saturated"), "{j}");
+    assert_eq!(j["stick_fraction"]["estimated"], Value::Null);
+    assert_eq!(j["channels"]["pad_x"]["pp"]["estimated"], Value::Null);
+    let text = ok(&["sil", "push_center", "--gain", "1000"]);
+    assert!(text.contains("cannot decide") && text.contains("Channel pad_x: saturated"), "{text}");
+    assert!(!text.contains("inf") && !text.contains("NaN"), "{text}");
+    // the default virtual rig is healthy: none of the new keys
+    let d = json(&["sil", "push_center", "--json"]);
+    assert!(d.get("undecided").is_none() && d.get("health").is_none(), "{d}");
+}
+
+#[test]
+fn fit_inputs_are_checked() {
+    let dir = scratch("hardening-fit");
+    let head = "case,channel,statistic,value\n";
+    let sf = write(&dir, "sf.csv", format!("{head}push_center,,stick_fraction,1.5\npush_center,pad_x,pp,100\n"));
+    bad(&["fit", "--scene", "push_center", "--free", "mu_k", "--table", &sf], &["sf.csv", "line 2", "stick_fraction", "1.5"]);
+    let huge = write(&dir, "huge.csv", format!("{head}push_center,pad_x,pp,1e308\n"));
+    bad(&["fit", "--scene", "push_center", "--free", "mu_k", "--table", &huge], &["huge.csv", "line 2", "pp", "1.000e308"]);
+    let tiny = write(&dir, "tiny.csv", format!("{head}push_center,pad_x,pp,1e-308\n"));
+    bad(&["fit", "--scene", "push_center", "--free", "mu_k", "--table", &tiny], &["tiny.csv", "line 2", "1.000e-308"]);
+    // keys that do nothing
+    bad(&["fit", "--scene", "push_center", "--free", "k_b", "--table", "thesis_table_3_1"], &["--free k_b", "no band"]);
+    bad(&["fit", "--scene", "push_center", "--free", "v_s", "--table", "thesis_table_3_1"], &["--free v_s", "Coulomb"]);
+    bad(&["map", "push_center", "--sweep", "v_s=0.01:0.1:3"], &["--sweep v_s=0.01:0.1:3", "Coulomb"]);
+    // the profile's grid: its ends are LO and HI exactly, every point finite and inside, log-spaced
+    let v = stickslip::fit::profile_values(0.1, 4.0, 5);
+    assert_eq!((v[0], v[4]), (0.1, 4.0));
+    // middle: 0.1 x 40^(i/4), by hand: 0.1 x 40^0.5 = 0.632456
+    assert!((v[2] - 0.1 * 40f64.sqrt()).abs() < 1e-12);
+    let w = stickslip::fit::profile_values(1e-300, 1e300, 3);
+    assert_eq!((w[0], w[2]), (1e-300, 1e300));
+    // the geometric middle of 1e-300 and 1e300 is 1
+    assert!((w[1] - 1.0).abs() < 1e-9, "{w:?}");
+    assert!(w.iter().all(|x| x.is_finite()));
+}
+
+/// A small real map's JSON, made by the tool: beta over 2 values, short runs.
+fn small_map(dir: &std::path::Path) -> Value {
+    let out = ok(&["map", "push_center", "--sweep", "beta=0.01:0.07:2", "--duration", "0.05", "--stats-from", "0.02", "--json"]);
+    let _ = dir;
+    serde_json::from_str(&out).unwrap()
+}
+
+#[test]
+fn map_merge_checks_each_shard_against_its_header() {
+    let dir = scratch("hardening-merge");
+    let good = small_map(&dir);
+    let f = write(&dir, "good.json", good.to_string());
+    ok(&["map", "merge", &f]);
+    let tamper = |name: &str, edit: &dyn Fn(&mut Value), needles: &[&str]| {
+        let mut m = good.clone();
+        edit(&mut m);
+        let p = write(&dir, name, m.to_string());
+        let mut n = vec![name];
+        n.extend_from_slice(needles);
+        bad(&["map", "merge", &p], &n);
+        // with --plot and --csv too: the input is blamed, nothing panics
+        let svg = dir.join("out.svg");
+        let csv = dir.join("out.csv");
+        bad(&["map", "merge", &p, "--plot", svg.to_str().unwrap(), "--csv", csv.to_str().unwrap()], &n);
+    };
+    tamper("dt0.json", &|m| m["dt_s"] = 0.0.into(), &["dt_s = 0"]);
+    tamper("dur.json", &|m| m["duration_s"] = (-1.0).into(), &["duration_s = -1"]);
+    tamper("prec.json", &|m| m["precision"] = "f128".into(), &["precision `f128`"]);
+    tamper("regime.json", &|m| m["cells"][0]["from_rest"]["regime"] = "bogus".into(), &["cell 0", "regime `bogus`"]);
+    tamper("offgrid.json", &|m| m["cells"][1]["params"]["beta"] = 0.05.into(), &["cell 1", "beta = 0.05", "0.07"]);
+    tamper("n0.json", &|m| m["sweeps"][0]["n"] = 0.into(), &["sweeps", "N `0`"]);
+    tamper("n3.json", &|m| m["sweeps"][0]["n"] = 3.into(), &["cells_total = 2", "3 cells"]);
+    tamper("total.json", &|m| m["cells_total"] = 5.into(), &["cells_total = 5"]);
+    tamper("order.json", &|m| m["cells"].as_array_mut().unwrap().swap(0, 1), &["cell 1 at position 0"]);
+    tamper("kick.json", &|m| m["kick"] = 7.0.into(), &["kick = 7"]);
+    tamper("key.json", &|m| m["sweeps"][0]["key"] = "warp".into(), &["sweeps", "warp"]);
+}
+
+#[test]
+fn decode_refuses_a_stream_of_another_build() {
+    let elf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.elf");
+    let stream = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.defmt")).unwrap();
+    // another build's stream: the same frames, each naming another format (its index's low
+    // byte changed). In rzCOBS the first byte of a frame is the first byte of the message when
+    // that is not zero (the group's non-zero bytes come first, its group byte after them), and
+    // the message starts with the format's index, u16 little-endian.
+    let mut other = stream.clone();
+    let mut start = true;
+    let mut changed = 0;
+    for b in other.iter_mut() {
+        if start && *b != 0 {
+            *b = if *b == 0xFE { 0x01 } else { *b + 1 };
+            changed += 1;
+        }
+        start = *b == 0;
+    }
+    assert!(changed >= 8);
+    let dir = scratch("hardening-decode");
+    let f = write(&dir, "other.defmt", &other);
+    bad(&["decode", "--elf", elf, &f], &["other.defmt", "do not fit the defmt table", "defmt-fixture.elf"]);
+    // the fixture itself still decodes whole (every frame fits its format)
+    let j = json(&["decode", "--elf", elf, concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.defmt"), "--json"]);
+    assert_eq!(j["stream"]["frames_dropped"], 0);
+}
+
+#[test]
+fn errors_are_short_and_blame_what_the_user_gave() {
+    let dir = scratch("hardening-unclear");
+    let rec = write(&dir, "rec.csv", "t,disc_x,pad_x,pad_trail,pad_lead\n0,0,0,0,0\n0.001,0,1,0,0\n");
+    bad(&["analyze", &rec, "--breakaway-jump", "1e308"], &["--breakaway-jump 1.000e308"]);
+    // CR-only line endings (old Mac): named as such
+    let mut cr = String::from("t,disc_x,pad_x,pad_trail,pad_lead\r");
+    for i in 0..20000 {
+        cr.push_str(&format!("{},0,0,0,0\r", i as f64 / 25600.0));
+    }
+    let crf = write(&dir, "cr.csv", cr);
+    bad(&["analyze", &crf], &["cr.csv", "CR alone"]);
+    // a duplicate key in a scene file is named, with its line
+    let dup = scene(&dir, "dup.toml", "m = 1.0\nbeta = 0.02\nm = 2.0\n");
+    bad(&["simulate", &dup], &["dup.toml", "line 3", "m"]);
+    // a value printed short, not as 300 digits
+    let huge = scene(&dir, "huge.toml", "f_n = -1e300\n");
+    let l = bad(&["simulate", &huge], &["huge.toml", "f_n", "-1.000e300"]);
+    assert!(l.len() < 300, "{l}");
+    // a step as long as the statistics window: every statistic would be n/a
+    bad(&["cases", "--dt", "1"], &["--dt", "holds no step"]);
+    bad(&["simulate", "push_center", "--dt", "0.6"], &["--dt", "holds no step"]);
+}
