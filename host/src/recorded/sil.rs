@@ -255,6 +255,39 @@ fn run_in<T: Real>(ns: &NamedScene, opts: &SilOptions, csv: Option<&Path>) -> Re
     }
 }
 
+/// The channel-health verdict of the analysis (shared::rig::health, the words `analyze`
+/// prints) with the channels the virtual rig saw saturate (`saturated_ch`: frames at a range or
+/// a rail per channel) marked saturated, and the estimator's verdict made again on them.
+fn mark_saturated(a: &mut Analysis, saturated_ch: &[u64; CH]) {
+    use stickslip_model::rig::health::{ChannelHealth, HealthReport};
+    use stickslip_model::rig::{DISC_X, PAD_X};
+    if saturated_ch.iter().all(|&n| n == 0) {
+        return;
+    }
+    let bit = |w: &str| match w {
+        "flat" => ChannelHealth::FLAT,
+        "saturated" => ChannelHealth::SATURATED,
+        _ => ChannelHealth::NOISY,
+    };
+    let verdict = HealthReport::new(std::array::from_fn(|c| {
+        let bits = a.health[c].iter().fold(0, |b, w| b | bit(w));
+        ChannelHealth(bits | if saturated_ch[c] > 0 { ChannelHealth::SATURATED } else { 0 })
+    }));
+    a.health = std::array::from_fn(|c| verdict.channels[c].words().collect());
+    if verdict.undecidable() {
+        // the analysis's wording (recorded::analysis, `undecided`)
+        let mut bad = vec![];
+        for (c, name) in [(PAD_X, "pad_x"), (DISC_X, "disc_x")] {
+            for what in verdict.channels[c].words() {
+                if !(c == DISC_X && what == "flat") {
+                    bad.push(format!("{name} {what}"));
+                }
+            }
+        }
+        a.undecided = Some(format!("{}: the contact estimate (stick fraction, frequency) would be a guess", bad.join(", ")));
+    }
+}
+
 /// The rig's calibration with the options' front-end gains and oversampling.
 pub fn rig_calibration(opts: &SilOptions) -> stickslip_model::rig::calibration::Calibration {
     let mut calibration = RIG_CALIBRATION;
@@ -307,6 +340,9 @@ fn sample_run<T: Real, M: Motion<T>>(
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
     let mut saturated_frames = 0;
+    // frames of the analysed stretch with each accelerometer at its range or an ADC rail (the
+    // analysis sees only calibrated values: a front-end gain shrinks the range it can see)
+    let mut saturated_ch = [0u64; CH];
     // the converter's error: sum of (calibrated - converter input)^2 per channel
     let mut conv_sq = [0.0f64; CH];
     // the ideal path's noise: its own stream of the same generator and seed
@@ -344,6 +380,11 @@ fn sample_run<T: Real, M: Motion<T>>(
                 let c = cal.calibrate(&frame);
                 if c.saturation.any_accel() {
                     saturated_frames += 1;
+                    if t >= from_eff {
+                        for (ch, n) in saturated_ch.iter_mut().enumerate() {
+                            *n += u64::from(c.saturation.range(ch) || c.saturation.rail(ch));
+                        }
+                    }
                 }
                 c.accel_m_s2.map(|v| v as f64)
             }
@@ -394,7 +435,10 @@ fn sample_run<T: Real, M: Motion<T>>(
     }
     // a run that halts early (a finding) may leave too little to analyse: no statistics then
     let measured = match analyzer.finish() {
-        Ok(a) if truth.samples > 0 => Some(a),
+        Ok(mut a) if truth.samples > 0 => {
+            mark_saturated(&mut a, &saturated_ch);
+            Some(a)
+        }
         Ok(_) => None,
         Err(_) if outcome != Outcome::Completed => None,
         Err(m) => return Err(HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label()))),

@@ -191,9 +191,16 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
 
 /// Reads a scene file's text. The scene is the default pad with the file's keys applied.
 pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
-    let t: SceneToml = toml::from_str(text).map_err(|e| ParseError {
-        line_col: e.span().map(|s| line_col(text, s.start)),
-        message: e.message().trim().to_string(),
+    let t: SceneToml = toml::from_str(text).map_err(|e| {
+        let mut message = e.message().trim().to_string();
+        // toml says "duplicate key" and points at it: name it
+        if let (Some(span), true) = (e.span(), message == "duplicate key") {
+            let key = text.get(span.clone()).unwrap_or("").split('=').next().unwrap_or("").trim();
+            if !key.is_empty() && key.len() <= 64 {
+                message = format!("duplicate key `{key}` (a key may be set once)");
+            }
+        }
+        ParseError { line_col: e.span().map(|s| line_col(text, s.start)), message }
     })?;
     let mut s = DEFAULT_SCENE;
     if let Some(c) = t.caliper {
