@@ -119,11 +119,13 @@ done
 printf 'friction = "stribeck"\nband = true\nk_b = 1e30\n' >slow_kb.toml
 t either budget simulate slow_kb.toml
 t either budget sil slow_kb.toml --json
-t either budget simulate push_center --duration 1e6
-t either budget simulate push_center --duration 1e300
-t either budget simulate push_center --dt 1e-12
+t either budget simulate push_center --duration 20000
+t error "--duration" simulate push_center --duration 1e6
+t error "--duration" simulate push_center --duration 1e300
+t error "--dt" simulate push_center --dt 1e-12
+t either budget sil rig_push_center --duration 6000
 t error "--dt" cases --dt 1
-t error "--dt" simulate push_center --dt 0.6
+t error "--dt" simulate push_center --dt 0.8
 t error "--dt" simulate push_center --dt 0
 t error "--dt" simulate push_center --dt -1
 t error "--dt" simulate push_center --dt nan
@@ -336,7 +338,7 @@ t error "--quiet" analyze r_ok.csv --quiet 5:1
 t error "--quiet" analyze r_ok.csv --quiet x
 t error "--quiet" analyze r_ok.csv --quiet 0:0.01 --breakaway-jump 10
 t error "--segment" analyze r_ok.csv --segment 7
-t error "--scene" analyze r_ok.csv --scene no_such_scene
+t error "no_such_scene" analyze r_ok.csv --scene no_such_scene
 t error "r_col.csv" compare push_center r_col.csv
 t error "--noise" compare push_center r_ok.csv --noise 1e300
 t error "--gain" compare push_center r_ok.csv --gain 1e-300
@@ -369,8 +371,8 @@ t error "--kind" decode --elf "$fixture.elf" "$fixture.defmt" --kind transition
 # accuracy, stability, scenes, the command line itself
 t error "--repeats" accuracy --repeats 0
 t error "--repeats" accuracy --repeats 100000
-t error "unrecognized" stability --warp
-t error "unrecognized" frobnicate
+t error "--warp" stability --warp
+t error "frobnicate" frobnicate
 t error "no_such" scenes show no_such
 t error "--plot" accuracy --plot
 

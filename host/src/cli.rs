@@ -27,8 +27,8 @@ field (or line and column) and the rule; 1 an output file could not be written; 
 
 Limits: files read whole are at most 1 MiB (scene files, `fit --table`), 64 MiB (a `map merge`
 shard, the `decode --elf` firmware); recordings and defmt streams are streamed. A run's work is
-budgeted: substeps per step (the exact steppers' quarter-radian rule) x steps at most 2^28
-(268435456; about a minute at the slowest substeps), and fewer than 1000000 substeps per step;
+budgeted: substeps per step (the exact steppers' quarter-radian rule) x steps at most 2^27
+(134217728: a 5000 s run at 25.6 kHz), and fewer than 4096 substeps per step;
 a run over it is not stepped and ends with the outcome `budget` and its cause (exit 0, as any
 classified halt). Counts given on the command line are capped as each option's help says.";
 
@@ -255,7 +255,7 @@ pub struct SilNoise {
     #[arg(long, value_name = "M_S2", default_value_t = crate::recorded::sil::DEFAULT_NOISE_M_S2, allow_hyphen_values = true)]
     pub noise: f64,
     /// Seed of the noise generator
-    #[arg(long, value_name = "N", default_value_t = crate::recorded::sil::DEFAULT_SEED)]
+    #[arg(long, value_name = "N", default_value_t = crate::recorded::sil::DEFAULT_SEED, allow_hyphen_values = true)]
     pub seed: u32,
     /// Front-end gain of the accelerometers [V/V], 0.001 to 1000: one value for all four, or
     /// four (disc_x,pad_x,pad_trail,pad_lead). 0.2 spans +-809 m/s^2 at 0.395 m/s^2 per count;
@@ -651,7 +651,7 @@ pub struct FitArgs {
     /// Horizon stages before the whole record, in stick-slip periods after each recording's
     /// first slip onset (0: none): each start is fitted to the recordings' first stretch, t = 0
     /// to the first horizon, then to the next, then to the whole record (see below)
-    #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS)]
+    #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS, allow_hyphen_values = true)]
     pub horizons: Vec<f64>,
     /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its
     /// Levenberg-Marquardt run), 1 to 1000000
@@ -661,7 +661,7 @@ pub struct FitArgs {
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_BOOTSTRAP)]
     pub bootstrap: usize,
     /// Seed of the bootstrap's resampling
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u32,
     /// No search: the cost along one free key, N values (2 to 1000) log-spaced from LO to HI
     /// (both finite, 0 < LO < HI), the other free keys at SCENE's values (the basin's width, a

@@ -474,6 +474,9 @@ pub fn sil(a: &crate::cli::SilArgs) -> Result<String> {
 
 pub fn compare(a: &crate::cli::CompareArgs) -> Result<String> {
     use crate::recorded::{self, report, sil};
+    // the options first: a bad option is named before the file is read
+    check_sil_noise(&a.noise)?;
+    gains(&a.noise.gain)?;
     check_segment(a.record.segment)?;
     check_jump(a.record.breakaway_jump)?;
     check_from(a.from)?;

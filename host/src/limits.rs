@@ -50,13 +50,16 @@ pub const BREAKAWAY_JUMP_MAX_M_S2: f64 = 1e6;
 pub const MAX_JOBS: usize = 1024;
 
 /// Work budget of one run: substeps per step (the quarter-radian rule of the exact steppers:
-/// the fastest mode turns by at most a quarter radian per substep) times the steps. A run
-/// over it would take minutes to hours (a substep costs 10 ns to 1 us) and is halted before
-/// its first step with the outcome `budget`.
-pub const SUBSTEP_BUDGET: u64 = 1 << 28;
-/// The steppers' own cap on substeps per step: a scene that needs this many has a mode too
-/// fast for its dt, and its tables would break the quarter-radian rule.
-pub const SUBSTEPS_PER_STEP_CAP: u32 = 1_000_000;
+/// the fastest mode turns by at most a quarter radian per substep) times the steps, at most
+/// 2^27 (134,217,728: a 5,000 s run at 25.6 kHz and one substep per step, about 10 s of
+/// computing; a substep of the model-2 stepper in Stribeck slip costs up to 1 us). A run over
+/// it is halted before its first step with the outcome `budget`.
+pub const SUBSTEP_BUDGET: u64 = 1 << 27;
+/// Most substeps per step: a scene whose fastest mode turns by more than 1024 radians in one
+/// step (`k_b = 1e18` on the rig's band: 1.6e5 substeps per step, 200 s for 0.05 s of motion)
+/// is not run (outcome `budget`); the steppers' own cap is 1e6, beyond which their tables
+/// would break the quarter-radian rule.
+pub const SUBSTEPS_PER_STEP_CAP: u32 = 4096;
 
 fn mib(bytes: u64) -> String {
     if bytes % (1 << 20) == 0 {

@@ -36,24 +36,25 @@ fn runs_that_would_take_hours_halt_as_budget() {
     let dir = scratch("hardening-budget");
     // m = 1e-30 kg: the x mode's rate sqrt(k_g / m) is about 1e18 1/s; at dt = 1/25600 s the
     // quarter-radian rule asks for 1e18 * 3.9e-5 / 0.25 = 1.6e14 substeps per step, far past
-    // the steppers' cap of 1e6
+    // the cap of 4096
     let tiny_m = scene(&dir, "tiny_m.toml", "m = 1e-30\n");
     let band_stiff = scene(&dir, "band_stiff.toml", "friction = \"stribeck\"\nband = true\nk_b = 1e30\n");
     let zeta = scene(&dir, "zeta.toml", "zeta_x = 1e6\n");
     for f in [&tiny_m, &band_stiff, &zeta] {
         let j = json(&["simulate", f, "--json"]);
         assert_eq!(j["outcome"], "budget", "{f}: {j}");
-        assert_eq!(j["steps"], 0, "{f}: not stepped");
+        assert_eq!((j["halt_t_s"].as_f64(), j["transitions"].as_u64()), (Some(0.0), Some(0)), "{f}: not stepped");
         let text = ok(&["simulate", f]);
         assert!(text.contains("halted, budget:") && text.contains("substeps per step"), "{f}: {text}");
         let s = json(&["sil", f, "--json"]);
         assert_eq!(s["outcome"], "budget", "{f}: {s}");
     }
-    // a run whose substeps are few but whose steps are many: 2^28 = 268435456 is the budget;
-    // 1e4 s at 1/25600 s is 2.56e8 steps of one substep each: under it; 2e4 s is over
+    // a run whose substeps are few but whose steps are many: 2^27 = 134217728 is the budget;
+    // 2e4 s at 1/25600 s is 5.12e8 steps of one substep each
     let long = json(&["simulate", "push_center", "--duration", "20000", "--json"]);
     assert_eq!(long["outcome"], "budget");
-    // through a map: k_b = 1e6 runs, 1e18 and 1e30 are over the budget
+    // through a map: k_b = 1e6 runs; 1e18 (rate sqrt(k_b / m_b) about 1e9 1/s: 1.6e5 substeps
+    // per step) and 1e30 are over the budget
     let m = json(&["map", "rig_push_center", "--sweep", "k_b=1e6:1e30:3:log", "--duration", "0.05", "--stats-from", "0.02", "--json"]);
     let regimes: Vec<&str> = m["cells"].as_array().unwrap().iter().map(|c| c["from_rest"]["regime"].as_str().unwrap()).collect();
     assert_ne!(regimes[0], "budget");
@@ -210,5 +211,6 @@ fn errors_are_short_and_blame_what_the_user_gave() {
     assert!(l.len() < 300, "{l}");
     // a step as long as the statistics window: every statistic would be n/a
     bad(&["cases", "--dt", "1"], &["--dt", "holds no step"]);
-    bad(&["simulate", "push_center", "--dt", "0.6"], &["--dt", "holds no step"]);
+    // dt = 0.8 s: round(1 / 0.8) = 1 step, the window starting at step round(0.5 / 0.8) = 1
+    bad(&["simulate", "push_center", "--dt", "0.8"], &["--dt", "holds no step"]);
 }

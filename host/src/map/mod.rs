@@ -272,12 +272,19 @@ pub fn merge(parts: Vec<(String, MapJson)>) -> std::result::Result<MapJson, Stri
         h
     };
     let want = header(&first);
+    // which file holds each cell, to name both where one is given twice
+    let mut held_by: std::collections::HashMap<usize, String> = first.cells.iter().map(|c| (c.index, first_name.clone())).collect();
     let mut cells = first.cells;
     for (name, m) in it {
         if header(&m) != want {
             return Err(format!(
                 "map merge: {name} is not a shard of the same map as {first_name} (scene, sweeps or options differ)"
             ));
+        }
+        for c in &m.cells {
+            if let Some(other) = held_by.insert(c.index, name.clone()) {
+                return Err(format!("map merge: cell {} is in both {other} and {name} (the same shard given twice?)", c.index));
+            }
         }
         cells.extend(m.cells);
     }

@@ -32,7 +32,7 @@ impl Precision {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct OverBudget {
     /// Substeps per step the quarter-radian rule asks for (at the steppers' cap
-    /// [`crate::limits::SUBSTEPS_PER_STEP_CAP`]: more were needed).
+    /// the steppers' cap of 1e6: more were needed).
     pub substeps_per_step: u32,
     /// Steps of the run, round(duration / dt).
     pub steps: u64,
@@ -51,9 +51,10 @@ impl OverBudget {
         use crate::output::format::sig4;
         if self.substeps_per_step >= crate::limits::SUBSTEPS_PER_STEP_CAP {
             format!(
-                "the scene's fastest mode needs more than {} substeps per step (a quarter radian each): a mass, \
-                 inertia or damping too small or a stiffness too large for dt; not run",
-                sig4(f64::from(crate::limits::SUBSTEPS_PER_STEP_CAP))
+                "the scene's fastest mode needs {} or more substeps per step (a quarter radian each; at most {}): \
+                 a mass, inertia or damping too small or a stiffness too large for dt; not run",
+                self.substeps_per_step,
+                crate::limits::SUBSTEPS_PER_STEP_CAP
             )
         } else {
             format!(

@@ -145,6 +145,16 @@ pub fn prepare(mut ns: NamedScene, ov: &Overrides) -> Result<NamedScene> {
     if let Err(e) = ns.scene.validate() {
         return Err(HostError::Input(validation_message(&ns, ov, &e)));
     }
+    // a key the scene does not read (the floating pad's c_y on a hinged pad, ...) must still
+    // hold a value it could read: a NaN or a negative damping is a mistake wherever it is
+    for &key in scene_file::NUMERIC_KEYS.iter().filter(|k| !k.starts_with("zeta_")) {
+        let Some(v) = scene_file::get_numeric(&ns.scene, key) else { continue };
+        let damping = key.starts_with("c_");
+        if v.is_nan() || (damping && !(v.is_finite() && v >= 0.0)) {
+            let e = SceneError { field: scene_file::field_of(key), rule: if damping { "damping must be a finite number >= 0" } else { "not a number" }, value: v };
+            return Err(HostError::Input(validation_message(&ns, ov, &e)));
+        }
+    }
     // the statistics window must hold a step: with dt about the window's length every
     // statistic would be n/a
     let s = &ns.scene;
