@@ -209,6 +209,19 @@ fn errors_are_short_and_blame_what_the_user_gave() {
     let huge = scene(&dir, "huge.toml", "f_n = -1e300\n");
     let l = bad(&["simulate", &huge], &["huge.toml", "f_n", "-1.000e300"]);
     assert!(l.len() < 300, "{l}");
+    // a recording that ends before the scene's stats_from: the start is the scene's, not a
+    // --from the user never gave
+    let short = dir.join("short.csv");
+    ok(&["sil", "push_center", "--duration", "0.3", "--stats-from", "0.1", "--csv", short.to_str().unwrap()]);
+    let arg = format!("push_center={}", short.display());
+    let l = bad(&["fit", "--scene", "push_center", "--free", "mu_k", &arg], &["short.csv", "stats_from", "no --from given"]);
+    assert!(!l.contains("--from 0.5"), "{l}");
+    bad(&["fit", "--scene", "push_center", "--free", "mu_k", &arg, "--from", "0.4"], &["--from 0.4 s"]);
+    // a shard given twice: both files named
+    let m = ok(&["map", "push_center", "--sweep", "beta=0.01:0.07:2", "--duration", "0.05", "--stats-from", "0.02", "--json"]);
+    let a = write(&dir, "a.json", &m);
+    let b = write(&dir, "b.json", &m);
+    bad(&["map", "merge", &a, &b], &["cell 0", "a.json", "b.json"]);
     // a step as long as the statistics window: every statistic would be n/a
     bad(&["cases", "--dt", "1"], &["--dt", "holds no step"]);
     // dt = 0.8 s: round(1 / 0.8) = 1 step, the window starting at step round(0.5 / 0.8) = 1

@@ -588,7 +588,7 @@ fn parse_profile(spec: &str) -> Result<(String, f64, f64, usize)> {
         return Err(bad("needs 0 < LO < HI (the points are log-spaced)"));
     }
     if !(2..=crate::limits::PROFILE_MAX_POINTS).contains(&n) {
-        return Err(bad(&format!("needs N from 2 to {} points", crate::limits::PROFILE_MAX_POINTS)));
+        return Err(bad(&format!("needs N >= 2 points (at most {})", crate::limits::PROFILE_MAX_POINTS)));
     }
     Ok((key.trim().to_string(), lo, hi, n))
 }
