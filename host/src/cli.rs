@@ -133,8 +133,12 @@ from J (onset J/2, stick J/4; J = (mu_s - mu_k) N0 / m of --scene, push_center: 
 Channel health (the rig's rule, shared::rig::health): a channel is flat (no sample changed),
 saturated (samples at the range), or noisier than the signal (RMS about the floor's mean below
 2 sigma of its floor; never said of disc_x, which has no signal of its own when the band runs
-steadily). With pad_x any of these, or disc_x saturated, the estimator cannot decide: the
-summary says why and the stick fraction and frequency are null.
+steadily, nor of pad_trail and pad_lead with a floor found in the stick phases, where the pad
+still rotates). With pad_x any of these, or disc_x saturated, the estimator cannot decide: the
+summary says why and the stick fraction and frequency are null. `compare` and `fit` apply the
+same verdict to the recordings they read: an unhealthy channel is not compared (its ratios
+null, the words beside) nor fitted (its statistics skipped, the words as the reason), and the
+stick fraction, frequency and first slip of an undecided recording neither.
 
 --json prints {\"file\", \"channels\": {\"disc_x\": {\"pp\", \"rms\", \"peak_hz\", \"groan_rms\",
 \"mean\", \"min\", \"max\"}, \"pad_x\": ..., \"pad_trail\": ..., \"pad_lead\": ...},

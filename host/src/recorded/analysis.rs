@@ -69,6 +69,10 @@ use stickslip_model::Regime;
 use super::envelope::{Bucket, Envelope};
 use super::spectrum::{default_segment, Spectrum, Welch, CH};
 
+/// Quiet rows in a row that start the rig's estimator ([`Running::process`]): 0.6 ms at
+/// 25.6 kHz; a slip's a_rel crosses the stick level in about one sample.
+pub const START_RUN: usize = 16;
+
 /// Rows read before the sample rate is fixed for the estimator.
 pub const PREVIEW_ROWS: usize = 4096;
 /// With the floor found automatically, the rows held back until a quiet stretch before a signal
@@ -295,6 +299,13 @@ struct Running {
     onset_intervals: u64,
     onset_span: f64,
     last_onset: f64,
+    /// The rig's estimator has started (see [`Running::process`]); the rows held meanwhile;
+    /// the stick level [m/s^2] and a_rel's bias that start it; the face term.
+    started: bool,
+    held: Vec<(f64, [f64; CH])>,
+    start_level: f32,
+    start_bias: f32,
+    face: f32,
 }
 
 impl Running {
@@ -309,6 +320,8 @@ impl Running {
             }
         }
         self.onsets = OnsetRate::new();
+        self.flush_held();
+        self.started = false;
         if let Ok(rig) = Rig::for_recording(&self.rig_cfg, self.design) {
             self.rig = Box::new(rig);
         }
@@ -336,29 +349,67 @@ impl Running {
         (n > 0 && span > 0.0).then(|| n as f64 / span)
     }
 
+    /// One row. The rig's estimator starts in stick (the rig clamps the pad before the band
+    /// moves): it is started at the first [`START_RUN`] rows in a row whose a_rel is within its
+    /// stick level of the floor's mean, so a record that starts inside a slip does not start
+    /// it in stick with a wrong relative velocity. Rows before that (the record's first,
+    /// partial slip) go into the statistics and count as slip, not through the rig. A record
+    /// that starts in stick (a clamped lead-in) starts it at its first row, as the rig does.
     #[inline]
     fn process(&mut self, t: f64, a: &[f64; CH]) {
+        if self.started {
+            return self.process_row(t, a, true);
+        }
+        let rel = (a[1] - a[0]) as f32 + self.face * (a[3] - a[2]) as f32 - self.start_bias;
+        self.held.push((t, *a));
+        if rel.abs() <= self.start_level {
+            if self.held.len() >= START_RUN {
+                self.started = true;
+                for (t, a) in std::mem::take(&mut self.held) {
+                    self.process_row(t, &a, true);
+                }
+            }
+        } else {
+            self.flush_held();
+        }
+    }
+
+    /// The held rows, not played (the record ended, or the run of quiet rows broke).
+    fn flush_held(&mut self) {
+        for (t, a) in std::mem::take(&mut self.held) {
+            self.process_row(t, &a, false);
+        }
+    }
+
+    #[inline]
+    fn process_row(&mut self, t: f64, a: &[f64; CH], played: bool) {
         let mut bits = 0u16;
         for (i, v) in a.iter().enumerate() {
             if v.abs() >= SENSOR_RANGE_M_S2 {
                 bits |= 1 << i;
             }
         }
-        let cal = Calibrated {
-            accel_m_s2: a.map(|v| v as f32),
-            pressure_bar: [0.0; 2],
-            saturation: Saturation { bits },
-        };
-        let s = self.rig.play(&cal);
-        if s.window_ready {
-            let closed = self.rig.take_window();
-            if let (Some(w), Some(closed)) = (&mut self.windows, closed) {
-                w.push(EstimatorWindow { t_end_s: t, report: closed.report });
+        let mut stick = false;
+        let mut onset_lead = None;
+        if played {
+            let cal = Calibrated {
+                accel_m_s2: a.map(|v| v as f32),
+                pressure_bar: [0.0; 2],
+                saturation: Saturation { bits },
+            };
+            let s = self.rig.play(&cal);
+            if s.window_ready {
+                let closed = self.rig.take_window();
+                if let (Some(w), Some(closed)) = (&mut self.windows, closed) {
+                    w.push(EstimatorWindow { t_end_s: t, report: closed.report });
+                }
             }
-        }
-        let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
-        if onset && self.first_onset.is_none() {
-            self.first_onset = Some(t - s.contact.lead_samples as f64 / self.fs);
+            let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
+            if onset && self.first_onset.is_none() {
+                self.first_onset = Some(t - s.contact.lead_samples as f64 / self.fs);
+            }
+            stick = s.contact.regime == Regime::Stick;
+            onset_lead = onset.then_some(s.contact.lead_samples);
         }
         if t < self.from_eff {
             return;
@@ -391,12 +442,12 @@ impl Running {
                 }
             }
         }
-        if s.contact.regime == Regime::Stick {
+        if stick {
             self.stick += 1;
         }
-        if onset {
+        if let Some(lead_samples) = onset_lead {
             // the estimator dates the slip back by its lead: those samples were counted stick
-            let lead = (s.contact.lead_samples as u64).min(self.stick);
+            let lead = (lead_samples as u64).min(self.stick);
             self.stick -= lead;
             let t = t - lead as f64 / self.fs;
             self.onsets.add(t);
@@ -705,6 +756,8 @@ impl Analyzer {
         let rig = Rig::for_recording(&rig_cfg, design)
             .map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
         let groan = *rig.estimator().groan_filter();
+        let start_level = rig.estimator().contact().thresholds().stick_max_m_s2;
+        let start_bias = design.as_ref().map_or(0.0, |d| d.0.mean_m_s2[A_REL]);
         let segment = self.cfg.segment.unwrap_or_else(|| default_segment(fs));
         let mut r = Running {
             fs,
@@ -736,6 +789,11 @@ impl Analyzer {
             onset_intervals: 0,
             onset_span: 0.0,
             last_onset: 0.0,
+            started: false,
+            held: Vec::with_capacity(START_RUN),
+            start_level,
+            start_bias,
+            face: self.cfg.face_coefficient,
         };
         for p in &buf {
             if p.gap_before {
@@ -818,7 +876,8 @@ impl Analyzer {
         }
         let mean_interval = self.mean_interval();
         let Phase::Running(r) = self.phase else { unreachable!("started above") };
-        let r = *r;
+        let mut r = *r;
+        r.flush_held();
         if r.n == 0 {
             return Err(format!(
                 "--from {} s: no row at or after it (the last row, line {}, is at {} s)",
@@ -859,7 +918,9 @@ impl Analyzer {
                 channels[c].pp as f32,
                 channels[c].rms as f32,
                 r.at_range_ch[c] > 0,
-                r.floor.as_ref().map(|f| (f.report.mean_m_s2[c], f.report.sigma_m_s2[c])),
+                // a floor found in the stick phases is a noise floor of a_rel, pad_x and disc_x
+                // only: the pad still rotates in stick, so the edge sensors' is not theirs
+                r.floor.as_ref().filter(|f| f.quiet_blocks == 0 || c == PAD_X || c == DISC_X).map(|f| (f.report.mean_m_s2[c], f.report.sigma_m_s2[c])),
             )
         }));
         let health: [Vec<&'static str>; CH] = std::array::from_fn(|c| verdict.channels[c].words().collect());

@@ -138,7 +138,7 @@ impl ChannelMap {
 /// "pad_x is needed" as one line for `label`, with what the file has.
 pub fn pad_x_needed(label: &str, what: &str, found: &str) -> HostError {
     HostError::Input(format!(
-        "{label}: {what}: no pad_x: every analysis needs the pad's x acceleration (name a column or record pad_x, or give --channel pad_x=SOURCE[*SCALE]; found: {found})"
+        "{label}: {what}: no pad_x: pad_x is needed, every analysis starts from the pad's x acceleration (name a column or record pad_x, or give --channel pad_x=SOURCE[*SCALE]; found: {found})"
     ))
 }
 

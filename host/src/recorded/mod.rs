@@ -93,7 +93,7 @@ fn run(mut rec: Recording, mut an: Analyzer, progress: &mut Progress, done_befor
 
 /// Analyses a recording read from `input` (CSV or WAV; a universal file needs a path); `label`
 /// names it in messages.
-pub fn analyze_reader<R: Read + 'static>(label: &str, input: R, cfg: AnalysisConfig) -> Result<Analysis> {
+pub fn analyze_reader<R: Read>(label: &str, input: R, cfg: AnalysisConfig) -> Result<Analysis> {
     let opts = ReadOptions::default();
     let rec = Recording::from_reader(label, Box::new(input), &opts.channels)?;
     let an = analyzer_for(&rec, cfg, &opts);

@@ -7,13 +7,15 @@
 //! The search:
 //! 1. a_rel (computed in f32 as the rig computes it) in blocks of [`BLOCK`] rows (1.25 ms at
 //!    25.6 kHz, shorter than the shortest stick phases of Table 3.1's levels), each block's
-//!    variance about its own mean;
-//! 2. the blocks sorted by variance into a histogram of [`BINS_PER_DECADE`] bins per decade
-//!    (bounded memory: each bin holds the sums of the rows of its blocks, not the rows), a
-//!    bin of its own for blocks that do not change at all;
-//! 3. the reference variance v_ref: the [`QUIET_QUANTILE`] quantile of the blocks (robust to
-//!    a few odd blocks; the stick phases of a stick-slip record are far more than 1 % of it);
-//!    quiet blocks: variance at most [`QUIET_FACTOR`] x v_ref (RMS at most twice; pure noise in
+//!    mean square about zero (a_rel's value in stick; the sensors are AC-coupled): a slip's
+//!    plateau of nearly constant acceleration (Coulomb friction) is as still as stick within a
+//!    block but not near zero, so it ranks loud;
+//! 2. the blocks sorted by that mean square into a histogram of [`BINS_PER_DECADE`] bins per
+//!    decade (bounded memory: each bin holds the sums of the rows of its blocks, not the
+//!    rows), a bin of its own for blocks that are exactly zero;
+//! 3. the reference v_ref: the [`QUIET_QUANTILE`] quantile of the blocks (robust to a few odd
+//!    blocks; the stick phases of a stick-slip record are far more than 1 % of it); quiet
+//!    blocks: mean square at most [`QUIET_FACTOR`] x v_ref (RMS at most twice; pure noise in
 //!    32 samples exceeds that with probability 6e-4), to one bin (7.5 %);
 //! 4. checks that what is called quiet is quiet: a block louder than
 //!    [`super::analysis::QUIET_LOUD_FACTOR`] x v_ref exists (quiet against a signal); at least
@@ -106,6 +108,9 @@ impl QuietSearch {
     pub fn push(&mut self, t: f64, a: &[f64; 4]) {
         let rel = (a[1] - a[0]) as f32 + self.face * (a[3] - a[2]) as f32;
         let v = [a[0], a[1], a[2], a[3], rel as f64];
+        // the channels relative to the first row (the squares then do not cancel an offset);
+        // a_rel as it is: it is ranked by its mean square about zero
+        let v0 = [a[0], a[1], a[2], a[3], 0.0];
         if self.rows > 0 {
             for (k, c) in [1usize, 0].iter().enumerate() {
                 let d = (a[*c] - self.prev[k]).abs();
@@ -116,7 +121,7 @@ impl QuietSearch {
         }
         self.prev = [a[1], a[0]];
         self.rows += 1;
-        let o = *self.origin.get_or_insert(v);
+        let o = *self.origin.get_or_insert(v0);
         if self.fill == 0 {
             self.block_t.0 = t;
         }
@@ -133,8 +138,9 @@ impl QuietSearch {
         let n = b.len() as f64;
         let mean = b.iter().map(|r| r[4]).sum::<f64>() / n;
         let var = b.iter().map(|r| (r[4] - mean).powi(2)).sum::<f64>() / n;
-        let k = if var > 0.0 {
-            let x = ((var.log10() - LOG_RANGE.0) * BINS_PER_DECADE as f64).floor();
+        let ms = var + mean * mean;
+        let k = if ms > 0.0 {
+            let x = ((ms.log10() - LOG_RANGE.0) * BINS_PER_DECADE as f64).floor();
             1 + (x.max(0.0) as usize).min(BINS - 1)
         } else {
             0
@@ -184,7 +190,7 @@ impl QuietSearch {
         let loudest = (0..self.bins.len()).rev().find(|&k| self.bins[k].blocks > 0).unwrap_or(0);
         if !(lower(loudest) > QUIET_LOUD_FACTOR * v_ref) || loudest == kr {
             return Err(format!(
-                "no block of a_rel is {QUIET_LOUD_FACTOR} times louder (in variance) than its quietest 1 %: no stick phase against a signal"
+                "no block of a_rel is {QUIET_LOUD_FACTOR} times louder (in mean square) than its quietest 1 %: no stick phase against a signal"
             ));
         }
         let last_quiet = if kr == 0 { 0 } else { (kr..self.bins.len()).take_while(|&k| upper(k) <= QUIET_FACTOR * v_ref * 1.000_001).last().unwrap_or(kr) };

@@ -65,14 +65,14 @@ pub fn sniff(head: &[u8]) -> Format {
     Format::Csv
 }
 
-enum Rows {
-    Csv(RowReader<Box<dyn Read>>),
+enum Rows<'a> {
+    Csv(RowReader<Box<dyn Read + 'a>>),
     Uff(UffRows),
-    Wav(WavRows<Box<dyn Read>>),
+    Wav(WavRows<Box<dyn Read + 'a>>),
 }
 
 /// An opened recording.
-pub struct Recording {
+pub struct Recording<'a> {
     pub label: String,
     pub format: Format,
     /// disc_x, pad_x, pad_trail, pad_lead: which the file has.
@@ -83,10 +83,10 @@ pub struct Recording {
     pub counter: Counter,
     /// The file's size [bytes] (0: standard input).
     pub size: u64,
-    rows: Rows,
+    rows: Rows<'a>,
 }
 
-impl Recording {
+impl<'a> Recording<'a> {
     /// Opens the file at `path` (`-`: standard input) with the `--channel` mapping `map`.
     pub fn open(path: &str, map: &ChannelMap) -> Result<Self> {
         if path == "-" {
@@ -98,21 +98,21 @@ impl Recording {
     }
 
     /// A recording read from `input` (CSV or WAV: a universal file needs a path).
-    pub fn from_reader(label: &str, input: Box<dyn Read>, map: &ChannelMap) -> Result<Self> {
+    pub fn from_reader(label: &str, input: Box<dyn Read + 'a>, map: &ChannelMap) -> Result<Self> {
         Self::build(label, input, None, 0, map)
     }
 
-    fn build(label: &str, input: Box<dyn Read>, path: Option<&str>, size: u64, map: &ChannelMap) -> Result<Self> {
+    fn build(label: &str, input: Box<dyn Read + 'a>, path: Option<&str>, size: u64, map: &ChannelMap) -> Result<Self> {
         let counter = Counter::default();
         let label = label.to_string();
-        let mut input: Box<dyn Read> = Box::new(Counted::new(input, counter.clone()));
+        let mut input: Box<dyn Read + 'a> = Box::new(Counted::new(input, counter.clone()));
         let mut head = Vec::with_capacity(SNIFF_BYTES);
         (&mut input)
             .take(SNIFF_BYTES as u64)
             .read_to_end(&mut head)
             .map_err(|e| HostError::Input(format!("{label}: cannot read: {e}")))?;
         let format = sniff(&head);
-        let rest: Box<dyn Read> = Box::new(Cursor::new(head).chain(input));
+        let rest: Box<dyn Read + 'a> = Box::new(Cursor::new(head).chain(input));
         let (rows, present, notes) = match format {
             Format::Csv => {
                 let r = RowReader::with_channels(&label, rest, map)?;
