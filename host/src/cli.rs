@@ -102,7 +102,7 @@ interval of the rows before it, plus half the printed resolution of each of its 
 sample rate is (rows - 1) / (t_last - t_first); it must exceed 1000 Hz (the groan band's 500 Hz
 edge). Memory does not grow with the file: running statistics, the estimator per sample, Welch
 spectra over fixed segments, a 2048-bucket envelope for the figures, the floor search's
-histogram (330 KB). A file is read twice (the noise floor, then the analysis); from standard
+histogram (256 KB). A file is read twice (the noise floor, then the analysis); from standard
 input the floor is searched in the first 2^18 rows (10.2 s at 25.6 kHz, about 10 MB), which
 are held back. Progress goes to stderr when reading takes longer than a second.
 

@@ -26,7 +26,8 @@
 //! 5. the floor of each channel and of a_rel from the quiet rows (mean, sigma, peak-to-peak),
 //!    and the quantum: the larger smallest nonzero step of pad_x and disc_x over the record.
 //!
-//! Memory: 1,281 bins of 5 x 4 sums, 330 KB, whatever the record's length.
+//! Memory: 1,281 bins of 200 bytes (5 x 4 sums and a few counts), 256 KB, whatever the
+//! record's length.
 
 use stickslip_model::rig::noise_floor::{FloorReport, FLOOR_VALUES, MIN_FLOOR_SAMPLES};
 

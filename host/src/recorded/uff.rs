@@ -233,10 +233,11 @@ pub fn scan(label: &str, path: &str) -> Result<Vec<Record>> {
                     5 | 6 => 2,
                     _ => 1,
                 } * if even { 1 } else { 2 };
-                if bytes != values * per_value * width {
+                let want = values.checked_mul(per_value * width);
+                if want != Some(bytes) {
                     return Err(bad(
                         id_at,
-                        format!("{name}: the 58b line gives {bytes} bytes where record 7 gives {values} values of {width} bytes ({} bytes)", values * per_value * width),
+                        format!("{name}: the 58b line gives {bytes} bytes where record 7 gives {values} values of {width} bytes"),
                     ));
                 }
                 let offset = pos;
