@@ -206,7 +206,12 @@ value is 0 or missing).
 --json prints {\"scene\", \"file\", \"channels\": {\"disc_x\": {\"pp\", \"peak_hz\", \"rms\",
 \"groan_rms\": {\"measured\", \"model\", \"ratio\"}}, ...}, \"stick_fraction\": {...},
 \"stick_slip_hz\": {...}, \"measured\": {\"sample_rate_hz\", \"samples\", \"duration_s\", \"from_s\",
-\"resolution_hz\"}, \"model\": {...}, \"model_outcome\", \"model_noise_m_s2\"}.
+\"resolution_hz\"}, \"model\": {...}, \"model_outcome\", \"model_noise_m_s2\", \"health\" (the measured
+channels' words, as analyze gives them), \"undecided\" (null or why the measured stick fraction
+and frequency cannot be told)}. The measured side gets analyze's channel-health verdict: a
+measured channel that is flat, saturated or noisier than the signal has null ratios (its words
+are printed beside), an absent one null values, and an undecided recording no measured stick
+fraction or frequency.
 
 `sil SCENE --csv run.csv` then `compare SCENE run.csv --from <stats_from>` gives ratios of 1.";
 
