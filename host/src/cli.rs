@@ -129,6 +129,10 @@ max(6 sigma of a_rel = pad_x - disc_x (+ the face term), 2 counts, 1e-4 m/s^2), 
 of it, then adaptive: 1/16 of the slips' mean peak |a_rel|, at most 4 x the designed onset
 (shared::rig::contact). Without quiet rows (the summary says why), or with --breakaway-jump J: fixed thresholds
 from J (onset J/2, stick J/4; J = (mu_s - mu_k) N0 / m of --scene, push_center: 33.2 m/s^2).
+The estimator starts in stick, as the rig's does (its pad is clamped before the band moves): it
+is started at the first 16 rows in a row whose a_rel is within its stick level, so a record
+that starts inside a slip counts its first, partial slip as slip (its estimator windows start
+there too).
 
 Channel health (the rig's rule, shared::rig::health): a channel is flat (no sample changed),
 saturated (samples at the range), or noisier than the signal (RMS about the floor's mean below
@@ -265,7 +269,7 @@ pub struct RecordOptions {
     #[arg(long, value_name = "N")]
     pub segment: Option<usize>,
     /// Fixed contact thresholds from a breakaway jump J [m/s^2]: slip onset above J/2, stick
-    /// at most J/4 (default: thresholds from the noise floor of the record's quiet stretch)
+    /// at most J/4 (default: thresholds from the noise floor of the record's quiet rows)
     #[arg(long, value_name = "M_S2", allow_hyphen_values = true)]
     pub breakaway_jump: Option<f64>,
 }
@@ -510,7 +514,8 @@ pub struct StabilityArgs {
 }
 
 const FIT_AFTER: &str = "\
-Targets: a recording CASE=FILE (a CSV as `analyze` reads it, its time zero at the band's start,
+Targets: a recording CASE=FILE (a CSV, UFF or WAV file as `analyze` reads it, --channel and
+--gaps as there, its time zero at the band's start,
 as `sil --csv` writes it) gives, over t >= --from, every statistic `analyze` computes: per
 channel pp, rms, groan_rms [m/s^2] and peak_hz [Hz]; per case stick_fraction [-],
 stick_slip_hz [Hz] and first_slip_s [s] (the estimator's first slip onset in the whole file:
