@@ -67,6 +67,15 @@ fn uff_58_58b_and_wav_give_the_statistics_of_the_csv() {
     let w = json(&[&["analyze", &data("rec.wav"), "--json"][..], &WAV_MAP[..]].concat());
     assert_eq!(w["format"], "WAV");
     same("rec.wav", &w, &csv, 0.0);
+    let w = json(&[&["analyze", &data("rec24.wav"), "--json"][..], &WAV_MAP[..]].concat());
+    same("rec24.wav", &w, &csv, 0.0);
+    // float in m/s^2: mapped by number, no SCALE, and the report says what it assumed
+    let w = json(&[
+        "analyze", &data("rec_f32.wav"), "--json", "--channel", "pad_x=#1", "--channel", "pad_trail=#2", "--channel", "disc_x=#3",
+        "--channel", "pad_lead=#4",
+    ]);
+    same("rec_f32.wav", &w, &csv, 0.0);
+    assert!(w["notes"].as_array().unwrap().iter().any(|n| n.as_str().unwrap().contains("taken as m/s^2")), "{}", w["notes"]);
     // ASCII 58 at 6 significant digits (E13.5): 5e-6 per value
     let a = json(&["analyze", &data("rec_58.uff"), "--json"]);
     same("rec_58.uff", &a, &csv, 2e-5);

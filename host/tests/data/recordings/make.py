@@ -1,9 +1,9 @@
 """Writes the recording fixtures of host/tests/recorded_formats.rs with programs nobody on the
-project wrote: pyuff (UFF dataset 58 ASCII and 58b double), Python's `wave` module (WAV, 16-bit
-PCM), numpy, and a float32 58b written here from the published layout and read back with
-pyuff as a check. One synthetic stick-slip record (4 channels, 25.6 kHz, 0.15 s): 100 Hz
-cycles, 40 % stick (pad_x = noise), slips of one 167 Hz period and three of 500 Hz; every value an integer
-count k of 8 / 32768 m/s^2 (16-bit full scale 8 m/s^2), so CSV, WAV, 58b single and double hold
+project wrote: pyuff (UFF dataset 58 ASCII and 58b double), Python's `wave` module (WAV, 16- and
+24-bit PCM), numpy, a float32 58b written here from the published layout and read back with
+pyuff as a check, and a float32 WAV written here from the RIFF layout. One synthetic
+stick-slip record (4 channels, 25.6 kHz, 0.15 s): 100 Hz cycles, 40 % stick (pad_x = noise),
+slips of one 167 Hz period and three of 500 Hz; every value an integer count k of 8 / 32768 m/s^2 (16-bit full scale 8 m/s^2), so CSV, WAV, 58b single and double hold
 the same numbers exactly and the ASCII 58 (6 significant digits) to 5e-6.
 
     pip install pyuff numpy && python3 make.py      # in this directory
@@ -101,4 +101,22 @@ with wave.open("rec.wav", "wb") as w:
     # channel order in the WAV: pad_x, pad_trail, disc_x, pad_lead
     inter = np.stack([counts["pad_x"], counts["pad_trail"], counts["disc_x"], counts["pad_lead"]], axis=1)
     w.writeframes(inter.astype("<i2").tobytes())
+
+# 24-bit PCM (Python's wave writes any sample width): the same counts, 8 bits up
+with wave.open("rec24.wav", "wb") as w:
+    w.setnchannels(4)
+    w.setsampwidth(3)
+    w.setframerate(FS)
+    i32 = inter.astype("<i4") * 256
+    b = i32.astype("<i4").tobytes()
+    w.writeframes(b"".join(b[k : k + 3] for k in range(0, len(b), 4)))
+
+# 32-bit float in m/s^2 (WAVE_FORMAT_IEEE_FLOAT, format tag 3), written from the RIFF layout:
+# the values themselves, no SCALE needed
+data = inter.astype("<f4") * np.float32(Q)
+raw = data.astype("<f4").tobytes()
+fmt = struct.pack("<HHIIHH", 3, 4, FS, FS * 16, 16, 32)
+fact = struct.pack("<I", N)
+body = b"WAVE" + b"fmt " + struct.pack("<I", len(fmt)) + fmt + b"fact" + struct.pack("<I", 4) + fact + b"data" + struct.pack("<I", len(raw)) + raw
+open("rec_f32.wav", "wb").write(b"RIFF" + struct.pack("<I", len(body)) + body)
 print("ok")
