@@ -289,7 +289,8 @@ fn the_time_axis_is_checked_at_full_precision() {
 fn a_constant_signal_has_no_groan_and_compare_and_fit_heed_the_verdict() {
     let dir = scratch("formats-constant");
     let mut s = String::from("t,disc_x,pad_x,pad_trail,pad_lead\n");
-    for i in 0..12_800 {
+    // 1 s: past fit's default --from (the scene's stats_from, 0.5 s)
+    for i in 0..25_600 {
         s.push_str(&format!("{},1.0,1.0,1.0,1.0\n", i as f64 / 25_600.0));
     }
     let f = write(&dir, "constant.csv", s);
@@ -312,4 +313,5 @@ fn a_constant_signal_has_no_groan_and_compare_and_fit_heed_the_verdict() {
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stdout));
     let err = stderr(&o);
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("nothing left to fit"), "{err}");
 }
