@@ -64,10 +64,11 @@ pub enum Command {
     /// f64, each run classified bounded / sprag / contact_loss / method_unstable
     #[command(after_help = STABILITY_AFTER)]
     Stability(StabilityArgs),
-    /// Analyse an accelerometer recording (CSV: time [s]; disc_x, pad_x, pad_trail, pad_lead
-    /// [m/s^2]): peak-to-peak, RMS, spectral peak, groan-band RMS per channel, and the rig
-    /// estimator's stick fraction and stick-slip frequency
-    #[command(after_help = ANALYZE_AFTER)]
+    /// Analyse an accelerometer recording (CSV, UFF 58/58b or WAV: time [s]; disc_x, pad_x,
+    /// pad_trail, pad_lead [m/s^2], pad_x required): peak-to-peak, RMS, spectral peak,
+    /// groan-band RMS per channel, and the rig estimator's stick fraction and stick-slip
+    /// frequency
+    #[command(after_help = [ANALYZE_AFTER, "\n\n", RECORDING_AFTER].concat())]
     Analyze(AnalyzeArgs),
     /// The virtual rig: a scene's motion through the rig's sensor model (100 mV/g, noise,
     /// 12-bit ADC, 700 m/s^2 clipping) into the rig's estimator; estimated against true stick
@@ -76,7 +77,7 @@ pub enum Command {
     Sil(SilArgs),
     /// Model against measurement: a scene through the virtual rig and a recording through the
     /// same analysis, per channel side by side, with the ratios measured / model
-    #[command(after_help = COMPARE_AFTER)]
+    #[command(after_help = [COMPARE_AFTER, "\n\n", RECORDING_AFTER].concat())]
     Compare(CompareArgs),
     /// Regime map: sweep one or two scene keys; per cell the linear stability of steady sliding,
     /// a run from perturbed steady sliding and one from rest, each classified (steady sliding,
@@ -86,7 +87,7 @@ pub enum Command {
     /// Identify a rig: fit free scene keys (mu_s, mu_k, v_s, k_b, ...) so that the virtual rig
     /// reproduces recordings (CASE=FILE) or a table of measured statistics (--table), with
     /// standard errors, correlations, flat directions and held-out cases
-    #[command(after_help = FIT_AFTER)]
+    #[command(after_help = [FIT_AFTER, "\n\n", RECORDING_AFTER].concat())]
     Fit(FitArgs),
     /// Decode the firmware's raw defmt log stream (RTT capture or defmt-semihosting output)
     /// with the firmware ELF into CSV or JSON records
@@ -103,37 +104,52 @@ before the header are skipped). Units may follow a name: `pad_x [m/s^2]`, `pad_x
 use a decimal comma, 1,234), else tab, else `,` (decimal point only). Quotes, spaces around
 values, blank lines and lines of separators only are accepted.
 
-The time column must increase strictly and be nearly uniform: each interval within 1 % of the
-mean interval of the rows before it, plus twice the time's printed resolution. The sample rate
-is (rows - 1) / (t_last - t_first); it must exceed 1000 Hz (the groan band's 500 Hz edge).
-Memory does not grow with the file: running statistics, the estimator per sample, Welch
-spectra over fixed segments, a 2048-bucket envelope for the figures; only the rows before the
-estimator starts are held (until a quiet stretch before a signal shows, at most 2^18 rows).
+The time column must increase strictly and be uniform: each interval within 1 % of the mean
+interval of the rows before it, plus half the printed resolution of each of its two rows. The
+sample rate is (rows - 1) / (t_last - t_first); it must exceed 1000 Hz (the groan band's 500 Hz
+edge). Memory does not grow with the file: running statistics, the estimator per sample, Welch
+spectra over fixed segments, a 2048-bucket envelope for the figures, the floor search's
+histogram (256 KB). A file is read twice (the noise floor, then the analysis); from standard
+input the floor is searched in the first 2^18 rows (10.2 s at 25.6 kHz, about 10 MB), which
+are held back. Progress goes to stderr when reading takes longer than a second.
 
 Per channel, over the rows at t >= --from: peak-to-peak (max - min, as in the thesis's Table
 3.1) and RMS (about zero) [m/s^2]; spectral peak [Hz]: the largest bin above 0 Hz of a Welch
 PSD (periodic Hann window, 50 % overlap, each segment's mean removed; the samples after the
 last complete segment are left out; a record shorter than a segment is one segment), good to
 one bin; groan-band RMS [m/s^2]: RMS of the rig's 100-500 Hz
-band-pass (4th-order Butterworth) output. Stick fraction [-] and stick-slip frequency [Hz]:
+band-pass (4th-order Butterworth, the rig's coefficients) run on the channel minus its first
+sample (the filter starts as if the record had held its first value: a constant gives 0).
+Stick fraction [-] and stick-slip frequency [Hz]:
 from the rig's estimator, run by the firmware's rig type (shared::rig::pipeline::Rig, made
 for the recording: every row goes through the chain the firmware runs after its calibration)
 fed every row as calibrated accelerations: samples estimated in stick / samples; (n - 1) / (t_last onset -
 t_first onset) over its n stick-to-slip onsets (null with fewer than two); each onset dated
-back to where a_rel first left the noise. Its thresholds come from the noise floor of a quiet
-stretch (nothing moves): --quiet FROM:TO, else the first run of 256 rows or more whose
-variance (blocks of 32 rows) is at most 4 x the smallest block's, once a block 16 x louder
-than that has followed (checked every 4096 rows, up to 2^18). Slip onset =
+back to where a_rel first left the noise. Its thresholds come from the noise floor of the
+record's quiet rows: --quiet FROM:TO (a stretch where nothing moves), else found anywhere in
+the record: a_rel in blocks of 32 rows, the blocks whose variance is at most 4 x the 1 %
+quantile of all blocks' (its stick phases, wherever they are: a record that starts inside the
+stick-slip cycle needs no flag), checked to be quiet (a block 16 x louder exists, 256 quiet
+rows or more, and the quiet blocks lie at one level: their variance about their common mean at
+most 4 x their within-block variance). Slip onset =
 max(6 sigma of a_rel = pad_x - disc_x (+ the face term), 2 counts, 1e-4 m/s^2), stick at half
 of it, then adaptive: 1/16 of the slips' mean peak |a_rel|, at most 4 x the designed onset
-(shared::rig::contact). Without a quiet stretch, or with --breakaway-jump J: fixed thresholds
+(shared::rig::contact). Without quiet rows (the summary says why), or with --breakaway-jump J: fixed thresholds
 from J (onset J/2, stick J/4; J = (mu_s - mu_k) N0 / m of --scene, push_center: 33.2 m/s^2).
+The estimator starts in stick, as the rig's does (its pad is clamped before the band moves): it
+is started at the first 16 rows in a row whose a_rel is within its stick level, so a record
+that starts inside a slip counts its first, partial slip as slip (its estimator windows start
+there too).
 
 Channel health (the rig's rule, shared::rig::health): a channel is flat (no sample changed),
 saturated (samples at the range), or noisier than the signal (RMS about the floor's mean below
 2 sigma of its floor; never said of disc_x, which has no signal of its own when the band runs
-steadily). With pad_x any of these, or disc_x saturated, the estimator cannot decide: the
-summary says why and the stick fraction and frequency are null.
+steadily, nor of pad_trail and pad_lead with a floor found in the stick phases, where the pad
+still rotates). With pad_x any of these, or disc_x saturated, the estimator cannot decide: the
+summary says why and the stick fraction and frequency are null. `compare` and `fit` apply the
+same verdict to the recordings they read: an unhealthy channel is not compared (its ratios
+null, the words beside) nor fitted (its statistics skipped, the words as the reason), and the
+stick fraction, frequency and first slip of an undecided recording neither.
 
 --json prints {\"file\", \"channels\": {\"disc_x\": {\"pp\", \"rms\", \"peak_hz\", \"groan_rms\",
 \"mean\", \"min\", \"max\"}, \"pad_x\": ..., \"pad_trail\": ..., \"pad_lead\": ...},
@@ -144,16 +160,20 @@ at or beyond 700 m/s^2), \"spectrum\": {\"method\", \"window\", \"overlap\", \"s
 \"segments\", \"resolution_hz\"}, \"estimator\": {\"breakaway_jump_m_s2\", \"slip_onset_m_s2\",
 \"stick_max_m_s2\", \"setup_rate_hz\", \"thresholds_from\" (\"floor\" or \"jump\"), \"floor\": null or
 {\"from_s\", \"to_s\", \"chosen\" (\"auto\" or \"given\"), \"samples\", \"sigma_m_s2\" (per channel),
-\"a_rel_sigma_m_s2\", \"a_rel_mean_m_s2\", \"quantum_m_s2\"}, \"undecided\" (null or why),
-\"health\" (per channel, a list of words)}}; m/s^2, Hz, s.
+\"a_rel_sigma_m_s2\", \"a_rel_mean_m_s2\", \"quantum_m_s2\", \"quiet_blocks\"}, \"floor_note\" (null or
+why no floor was found), \"undecided\" (null or why), \"health\" (per channel, a list of
+words)}, \"format\" (CSV, UFF dataset 58, WAV), \"present\" (per channel, true or false),
+\"gaps\": [{\"line\", \"t_before_s\", \"t_after_s\", \"intervals\"}], \"notes\"}; an absent channel's
+entry in \"channels\" is null; m/s^2, Hz, s.
 
 --plots DIR writes disc_x.svg, pad_x.svg, pad_trail.svg, pad_lead.svg (acceleration [m/s^2]
 against time [s], like the thesis's Fig. 3.2 to 3.5) and spectra.svg (the four PSDs
 [(m/s^2)^2/Hz], 0 to 2000 Hz, groan band shaded).
 
-Bad input (a missing column, an empty or non-numeric cell, a ragged row, a time column that
-does not increase or is not uniform, an empty file, a header without rows) exits with code 2
-and one line naming the file, the line and the column.";
+Bad input (no pad_x, an empty or non-numeric cell, a ragged row, a time column that repeats,
+goes back, drops rows or jumps, an empty file, a header without rows, a UFF record or WAV
+header that cannot be read) exits with code 2 and one line naming the file, the line, record
+or sample, and the column or field.";
 
 const SIL_AFTER: &str = "\
 Per sample (t = (i + 1) dt, one exact step of the scene; the rig's rate 25.6 kHz for the
@@ -197,9 +217,56 @@ value is 0 or missing).
 --json prints {\"scene\", \"file\", \"channels\": {\"disc_x\": {\"pp\", \"peak_hz\", \"rms\",
 \"groan_rms\": {\"measured\", \"model\", \"ratio\"}}, ...}, \"stick_fraction\": {...},
 \"stick_slip_hz\": {...}, \"measured\": {\"sample_rate_hz\", \"samples\", \"duration_s\", \"from_s\",
-\"resolution_hz\"}, \"model\": {...}, \"model_outcome\", \"model_noise_m_s2\"}.
+\"resolution_hz\"}, \"model\": {...}, \"model_outcome\", \"model_noise_m_s2\", \"health\" (the measured
+channels' words, as analyze gives them), \"undecided\" (null or why the measured stick fraction
+and frequency cannot be told)}. The measured side gets analyze's channel-health verdict: a
+measured channel that is flat, saturated or noisier than the signal has null ratios (its words
+are printed beside), an absent one null values, and an undecided recording no measured stick
+fraction or frequency.
 
 `sil SCENE --csv run.csv` then `compare SCENE run.csv --from <stats_from>` gives ratios of 1.";
+
+/// How a recording is read, shared by every command that reads one (`analyze`, `compare`,
+/// `fit`): written once, flattened into each.
+#[derive(Debug, Args, Clone, Default)]
+pub struct RecordingInput {
+    /// Which column (CSV), record (UFF: any of its ID lines) or channel is which of the rig's
+    /// accelerometers: KEY=SOURCE[*SCALE], KEY one of disc_x, pad_x, pad_trail, pad_lead;
+    /// SOURCE a name or #N (the N-th column after time, record or WAV channel, from 1); SCALE
+    /// multiplies the values into m/s^2 (replacing a unit in the file; a WAV needs one: the
+    /// acceleration at full scale). Repeat it per channel; unmapped channels are still found
+    /// by name. pad_x is required, the others may be absent
+    #[arg(long = "channel", value_name = "KEY=SOURCE[*SCALE]", allow_hyphen_values = true)]
+    pub channels: Vec<String>,
+    /// A jump forward in the time column (rows missing, a gap): `error` (one line naming it,
+    /// exit 2) or `split` (analyse the contiguous blocks: the estimator and filters restart
+    /// after each gap, the stick-slip frequency pools the blocks' onset intervals; the gaps
+    /// are listed). A time that repeats or goes back is always an error
+    #[arg(long, value_name = "error|split", default_value = "error", value_parser = ["error", "split"])]
+    pub gaps: String,
+}
+
+const RECORDING_AFTER: &str = "\
+Recordings (analyze, compare, fit): the format is told from the content, not the name: a CSV,
+a universal file with dataset 58 records (ASCII 58 or binary 58b, real single or double,
+even abscissa: B&K PULSE, Siemens Test.Lab, pyuff), or a WAV file (integer PCM 8 to 32 bits
+or 32-bit float, any channel count; no units and no names: map each channel by --channel
+KEY=#N*SCALE, SCALE the acceleration at full scale in m/s^2, required unless the file is float
+in m/s^2). A UFF record is one channel: named by any of its ID lines or #N, its time axis
+from record 7 (abscissa minimum and increment, record 8's units), its unit from record 9's
+units label (m/s^2, mm/s^2, g; none with specific data type 12: m/s^2); UFF needs a file (not
+standard input). Logger columns: --channel pad_x='Acc1 [g]' --channel disc_x=#3*9.80665.
+
+Which statistic needs which channel: pad_x is required (the stick fraction and stick-slip
+frequency come from a_rel = pad_x - disc_x, and pad_x's health decides whether they can be
+told); without disc_x, a_rel = pad_x alone (the band taken at constant speed: the summary says
+so); without pad_trail or pad_lead the estimator's face term is left out. Peak-to-peak, RMS,
+spectral peak and groan-band RMS are per channel: an absent channel's are absent (null in
+JSON, `absent` in the table), never 0.
+
+The time axis is checked at full precision: each interval within 1 % of the mean interval
+plus half the printed resolution of each of its two rows; a time that repeats or goes back, a
+drop of rows or a gap is named by its line (--gaps split analyses around gaps instead).";
 
 /// Options of the analysis shared by `analyze` and `compare`.
 #[derive(Debug, Args)]
@@ -210,16 +277,18 @@ pub struct RecordOptions {
     pub segment: Option<usize>,
     /// Fixed contact thresholds from a breakaway jump J [m/s^2], 0 < J <= 1e6: slip onset above
     /// J/2, stick at most J/4 (default: thresholds from the noise floor of the record's quiet
-    /// stretch)
+    /// rows)
     #[arg(long, value_name = "M_S2", allow_hyphen_values = true)]
     pub breakaway_jump: Option<f64>,
 }
 
 #[derive(Debug, Args)]
 pub struct AnalyzeArgs {
-    /// The recording: a CSV file, or `-` for standard input
+    /// The recording: a CSV, UFF (dataset 58/58b) or WAV file, or `-` for standard input
     #[arg(value_name = "FILE")]
     pub file: String,
+    #[command(flatten)]
+    pub input: RecordingInput,
     /// Print one JSON object instead of the Markdown summary
     #[arg(long)]
     pub json: bool,
@@ -240,8 +309,8 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "SCENE|FILE", default_value = "push_center")]
     pub scene: String,
     /// The quiet stretch (nothing moves) whose noise floor sets the contact thresholds, on the
-    /// file's time axis [s] (default: the first quiet stretch before a signal, found in the
-    /// first 2^18 rows; none: the scene's breakaway jump)
+    /// file's time axis [s] (default: the quiet rows of a_rel found anywhere in the record, its
+    /// stick phases; none found: the scene's breakaway jump)
     #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
     pub quiet: Option<String>,
     #[command(flatten)]
@@ -311,9 +380,11 @@ pub struct CompareArgs {
     /// The model: built-in scene name or TOML scene file
     #[arg(value_name = "SCENE|FILE")]
     pub scene: String,
-    /// The measurement: a CSV recording as `analyze` reads it (`-`: standard input)
+    /// The measurement: a recording as `analyze` reads it (`-`: standard input)
     #[arg(value_name = "FILE")]
     pub file: String,
+    #[command(flatten)]
+    pub input: RecordingInput,
     /// Print one JSON object instead of the Markdown table
     #[arg(long)]
     pub json: bool,
@@ -321,8 +392,8 @@ pub struct CompareArgs {
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub from: Option<f64>,
     /// The quiet stretch (nothing moves) whose noise floor sets the contact thresholds, on the
-    /// file's time axis [s] (default: the first quiet stretch before a signal, found in the
-    /// first 2^18 rows; none: the scene's breakaway jump)
+    /// file's time axis [s] (default: the quiet rows of a_rel found anywhere in the record, its
+    /// stick phases; none found: the scene's breakaway jump)
     #[arg(long, value_name = "FROM:TO", allow_hyphen_values = true)]
     pub quiet: Option<String>,
     #[command(flatten)]
@@ -456,7 +527,8 @@ pub struct StabilityArgs {
 }
 
 const FIT_AFTER: &str = "\
-Targets: a recording CASE=FILE (a CSV as `analyze` reads it, its time zero at the band's start,
+Targets: a recording CASE=FILE (a CSV, UFF or WAV file as `analyze` reads it, --channel and
+--gaps as there, its time zero at the band's start,
 as `sil --csv` writes it) gives, over t >= --from, every statistic `analyze` computes: per
 channel pp, rms, groan_rms [m/s^2] and peak_hz [Hz]; per case stick_fraction [-],
 stick_slip_hz [Hz] and first_slip_s [s] (the estimator's first slip onset in the whole file:
@@ -628,6 +700,8 @@ pub struct FitArgs {
     /// Recordings, CASE=FILE (see below)
     #[arg(value_name = "CASE=FILE")]
     pub recordings: Vec<String>,
+    #[command(flatten)]
+    pub input: RecordingInput,
     /// A table of measured statistics: CSV case,channel,statistic,value, at most 1 MiB (or the
     /// built-in thesis_table_3_1)
     #[arg(long, value_name = "FILE")]

@@ -384,6 +384,15 @@ fn gains(g: &[f64]) -> Result<[f64; 4]> {
     Ok(out)
 }
 
+/// The read options of `--channel` and `--gaps`.
+fn read_options(i: &crate::cli::RecordingInput) -> Result<crate::recorded::ReadOptions> {
+    Ok(crate::recorded::ReadOptions {
+        channels: crate::recorded::channels::ChannelMap::parse(&i.channels)?,
+        split_gaps: i.gaps == "split",
+        progress: stderr_is_terminal(),
+    })
+}
+
 fn check_from(from: Option<f64>) -> Result<()> {
     match from {
         Some(f) if !f.is_finite() => Err(HostError::Input(format!("--from {}: must be a finite time in s", short(f)))),
@@ -404,7 +413,7 @@ pub fn analyze(a: &crate::cli::AnalyzeArgs) -> Result<String> {
         recorded::analysis::FloorSource::Jump => sil::breakaway_jump(&ns, a.record.breakaway_jump)?,
         _ => sil::breakaway_jump(&ns, None).unwrap_or(sil::NO_JUMP_START_M_S2),
     };
-    let an = recorded::analyze_path(&a.file, cfg)?;
+    let an = recorded::analyze_with(&a.file, cfg, &read_options(&a.input)?)?;
     if an.floor.is_none() {
         // no quiet stretch before a signal: the thresholds came from the jump, which a scene
         // with mu_s = mu_k does not have
@@ -493,7 +502,7 @@ pub fn compare(a: &crate::cli::CompareArgs) -> Result<String> {
         Err(_) => a.record.breakaway_jump,
     };
     // the measurement first: a bad file is reported before the model runs
-    let measured = recorded::analyze_path(&a.file, cfg)?;
+    let measured = recorded::analyze_with(&a.file, cfg, &read_options(&a.input)?)?;
     let model = sil::run(&ns, a.run.precision, &sil_options(a.record.segment, &a.noise, false, model_jump)?, None)?;
     Ok(if a.json {
         to_json(&report::CompareJson::new(&a.file, &measured, &model))
@@ -601,6 +610,7 @@ pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
         seed: a.seed,
         progress: stderr_is_terminal(),
         horizons: a.horizons.iter().copied().filter(|n| *n != 0.0).collect(),
+        read: read_options(&a.input)?,
     };
     if let Some(n) = a.horizons.iter().find(|n| !(n.is_finite() && **n >= 0.0)) {
         return Err(HostError::Input(format!("--horizons {n}: a horizon is a number of stick-slip periods, finite and >= 0 (0: none)")));

@@ -54,6 +54,8 @@ pub struct FitRequest {
     /// Horizon stages [stick-slip cycles after each recording's first slip onset], searched
     /// before the whole record (see [`solve::search`]); empty: none.
     pub horizons: Vec<f64>,
+    /// How the recordings are read (`--channel`, `--gaps`).
+    pub read: crate::recorded::ReadOptions,
 }
 
 /// Default number of starts.
@@ -277,7 +279,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     for (case, file, scene) in &recs {
         let cfg = sil::analysis_config(scene, from, req.segment, false);
         let cfg = crate::recorded::analysis::AnalysisConfig { breakaway_jump_m_s2: jump, spectra: weight_of(Stat::PeakHz) > 0.0, ..cfg };
-        let rec = target::read_recording(case, file, &cfg).map_err(|e| match (e, req.from_s) {
+        let rec = target::read_recording(case, file, &cfg, &req.read).map_err(|e| match (e, req.from_s) {
             // the start came from the scene, not from a --from the user gave: say so
             (HostError::Input(m), None) => HostError::Input(m.replace("--from ", "the statistics start (SCENE's stats_from; no --from given) ")),
             (e, _) => e,

@@ -12,7 +12,8 @@ use std::path::Path;
 use crate::error::{HostError, Result};
 use crate::output::format::short;
 use crate::recorded::analysis::{Analysis, AnalysisConfig, Analyzer};
-use crate::recorded::csv_in::RowReader;
+use crate::recorded::source;
+use crate::recorded::ReadOptions;
 
 use super::stat::{channel_index, recording_keys, Stat, StatKey};
 
@@ -163,40 +164,52 @@ pub fn load_table(arg: &str) -> Result<Vec<Measured>> {
     read_table(arg, &text)
 }
 
-/// One pass over the recording at `path`, each row given to `f`.
-fn each_row(path: &str, mut f: impl FnMut(u64, f64, f64, &[f64; 4]) -> std::result::Result<(), String>) -> Result<()> {
-    let file = std::fs::File::open(path).map_err(|e| HostError::Input(format!("{path}: cannot open the recording: {e}")))?;
-    let mut rows = RowReader::new(path, file)?;
+/// One pass over the recording at `path` (any format `analyze` reads, read with `opts`), each
+/// row given to `f`.
+fn each_row(
+    path: &str,
+    opts: &ReadOptions,
+    mut f: impl FnMut(u64, f64, f64, &[f64; 4]) -> std::result::Result<(), String>,
+) -> Result<()> {
+    let mut rows = source::Recording::open(path, &opts.channels)?;
     while let Some(row) = rows.next_row()? {
-        f(row.line, row.t, row.t_resolution, &row.accel).map_err(|m| HostError::Input(format!("{path}: {m}")))?;
+        f(row.line, row.t, row.t_resolution, &row.accel).map_err(|m| HostError::Input(format!("{path}: {}", rows.locate(&m))))?;
     }
     Ok(())
+}
+
+/// An analyser for the recording at `path` as `opts` read it (its channels, its gaps mode).
+fn analyzer(path: &str, cfg: AnalysisConfig, opts: &ReadOptions) -> Result<Analyzer> {
+    let rec = source::Recording::open(path, &opts.channels)?;
+    Ok(crate::recorded::analyzer_for(&rec, cfg, opts))
 }
 
 /// A recording analysed as a whole and in [`WINDOWS`] windows.
 pub struct Recording {
     pub case: String,
     pub path: String,
+    /// How it is read (`--channel`, `--gaps`).
+    pub read: ReadOptions,
     pub analysis: Analysis,
     pub windows: Vec<Analysis>,
 }
 
 /// Analyses the recording at `path` for `case` with `cfg` (two passes: the whole stretch,
 /// then its windows, each window analysed on its own rows).
-pub fn read_recording(case: &str, path: &str, cfg: &AnalysisConfig) -> Result<Recording> {
+pub fn read_recording(case: &str, path: &str, cfg: &AnalysisConfig, opts: &ReadOptions) -> Result<Recording> {
     if path == "-" {
         return Err(HostError::Input(format!(
             "{case}=-: a fit reads each recording twice (the whole, then its windows for the bootstrap): give a file"
         )));
     }
-    let analysis = crate::recorded::analyze_path(path, cfg.clone())?;
+    let analysis = crate::recorded::analyze_with(path, cfg.clone(), opts)?;
     let (t0, t1) = (analysis.t_first, analysis.t_last);
     let span = (t1 - t0) / WINDOWS as f64;
     let mut windows: Vec<Analyzer> = (0..WINDOWS)
-        .map(|k| Analyzer::new(AnalysisConfig { from_s: t0 + k as f64 * span, figures: false, ..cfg.clone() }))
-        .collect();
+        .map(|k| analyzer(path, AnalysisConfig { from_s: t0 + k as f64 * span, figures: false, ..cfg.clone() }, opts))
+        .collect::<Result<_>>()?;
     let half_sample = 0.25 / analysis.sample_rate_hz;
-    each_row(path, |line, t, res, a| {
+    each_row(path, opts, |line, t, res, a| {
         if t < t0 - half_sample {
             return Ok(());
         }
@@ -208,7 +221,7 @@ pub fn read_recording(case: &str, path: &str, cfg: &AnalysisConfig) -> Result<Re
         .enumerate()
         .map(|(k, w)| w.finish().map_err(|m| HostError::Input(format!("{path}: window {} of {WINDOWS}: {m}", k + 1))))
         .collect::<Result<Vec<_>>>()?;
-    Ok(Recording { case: case.to_string(), path: path.to_string(), analysis, windows })
+    Ok(Recording { case: case.to_string(), path: path.to_string(), read: opts.clone(), analysis, windows })
 }
 
 impl Recording {
@@ -225,13 +238,13 @@ impl Recording {
     /// `horizon_s`, analysed with `cfg` (its `from_s` replaced by 0): the rows after the horizon
     /// are left out as if the file ended there. No windows: a horizon is not bootstrapped.
     pub fn head(&self, cfg: &AnalysisConfig, horizon_s: f64) -> Result<Recording> {
-        let mut an = Analyzer::new(AnalysisConfig { from_s: 0.0, figures: false, ..cfg.clone() });
+        let mut an = analyzer(&self.path, AnalysisConfig { from_s: 0.0, figures: false, ..cfg.clone() }, &self.read)?;
         let end = horizon_s + 0.25 / self.analysis.sample_rate_hz;
-        each_row(&self.path, |line, t, res, a| if t <= end { an.push(line, t, res, a) } else { Ok(()) })?;
+        each_row(&self.path, &self.read, |line, t, res, a| if t <= end { an.push(line, t, res, a) } else { Ok(()) })?;
         let analysis = an
             .finish()
             .map_err(|m| HostError::Input(format!("{}: its start to t = {horizon_s} s: {m}", self.path)))?;
-        Ok(Recording { case: self.case.clone(), path: self.path.clone(), analysis, windows: Vec::new() })
+        Ok(Recording { case: self.case.clone(), path: self.path.clone(), read: self.read.clone(), analysis, windows: Vec::new() })
     }
 
     /// Whether every window holds at least two slip onsets (a stick-slip cycle or more): only
@@ -245,6 +258,22 @@ impl Recording {
         let (mut keep, mut skip) = (Vec::new(), Vec::new());
         let cycles = self.windows_hold_cycles();
         for key in recording_keys(&self.case) {
+            // the channel-health verdict, as `analyze` gives it: an absent or unhealthy channel,
+            // or a contact estimate that cannot be told, is not a measurement to fit
+            let verdict = match key.channel {
+                Some(c) if !self.analysis.present[c] => Some("the recording has no such channel".to_string()),
+                Some(c) if !self.analysis.health[c].is_empty() => {
+                    Some(format!("{} {}", stickslip_model::rig::ACCEL_NAMES[c], self.analysis.health[c].join(", ")))
+                }
+                None if matches!(key.stat, Stat::StickFraction | Stat::StickSlipHz | Stat::FirstSlipS) => {
+                    self.analysis.undecided.as_ref().map(|u| format!("cannot decide: {u}"))
+                }
+                _ => None,
+            };
+            if let Some(why) = verdict {
+                skip.push(Skipped { key, source: self.path.clone(), why });
+                continue;
+            }
             let step = key.channel.map_or(0.0, |c| self.analysis.channels[c].step);
             let min_steps = match key.stat {
                 Stat::Pp => MIN_STEPS_PP,

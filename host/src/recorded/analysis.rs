@@ -3,18 +3,32 @@
 //! a time, by the CSV reader (`analyze`, `compare`) or by the virtual rig (`sil`); memory
 //! does not grow with the record.
 //!
-//! **Time column.** Strictly increasing, and nearly uniform: every interval must lie within
-//! [`RATE_TOLERANCE`] (1 %) of the mean interval of the rows before it, plus twice the time
-//! column's printed resolution (a time printed to 1 us at 25.6 kHz is off by up to 0.5 us per
-//! row) and a few ulps. The sample rate reported is (rows - 1) / (t_last - t_first) over the
-//! whole column. The estimator and the groan band-pass are set up after the first
-//! [`PREVIEW_ROWS`] rows (held in a fixed buffer), at the rate those rows give.
+//! **Time column.** Strictly increasing, and uniform at full precision: every interval must
+//! lie within [`RATE_TOLERANCE`] (1 %) of the mean interval of the rows before it, plus half
+//! the printed resolution of each of its two rows (a time printed to 1 us is off by up to
+//! 0.5 us; each row's own resolution counts, so one `0.0` or `0.25` in the column loosens the
+//! check of its own two intervals only) and a few ulps. A time that repeats, goes back, or
+//! jumps (rows missing, a gap) is an error naming its line and what it is (a drop of k rows
+//! where the interval is k + 1 mean intervals); with [`Analyzer::split_gaps`] a jump forward
+//! instead ends a contiguous block and starts the next (see [`Gap`]). The sample rate reported
+//! is (rows - 1) / (t_last - t_first) over the whole column (with gaps: the intervals within
+//! the blocks over their span). The estimator and the groan band-pass are set up after the
+//! first [`PREVIEW_ROWS`] rows (held in a fixed buffer), at the rate those rows give.
+//!
+//! **Channels.** pad_x is needed; disc_x, pad_trail and pad_lead may be absent
+//! ([`Analyzer::set_present`]): an absent channel runs through the estimator as 0 (without
+//! disc_x, a_rel = pad_x: the band taken at constant speed; without either edge sensor the
+//! face term is left out) and its statistics are absent, not zero.
 //!
 //! **Statistics** over the samples at t >= `from_s` (to a quarter of a sample interval):
 //! - peak-to-peak = max - min, RMS about zero (the IEPE accelerometers are AC-coupled; the rig's
 //!   window statistics use the same definition) and the mean, in f64 of the values as read;
-//! - groan-band RMS: RMS of the rig's groan band-pass output (4th-order Butterworth, 100 to
-//!   500 Hz, bilinear transform, f32: `shared::rig::bandpass`, run inside the estimator);
+//! - groan-band RMS: RMS of the rig's groan band-pass (4th-order Butterworth, 100 to 500 Hz,
+//!   bilinear transform, f32: `shared::rig::bandpass`, the estimator's own coefficients) run
+//!   on each channel minus its first sample: the filter starts as if the record had held its
+//!   first value forever, so a constant signal gives 0 (from rest, the step onto the
+//!   record's first value would ring through the band: 0.021 m/s^2 of RMS on a constant
+//!   1 m/s^2 over a second). The rig's own windows keep the rig's filter, from rest;
 //! - spectral peak: the largest bin above 0 Hz of the Welch PSD (see [`super::spectrum`]),
 //!   good to one bin (the resolution is reported);
 //! - stick fraction and stick-slip frequency from the rig's estimator, run by the rig itself
@@ -24,9 +38,12 @@
 //!   calibrated accelerations (f32) from the first row on: stick fraction = samples estimated
 //!   in stick / samples; frequency = (n - 1) /
 //!   (time of the last onset - time of the first) over the n stick-to-slip onsets it decided,
-//!   none with fewer than two. Its contact thresholds come from a breakaway jump J [m/s^2]
-//!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`), or from the noise floor
-//!   of the record's quiet stretch, which the rig holds as it holds its clamp's;
+//!   none with fewer than two (with gaps: the intervals between onsets within a block over
+//!   their time). Its contact thresholds come from a breakaway jump J [m/s^2]
+//!   (onset J/2, stick J/4: `ContactThresholds::from_breakaway_jump`), or from a noise floor
+//!   (the quiet rows found anywhere in the record, [`super::quiet`]; the first quiet stretch
+//!   before a signal, as the rig's sequencer measures its clamped phase; or `--quiet`), which
+//!   the rig holds as it holds its clamp's;
 //! - the estimator's own window statistics (with `AnalysisConfig::windows`): every window the
 //!   estimator closes, from the first row on, as the firmware's `window` records report them
 //!   (`shared::rig::window`: pp, RMS, groan RMS per channel in f32, stick fraction, stick-slip
@@ -37,7 +54,7 @@
 //!   depends on the friction level itself (mu_s N / k V for a pad held by a spring k) where
 //!   the accelerations do not (`stickslip fit`).
 
-use stickslip_model::rig::bandpass::GROAN_BAND_HZ;
+use stickslip_model::rig::bandpass::{CascadeState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use stickslip_model::rig::calibration::{Calibrated, Saturation};
 use stickslip_model::rig::contact::{ContactEventKind, ContactThresholds};
 use stickslip_model::rig::estimator::EstimatorConfig;
@@ -51,6 +68,10 @@ use stickslip_model::Regime;
 
 use super::envelope::{Bucket, Envelope};
 use super::spectrum::{default_segment, Spectrum, Welch, CH};
+
+/// Quiet rows in a row that start the rig's estimator ([`Running::process`]): 0.6 ms at
+/// 25.6 kHz; a slip's a_rel crosses the stick level in about one sample.
+pub const START_RUN: usize = 16;
 
 /// Rows read before the sample rate is fixed for the estimator.
 pub const PREVIEW_ROWS: usize = 4096;
@@ -107,11 +128,29 @@ pub struct EstimatorWindow {
 pub enum FloorSource {
     /// From `breakaway_jump_m_s2` (onset J/2, stick J/4), fixed.
     Jump,
-    /// From the noise floor of the record's first quiet stretch, found in the first
-    /// [`PREVIEW_ROWS`] rows (see [`find_quiet`]).
+    /// From the quiet rows found anywhere ([`super::quiet::QuietSearch`]) in the first
+    /// [`MAX_AUTO_PREVIEW_ROWS`] rows, held back (standard input); a file is searched whole
+    /// in a first pass instead, and comes as [`FloorSource::Found`].
     Auto,
+    /// From the noise floor of the record's first quiet stretch before a signal, as the rig
+    /// measures its clamped phase (see [`find_quiet`]; the virtual rig, `sil`).
+    Lead,
     /// From the noise floor of the rows with FROM <= t <= TO [s].
     Range(f64, f64),
+    /// A floor found before the analysis (a first pass over the file).
+    Found(FloorOutcome),
+}
+
+/// A jump forward in the time column that `--gaps split` analysed around.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Gap {
+    /// The row after the gap (its line, or sample).
+    pub line: u64,
+    /// The last time before it and the first after it [s].
+    pub t_before: f64,
+    pub t_after: f64,
+    /// The interval in mean intervals of the rows before it.
+    pub intervals: f64,
 }
 
 /// Rows per block of the quiet-stretch search.
@@ -120,7 +159,7 @@ pub const QUIET_BLOCK: usize = 32;
 pub const MAX_QUIET_ROWS: usize = 1 << 22;
 
 /// The noise floor the thresholds were designed from.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FloorOutcome {
     /// The stretch [s] (first and last row's time) and how it was chosen.
     pub t_from: f64,
@@ -130,6 +169,8 @@ pub struct FloorOutcome {
     /// The quantum used: the larger smallest nonzero step of pad_x and disc_x in the
     /// buffered rows [m/s^2] (0 for a continuous record).
     pub quantum_m_s2: f64,
+    /// Found anywhere: the quiet blocks of a_rel it was taken from (0: one stretch).
+    pub quiet_blocks: u64,
 }
 
 /// Statistics of one channel [m/s^2, Hz].
@@ -194,6 +235,17 @@ pub struct Analysis {
     pub envelope: Vec<Bucket>,
     /// The estimator's windows, in order; empty unless `AnalysisConfig::windows`.
     pub windows: Vec<EstimatorWindow>,
+    /// disc_x, pad_x, pad_trail, pad_lead: which the record has (an absent channel's
+    /// statistics are not reported).
+    pub present: [bool; CH],
+    /// The jumps in the time column analysed around (`--gaps split`).
+    pub gaps: Vec<Gap>,
+    /// Why the thresholds did not come from a floor (no quiet rows found), if so.
+    pub floor_note: Option<String>,
+    /// What was assumed (absent channels, units), one sentence each.
+    pub notes: Vec<String>,
+    /// The recording's format ("CSV", "UFF dataset 58", "WAV"; "" for the virtual rig's).
+    pub format: &'static str,
 }
 
 impl Analysis {
@@ -207,6 +259,8 @@ impl Analysis {
 struct Pending {
     t: f64,
     a: [f64; CH],
+    /// The first row after a gap (`--gaps split`).
+    gap_before: bool,
 }
 
 struct Running {
@@ -233,32 +287,129 @@ struct Running {
     floor: Option<FloorOutcome>,
     /// `Some` when the windows are kept.
     windows: Option<Vec<EstimatorWindow>>,
+    /// The statistics' groan band-pass (the estimator's coefficients) on each channel minus
+    /// its first sample, and that first sample.
+    groan: stickslip_model::rig::bandpass::BandPass<GROAN_SECTIONS>,
+    groan_state: [CascadeState<GROAN_SECTIONS>; CH],
+    groan_origin: Option<[f64; CH]>,
+    /// To restart the rig after a gap: its configuration and floor design.
+    rig_cfg: RigConfig,
+    design: Option<(stickslip_model::rig::noise_floor::FloorReport, ContactThresholds)>,
+    /// Onsets of the blocks before the current one: (n - 1) summed, and their spans [s].
+    onset_intervals: u64,
+    onset_span: f64,
+    last_onset: f64,
+    /// The rig's estimator has started (see [`Running::process`]); the rows held meanwhile;
+    /// the stick level [m/s^2] and a_rel's bias that start it; the face term.
+    started: bool,
+    held: Vec<(f64, [f64; CH])>,
+    start_level: f32,
+    start_bias: f32,
+    face: f32,
 }
 
 impl Running {
+    /// After a gap: the rig starts again from rest with the same thresholds (its filters and
+    /// contact state do not reach across the gap), the onsets of the block before are kept
+    /// apart, and the spectrum's partial segment is dropped.
+    fn restart(&mut self) {
+        if let Some((n, first, last)) = self.onsets.first().map(|f| (self.onsets.count(), f, self.onsets_last())) {
+            if n >= 2 && last > first {
+                self.onset_intervals += u64::from(n - 1);
+                self.onset_span += last - first;
+            }
+        }
+        self.onsets = OnsetRate::new();
+        self.flush_held();
+        self.started = false;
+        if let Ok(rig) = Rig::for_recording(&self.rig_cfg, self.design) {
+            self.rig = Box::new(rig);
+        }
+        if let Some(w) = &mut self.welch {
+            w.restart();
+        }
+    }
+
+    fn onsets_last(&self) -> f64 {
+        self.last_onset
+    }
+
+    /// The stick-slip frequency over the blocks (one block: the onsets' rate as before).
+    fn hz(&self) -> Option<f64> {
+        let (mut n, mut span) = (self.onset_intervals, self.onset_span);
+        if let Some(first) = self.onsets.first() {
+            if self.onsets.count() >= 2 && self.last_onset > first {
+                if n == 0 {
+                    return self.onsets.hz();
+                }
+                n += u64::from(self.onsets.count() - 1);
+                span += self.last_onset - first;
+            }
+        }
+        (n > 0 && span > 0.0).then(|| n as f64 / span)
+    }
+
+    /// One row. The rig's estimator starts in stick (the rig clamps the pad before the band
+    /// moves): it is started at the first [`START_RUN`] rows in a row whose a_rel is within its
+    /// stick level of the floor's mean, so a record that starts inside a slip does not start
+    /// it in stick with a wrong relative velocity. Rows before that (the record's first,
+    /// partial slip) go into the statistics and count as slip, not through the rig. A record
+    /// that starts in stick (a clamped lead-in) starts it at its first row, as the rig does.
     #[inline]
     fn process(&mut self, t: f64, a: &[f64; CH]) {
+        if self.started {
+            return self.process_row(t, a, true);
+        }
+        let rel = (a[1] - a[0]) as f32 + self.face * (a[3] - a[2]) as f32 - self.start_bias;
+        self.held.push((t, *a));
+        if rel.abs() <= self.start_level {
+            if self.held.len() >= START_RUN {
+                self.started = true;
+                for (t, a) in std::mem::take(&mut self.held) {
+                    self.process_row(t, &a, true);
+                }
+            }
+        } else {
+            self.flush_held();
+        }
+    }
+
+    /// The held rows, not played (the record ended, or the run of quiet rows broke).
+    fn flush_held(&mut self) {
+        for (t, a) in std::mem::take(&mut self.held) {
+            self.process_row(t, &a, false);
+        }
+    }
+
+    #[inline]
+    fn process_row(&mut self, t: f64, a: &[f64; CH], played: bool) {
         let mut bits = 0u16;
         for (i, v) in a.iter().enumerate() {
             if v.abs() >= SENSOR_RANGE_M_S2 {
                 bits |= 1 << i;
             }
         }
-        let cal = Calibrated {
-            accel_m_s2: a.map(|v| v as f32),
-            pressure_bar: [0.0; 2],
-            saturation: Saturation { bits },
-        };
-        let s = self.rig.play(&cal);
-        if s.window_ready {
-            let closed = self.rig.take_window();
-            if let (Some(w), Some(closed)) = (&mut self.windows, closed) {
-                w.push(EstimatorWindow { t_end_s: t, report: closed.report });
+        let mut stick = false;
+        let mut onset_lead = None;
+        if played {
+            let cal = Calibrated {
+                accel_m_s2: a.map(|v| v as f32),
+                pressure_bar: [0.0; 2],
+                saturation: Saturation { bits },
+            };
+            let s = self.rig.play(&cal);
+            if s.window_ready {
+                let closed = self.rig.take_window();
+                if let (Some(w), Some(closed)) = (&mut self.windows, closed) {
+                    w.push(EstimatorWindow { t_end_s: t, report: closed.report });
+                }
             }
-        }
-        let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
-        if onset && self.first_onset.is_none() {
-            self.first_onset = Some(t - s.contact.lead_samples as f64 / self.fs);
+            let onset = matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::StickToSlip);
+            if onset && self.first_onset.is_none() {
+                self.first_onset = Some(t - s.contact.lead_samples as f64 / self.fs);
+            }
+            stick = s.contact.regime == Regime::Stick;
+            onset_lead = onset.then_some(s.contact.lead_samples);
         }
         if t < self.from_eff {
             return;
@@ -268,7 +419,8 @@ impl Running {
         }
         self.t_last = t;
         self.n += 1;
-        let g = self.rig.estimator().last_groan();
+        let o = *self.groan_origin.get_or_insert(*a);
+        let g: [f32; CH] = std::array::from_fn(|c| self.groan.run(&mut self.groan_state[c], (a[c] - o[c]) as f32));
         for c in 0..CH {
             let v = a[c];
             self.extremes.take(c, v);
@@ -290,15 +442,16 @@ impl Running {
                 }
             }
         }
-        if s.contact.regime == Regime::Stick {
+        if stick {
             self.stick += 1;
         }
-        if onset {
+        if let Some(lead_samples) = onset_lead {
             // the estimator dates the slip back by its lead: those samples were counted stick
-            let lead = (s.contact.lead_samples as u64).min(self.stick);
+            let lead = (lead_samples as u64).min(self.stick);
             self.stick -= lead;
             let t = t - lead as f64 / self.fs;
             self.onsets.add(t);
+            self.last_onset = t;
         }
         if let Some(w) = &mut self.welch {
             w.push(a);
@@ -365,7 +518,21 @@ pub struct Analyzer {
     line_first: u64,
     line_prev: u64,
     res_max: f64,
+    /// The previous row's printed time resolution [s].
+    res_prev: f64,
     phase: Phase,
+    present: [bool; CH],
+    split_gaps: bool,
+    gaps: Vec<Gap>,
+    /// The current block's first time, and the intervals and span of the blocks before it.
+    block_t0: f64,
+    block_rows: u64,
+    done_intervals: u64,
+    done_span: f64,
+    /// The next row starts a block (`--gaps split`).
+    gap_pending: bool,
+    floor_note: Option<String>,
+    notes: Vec<String>,
 }
 
 impl Analyzer {
@@ -378,8 +545,47 @@ impl Analyzer {
             line_first: 0,
             line_prev: 0,
             res_max: 0.0,
+            res_prev: 0.0,
             phase: Phase::Preview(Vec::with_capacity(PREVIEW_ROWS)),
+            present: [true; CH],
+            split_gaps: false,
+            gaps: Vec::new(),
+            block_t0: 0.0,
+            block_rows: 0,
+            done_intervals: 0,
+            done_span: 0.0,
+            gap_pending: false,
+            floor_note: None,
+            notes: Vec::new(),
         }
+    }
+
+    /// Which channels the record has (default all four). Without pad_trail or pad_lead the
+    /// estimator's face term is left out; the notes say what was assumed.
+    pub fn set_present(&mut self, present: [bool; CH]) {
+        self.present = present;
+        if !present[DISC_X] {
+            self.notes.push("no disc_x: a_rel = pad_x alone (the band taken at constant speed)".into());
+        }
+        if !(present[2] && present[3]) && self.cfg.face_coefficient != 0.0 {
+            self.cfg.face_coefficient = 0.0;
+            self.notes.push("no pad_trail or pad_lead: the estimator's face term is left out".into());
+        }
+    }
+
+    /// `--gaps split`: a jump forward in the time column ends a block instead of being an error.
+    pub fn split_gaps(&mut self, on: bool) {
+        self.split_gaps = on;
+    }
+
+    /// Why the floor is not used (the search found none), for the report.
+    pub fn note_floor(&mut self, why: String) {
+        self.floor_note = Some(why);
+    }
+
+    /// A sentence for the report's notes.
+    pub fn note(&mut self, n: String) {
+        self.notes.push(n);
     }
 
     /// Rows taken so far.
@@ -395,19 +601,33 @@ impl Analyzer {
         if self.rows == 0 {
             self.t0 = t;
             self.line_first = line;
+            self.block_t0 = t;
+        }
+        let gap = std::mem::take(&mut self.gap_pending);
+        if gap {
+            self.block_t0 = t;
+            self.block_rows = 0;
         }
         self.t_prev = t;
         self.line_prev = line;
         self.rows += 1;
+        self.block_rows += 1;
         match &mut self.phase {
-            Phase::Running(r) => r.process(t, a),
+            Phase::Running(r) => {
+                if gap {
+                    r.restart();
+                }
+                r.process(t, a)
+            }
             Phase::Preview(buf) => {
-                buf.push(Pending { t, a: *a });
+                buf.push(Pending { t, a: *a, gap_before: gap });
                 let c = self.cfg.face_coefficient;
                 let more = match self.cfg.floor {
                     FloorSource::Range(_, to) => t <= to,
+                    // anywhere: the search over the held rows (standard input)
+                    FloorSource::Auto => buf.len() < MAX_AUTO_PREVIEW_ROWS,
                     // until a quiet stretch before a signal shows (checked every PREVIEW_ROWS)
-                    FloorSource::Auto => {
+                    FloorSource::Lead => {
                         buf.len() < MAX_AUTO_PREVIEW_ROWS
                             && (buf.len() % PREVIEW_ROWS != 0 || {
                                 let rel: Vec<f32> = buf.iter().map(|p| a_rel_of(p, c)).collect();
@@ -429,36 +649,71 @@ impl Analyzer {
         Ok(())
     }
 
+    /// The mean interval of the rows so far, within the blocks [s].
+    fn mean_interval(&self) -> f64 {
+        if self.done_intervals == 0 {
+            (self.t_prev - self.t0) / (self.rows - 1) as f64
+        } else {
+            (self.done_span + (self.t_prev - self.block_t0)) / (self.done_intervals + self.block_rows - 1) as f64
+        }
+    }
+
     fn check_time(&mut self, line: u64, t: f64, res: f64) -> Result<(), String> {
+        use crate::output::format::sig4;
         if !t.is_finite() {
             return Err(format!("line {line}: time {t} is not a finite number"));
         }
+        let res_prev = std::mem::replace(&mut self.res_prev, res);
         self.res_max = self.res_max.max(res);
         if self.rows == 0 {
             return Ok(());
         }
         let dt = t - self.t_prev;
         if !(dt > 0.0) {
-            let hint = if dt == 0.0 && self.res_max > 0.0 {
-                format!(" (the time is printed to {:e} s: too few decimals for the sampling interval?)", self.res_max)
+            let what = if dt == 0.0 { "repeats" } else { "goes back" };
+            let hint = if dt == 0.0 && res.max(res_prev) > 0.0 {
+                format!(" (printed to {} s: too few decimals for the sampling interval?)", sig4(res.max(res_prev)))
             } else {
                 String::new()
             };
             return Err(format!(
-                "line {line}: time {t} s does not come after {} s (line {}): the time column must increase strictly{hint}",
-                self.t_prev, self.line_prev
+                "line {line}: time {} s {what}: it does not come after {} s (line {}): the time column must increase strictly{hint}",
+                sig4(t),
+                sig4(self.t_prev),
+                self.line_prev
             ));
         }
-        if self.rows >= 2 {
-            let mean = (self.t_prev - self.t0) / (self.rows - 1) as f64;
+        if self.rows >= 2 && !(self.split_gaps && self.block_rows < 2) {
+            let mean = self.mean_interval();
             let eps = 8.0 * f64::EPSILON * t.abs().max(self.t0.abs());
-            let tol = RATE_TOLERANCE * mean + 2.0 * self.res_max + eps;
+            // each row's time is within half its printed resolution of the truth
+            let tol = RATE_TOLERANCE * mean + 0.5 * (res + res_prev) + eps;
             if (dt - mean).abs() > tol {
+                let k = dt / mean;
+                if dt > mean && self.split_gaps {
+                    self.gaps.push(Gap { line, t_before: self.t_prev, t_after: t, intervals: k });
+                    self.done_intervals += self.block_rows - 1;
+                    self.done_span += self.t_prev - self.block_t0;
+                    self.gap_pending = true;
+                    return Ok(());
+                }
+                let whole = k.round();
+                let what = if dt > mean && whole >= 2.0 && (dt - whole * mean).abs() <= tol {
+                    format!("a drop: {} row{} missing", whole - 1.0, if whole == 2.0 { "" } else { "s" })
+                } else if dt > mean {
+                    "a gap".to_string()
+                } else {
+                    "a short interval: a row out of place or an irregular clock".to_string()
+                };
+                let way_on = if dt > mean { " (--gaps split analyses the contiguous blocks and lists the gaps)" } else { "" };
                 return Err(format!(
-                    "line {line}: interval {dt:.6e} s after line {} where the rows before have a mean interval of {mean:.6e} s: \
-                     the time column must be uniformly sampled (each interval within 1 % of the mean, plus twice the time's \
-                     printed resolution {:e} s): a missing, repeated or shifted row?",
-                    self.line_prev, self.res_max
+                    "line {line}: time {} s after {} s (line {}): an interval of {} s where the rows before have a mean interval of {} s ({} of them): {what}; the time column must be uniformly sampled (within 1 % plus the printed resolution){way_on}",
+                    sig4(t),
+                    sig4(self.t_prev),
+                    self.line_prev,
+                    sig4(dt),
+                    sig4(mean),
+                    sig4(k),
                 ));
             }
         }
@@ -471,7 +726,11 @@ impl Analyzer {
         let Phase::Preview(buf) = &mut self.phase else { return Ok(()) };
         let buf = std::mem::take(buf);
         let k = buf.len();
-        let fs = (k - 1) as f64 / (buf[k - 1].t - buf[0].t);
+        let fs = if self.gaps.is_empty() {
+            (k - 1) as f64 / (buf[k - 1].t - buf[0].t)
+        } else {
+            1.0 / self.mean_interval()
+        };
         let lines = format!("lines {} to {}", self.line_first, self.line_prev);
         let nyquist_min = 2.0 * GROAN_BAND_HZ.1;
         if !(fs > nyquist_min) {
@@ -493,8 +752,12 @@ impl Analyzer {
         let design = floor.as_ref().map(|f| {
             (f.report, ContactThresholds::from_noise_floor(f.report.sigma_m_s2[A_REL] as f64, f.quantum_m_s2, fs))
         });
-        let rig = Rig::for_recording(&RigConfig::recording(ecfg), design)
+        let rig_cfg = RigConfig::recording(ecfg);
+        let rig = Rig::for_recording(&rig_cfg, design)
             .map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
+        let groan = *rig.estimator().groan_filter();
+        let start_level = rig.estimator().contact().thresholds().stick_max_m_s2;
+        let start_bias = design.as_ref().map_or(0.0, |d| d.0.mean_m_s2[A_REL]);
         let segment = self.cfg.segment.unwrap_or_else(|| default_segment(fs));
         let mut r = Running {
             fs,
@@ -518,8 +781,24 @@ impl Analyzer {
             at_range_ch: [0; CH],
             floor,
             windows: self.cfg.windows.then(Vec::new),
+            groan,
+            groan_state: [CascadeState::<GROAN_SECTIONS>::ZERO; CH],
+            groan_origin: None,
+            rig_cfg,
+            design,
+            onset_intervals: 0,
+            onset_span: 0.0,
+            last_onset: 0.0,
+            started: false,
+            held: Vec::with_capacity(START_RUN),
+            start_level,
+            start_bias,
+            face: self.cfg.face_coefficient,
         };
         for p in &buf {
+            if p.gap_before {
+                r.restart();
+            }
             r.process(p.t, &p.a);
         }
         self.phase = Phase::Running(Box::new(r));
@@ -531,8 +810,16 @@ impl Analyzer {
         let a_rel = |p: &Pending| a_rel_of(p, self.cfg.face_coefficient);
         let (rows, auto): (Vec<&Pending>, bool) = match self.cfg.floor {
             FloorSource::Jump => return Ok(None),
-            FloorSource::Range(from, to) => (buf.iter().filter(|p| p.t >= from && p.t <= to).collect(), false),
+            FloorSource::Found(f) => return Ok(Some(f)),
             FloorSource::Auto => {
+                let mut q = super::quiet::QuietSearch::new(self.cfg.face_coefficient);
+                for p in buf {
+                    q.push(p.t, &p.a);
+                }
+                return Ok(q.finish().ok());
+            }
+            FloorSource::Range(from, to) => (buf.iter().filter(|p| p.t >= from && p.t <= to).collect(), false),
+            FloorSource::Lead => {
                 let rel: Vec<f32> = buf.iter().map(a_rel).collect();
                 match find_quiet(&rel) {
                     Some((i0, i1)) => (buf[i0..i1].iter().collect(), true),
@@ -571,6 +858,7 @@ impl Analyzer {
             auto,
             report: nf.report(),
             quantum_m_s2: q,
+            quiet_blocks: 0,
         }))
     }
 
@@ -586,15 +874,25 @@ impl Analyzer {
         if matches!(self.phase, Phase::Preview(_)) {
             self.start()?;
         }
+        let mean_interval = self.mean_interval();
         let Phase::Running(r) = self.phase else { unreachable!("started above") };
-        let r = *r;
+        let mut r = *r;
+        r.flush_held();
         if r.n == 0 {
             return Err(format!(
                 "--from {} s: no row at or after it (the last row, line {}, is at {} s)",
                 self.cfg.from_s, self.line_prev, self.t_prev
             ));
         }
-        let sample_rate_hz = (self.rows - 1) as f64 / (self.t_prev - self.t0);
+        let sample_rate_hz = if self.gaps.is_empty() {
+            (self.rows - 1) as f64 / (self.t_prev - self.t0)
+        } else {
+            1.0 / mean_interval
+        };
+        if r.floor.is_none() && self.floor_note.is_none() && self.cfg.floor == FloorSource::Auto {
+            self.floor_note = Some(format!("no quiet rows found in the first {MAX_AUTO_PREVIEW_ROWS} rows read from standard input"));
+        }
+        let hz_pooled = r.hz();
         let spectrum = r.welch.and_then(|w| w.finish(sample_rate_hz));
         let n = r.n as f64;
         let channels = std::array::from_fn(|c| ChannelStats {
@@ -607,16 +905,22 @@ impl Analyzer {
             groan_rms: (r.groan_sq[c] / n).sqrt(),
             step: if r.step[c].is_finite() { r.step[c] } else { 0.0 },
         });
-        let stick_slip_hz = r.onsets.hz();
+        let stick_slip_hz = hz_pooled;
         let thresholds = *r.rig.estimator().contact().thresholds();
         // the rig's rule (stickslip_model::rig::health): flat, saturated, noisier than the
         // signal; pad_x must carry a signal, disc_x must not be saturated
+        let present = self.present;
         let verdict = HealthReport::new(std::array::from_fn(|c| {
+            if !present[c] {
+                return ChannelHealth::default();
+            }
             ChannelHealth::assess(
                 channels[c].pp as f32,
                 channels[c].rms as f32,
                 r.at_range_ch[c] > 0,
-                r.floor.as_ref().map(|f| (f.report.mean_m_s2[c], f.report.sigma_m_s2[c])),
+                // a floor found in the stick phases is a noise floor of a_rel, pad_x and disc_x
+                // only: the pad still rotates in stick, so the edge sensors' is not theirs
+                r.floor.as_ref().filter(|f| f.quiet_blocks == 0 || c == PAD_X || c == DISC_X).map(|f| (f.report.mean_m_s2[c], f.report.sigma_m_s2[c])),
             )
         }));
         let health: [Vec<&'static str>; CH] = std::array::from_fn(|c| verdict.channels[c].words().collect());
@@ -655,6 +959,11 @@ impl Analyzer {
             spectrum,
             envelope: r.envelope.map(Envelope::finish).unwrap_or_default(),
             windows: r.windows.unwrap_or_default(),
+            present,
+            gaps: self.gaps,
+            floor_note: self.floor_note,
+            notes: self.notes,
+            format: "",
         })
     }
 }

@@ -3,8 +3,9 @@
 //!
 //! **Header.** The first non-blank line that names a time column or one of the four channels
 //! is the header (up to [`MAX_PREAMBLE_LINES`] lines of logger preamble before it are
-//! skipped); it must name the time column and all four channels, in any order, other
-//! columns are ignored. Names are case-insensitive; spaces, dashes and dots count as
+//! skipped); it must name the time column and pad_x (by name, or mapped by `--channel`, see
+//! [`super::channels`]); disc_x, pad_trail and pad_lead are read where the header names them
+//! (or `--channel` maps them) and are absent otherwise; other columns are ignored. Names are case-insensitive; spaces, dashes and dots count as
 //! underscores, leading and trailing underscores are dropped (`Pad Trail`, `pad_trail_`).
 //! The time column is `t` or `time`; the channels are `disc_x`, `pad_x`, `pad_trail`,
 //! `pad_lead`. A unit may follow the name in brackets or parentheses (`pad_x [m/s^2]`,
@@ -30,6 +31,7 @@ use std::io::{BufRead, BufReader, Read};
 
 use stickslip_model::rig::ACCEL_NAMES;
 
+use super::channels::{ChannelMap, ChannelSource};
 use super::numbers::{self, Decimal};
 use crate::error::{HostError, Result};
 
@@ -90,11 +92,43 @@ fn accel_unit(u: &str) -> Option<f64> {
     }
 }
 
+/// [`time_unit`] for the other readers: unit text x scale = s.
+pub fn time_unit_scale(u: &str) -> Option<f64> {
+    time_unit(u)
+}
+
+/// [`accel_unit`] for the other readers: unit text x scale = m/s^2.
+pub fn accel_unit_scale(u: &str) -> Option<f64> {
+    accel_unit(u)
+}
+
+/// The channel a name means (`pad_x`, `Pad X`, `pad_x [g]`: 1), if any.
+pub fn channel_of_name(name: &str) -> Option<usize> {
+    let (bare, _) = name_and_unit(name);
+    match base_role(&normal_name(&bare)) {
+        Some((false, c)) => Some(c),
+        _ => None,
+    }
+}
+
 /// The base names a column can have: (name, is time, channel index).
 fn base_role(name: &str) -> Option<(bool, usize)> {
     match name {
         "t" | "time" => Some((true, 0)),
         _ => ACCEL_NAMES.iter().position(|n| *n == name).map(|i| (false, i)),
+    }
+}
+
+/// A header cell's name without its unit (`Acc1 [g]` -> `Acc1`), and the unit if one is written
+/// in brackets or parentheses.
+fn name_and_unit(raw: &str) -> (String, Option<String>) {
+    let text = raw.trim().trim_matches('"').trim();
+    match text.find(['[', '(']) {
+        Some(p) => {
+            let unit = text[p + 1..].trim().trim_end_matches([']', ')']).trim().to_string();
+            (text[..p].trim().to_string(), Some(unit).filter(|u| !u.is_empty()))
+        }
+        None => (text.to_string(), None),
     }
 }
 
@@ -168,8 +202,8 @@ pub struct Layout {
     /// Fields in the header.
     pub fields: usize,
     pub time: usize,
-    /// Column of disc_x, pad_x, pad_trail, pad_lead.
-    pub accel: [usize; 4],
+    /// Column of disc_x, pad_x, pad_trail, pad_lead; `None`: absent (pad_x never is).
+    pub accel: [Option<usize>; 4],
     /// Value x scale = s.
     pub time_scale: f64,
     /// Value x scale = m/s^2.
@@ -237,6 +271,11 @@ impl<R: Read> std::fmt::Debug for RowReader<R> {
 impl<R: Read> RowReader<R> {
     /// Reads the header of `input`; `label` names the file in messages.
     pub fn new(label: &str, input: R) -> Result<Self> {
+        Self::with_channels(label, input, &ChannelMap::default())
+    }
+
+    /// Reads the header of `input` with the `--channel` mapping `map`.
+    pub fn with_channels(label: &str, input: R, map: &ChannelMap) -> Result<Self> {
         let bad = |msg: String| HostError::Input(format!("{label}: {msg}"));
         let mut br = BufReader::with_capacity(1 << 16, input);
         let mut line_no = 0u64;
@@ -280,8 +319,19 @@ impl<R: Read> RowReader<R> {
             let mut time: Option<(usize, f64)> = None;
             let mut accel: [Option<(usize, f64)>; 4] = [None; 4];
             let mut known = 0;
-            for (i, name) in names.iter().enumerate() {
-                match classify(name).map_err(|m| bad(format!("line {line_no}: {m}")))? {
+            let mut roles = Vec::with_capacity(names.len());
+            for name in names.iter() {
+                let (bare, _) = name_and_unit(name);
+                let mapped = map.specs.iter().any(|sp| ChannelMap::matches_name(sp, &[name, &bare]));
+                // a mapped column is the mapping's: its unit is checked there
+                let role = if mapped { Role::Other } else { classify(name).map_err(|m| bad(format!("line {line_no}: {m}")))? };
+                roles.push(role);
+                if mapped {
+                    known += 1;
+                }
+            }
+            for (i, role) in roles.iter().enumerate() {
+                match *role {
                     Role::Time(s) => {
                         if let Some((j, _)) = time {
                             return Err(bad(format!(
@@ -294,6 +344,9 @@ impl<R: Read> RowReader<R> {
                         known += 1;
                     }
                     Role::Accel(c, s) => {
+                        if map.get(c).is_some() {
+                            continue; // the key is mapped elsewhere: this column is not it
+                        }
                         if let Some((j, _)) = accel[c] {
                             return Err(bad(format!(
                                 "line {line_no}: columns {} and {} both name `{}`",
@@ -312,36 +365,75 @@ impl<R: Read> RowReader<R> {
                 // logger preamble (or data without a header): keep looking, a while
                 if line_no >= MAX_PREAMBLE_LINES {
                     return Err(bad(format!(
-                        "no header found in the first {MAX_PREAMBLE_LINES} lines: none names the columns t or time, disc_x, pad_x, pad_trail, pad_lead"
+                        "no header found in the first {MAX_PREAMBLE_LINES} lines: none names the columns t or time, disc_x, pad_x, pad_trail, pad_lead{}",
+                        if map.is_empty() { String::new() } else { " or a --channel source".into() }
                     )));
                 }
                 continue;
             }
             let found: Vec<&str> = names.iter().map(|s| s.trim()).collect();
-            let missing: Vec<&str> = std::iter::once(("time (t or time)", time.is_some()))
-                .chain(ACCEL_NAMES.iter().zip(accel.iter()).map(|(n, a)| (*n, a.is_some())))
-                .filter(|(_, ok)| !ok)
-                .map(|(n, _)| n)
-                .collect();
-            if !missing.is_empty() {
-                let what = if missing.len() == 1 { "column" } else { "columns" };
+            let Some((ti, ts)) = time else {
                 return Err(bad(format!(
-                    "line {line_no}: the header has no {what} {} (its columns: {})",
-                    missing.iter().map(|m| format!("`{m}`")).collect::<Vec<_>>().join(", "),
+                    "line {line_no}: the header has no column `time (t or time)` (its columns: {})",
                     found.join(", ")
                 )));
+            };
+            // the mapped channels: by name, or #N = the N-th column after time
+            for sp in &map.specs {
+                let col = match &sp.source {
+                    ChannelSource::Name(_) => names.iter().position(|n| {
+                        let (bare, _) = name_and_unit(n);
+                        ChannelMap::matches_name(sp, &[n, &bare])
+                    }),
+                    ChannelSource::Index(k) => (0..names.len()).filter(|&j| j != ti).nth(k - 1),
+                };
+                let Some(col) = col else {
+                    return Err(bad(format!(
+                        "line {line_no}: --channel {}: no column {} in the header (its columns: {}; #N counts the columns after time from 1)",
+                        sp.arg,
+                        sp.source_text(),
+                        found.join(", ")
+                    )));
+                };
+                if col == ti {
+                    return Err(bad(format!("line {line_no}: --channel {}: column {} is the time column", sp.arg, col + 1)));
+                }
+                let scale = match sp.scale {
+                    Some(s) => s,
+                    None => match name_and_unit(&names[col]).1 {
+                        None => 1.0,
+                        Some(u) => accel_unit(&u).ok_or_else(|| {
+                            bad(format!(
+                                "line {line_no}: column {} (`{}`): unit `{u}` is not an acceleration unit (m/s^2, mm/s^2, g): give its SCALE, --channel {}*SCALE",
+                                col + 1,
+                                names[col].trim(),
+                                sp.arg
+                            ))
+                        })?,
+                    },
+                };
+                if let Some(other) = accel.iter().position(|a| a.is_some_and(|(j, _)| j == col)) {
+                    return Err(bad(format!(
+                        "line {line_no}: --channel {}: column {} is also {}",
+                        sp.arg,
+                        col + 1,
+                        ACCEL_NAMES[other]
+                    )));
+                }
+                accel[sp.key] = Some((col, scale));
             }
-            let (ti, ts) = time.expect("checked above");
-            let acc = accel.map(|a| a.expect("checked above"));
+            if accel[1].is_none() {
+                return Err(super::channels::pad_x_needed(label, &format!("line {line_no}"), &found.join(", ")));
+            }
             break Layout {
                 delimiter,
                 decimal_comma: delimiter != b',',
                 header_line: line_no,
                 fields: names.len(),
                 time: ti,
-                accel: acc.map(|a| a.0),
+                accel: accel.map(|a| a.map(|a| a.0)),
                 time_scale: ts,
-                accel_scale: acc.map(|a| a.1),
+                accel_scale: accel.map(|a| a.map_or(0.0, |a| a.1)),
                 names,
             };
         };
@@ -355,12 +447,17 @@ impl<R: Read> RowReader<R> {
             .flexible(true)
             .buffer_capacity(1 << 16)
             .from_reader(br);
-        let last_needed = layout.accel.iter().copied().fold(layout.time, usize::max);
+        let last_needed = layout.accel.iter().flatten().copied().fold(layout.time, usize::max);
         Ok(RowReader { label: label.to_string(), layout, rdr, rec: csv::ByteRecord::new(), last_needed })
     }
 
     pub fn layout(&self) -> &Layout {
         &self.layout
+    }
+
+    /// Which of disc_x, pad_x, pad_trail, pad_lead the file has.
+    pub fn present(&self) -> [bool; 4] {
+        self.layout.accel.map(|a| a.is_some())
     }
 
     /// The file's name as used in messages.
@@ -405,7 +502,7 @@ impl<R: Read> RowReader<R> {
             }
             let mut accel = [0.0; 4];
             for (c, a) in accel.iter_mut().enumerate() {
-                let col = self.layout.accel[c];
+                let Some(col) = self.layout.accel[c] else { continue };
                 let v = self.cell(line, col)?.value * self.layout.accel_scale[c];
                 if !(v.abs() <= PLAUSIBLE_ACCEL_M_S2) {
                     return Err(self.cell_error(

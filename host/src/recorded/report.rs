@@ -66,6 +66,8 @@ pub struct EstimatorJson {
     pub undecided: Option<String>,
     /// Per channel, what is wrong with it ("flat", "saturated", "noisier than the signal").
     pub health: Channels<Vec<&'static str>>,
+    /// Why no floor was found (the thresholds then came from the jump), or null.
+    pub floor_note: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -80,6 +82,8 @@ pub struct FloorJson {
     pub a_rel_sigma_m_s2: f64,
     pub a_rel_mean_m_s2: f64,
     pub quantum_m_s2: f64,
+    /// Found anywhere: the quiet blocks of 32 rows it came from (0: one stretch).
+    pub quiet_blocks: u64,
 }
 
 impl EstimatorJson {
@@ -99,17 +103,31 @@ impl EstimatorJson {
                 a_rel_sigma_m_s2: f.report.sigma_m_s2[A_REL] as f64,
                 a_rel_mean_m_s2: f.report.mean_m_s2[A_REL] as f64,
                 quantum_m_s2: f.quantum_m_s2,
+                quiet_blocks: f.quiet_blocks,
             }),
             undecided: a.undecided.clone(),
             health: Channels::from_fn(|c| a.health[c].clone()),
+            floor_note: a.floor_note.clone(),
         }
     }
 }
 
 #[derive(Serialize)]
+pub struct GapJson {
+    pub line: u64,
+    pub t_before_s: f64,
+    pub t_after_s: f64,
+    pub intervals: f64,
+}
+
+#[derive(Serialize)]
 pub struct AnalysisJson {
     pub file: String,
-    pub channels: Channels<ChannelJson>,
+    /// "CSV", "UFF dataset 58" or "WAV".
+    pub format: &'static str,
+    /// null for a channel the recording does not have.
+    pub channels: Channels<Option<ChannelJson>>,
+    pub present: Channels<bool>,
     /// null where the estimator cannot decide (`estimator.undecided`).
     pub stick_fraction: Option<f64>,
     pub stick_slip_hz: Option<f64>,
@@ -127,6 +145,10 @@ pub struct AnalysisJson {
     pub samples_at_range: u64,
     pub spectrum: Option<SpectrumJson>,
     pub estimator: EstimatorJson,
+    /// The jumps in the time column analysed around (`--gaps split`).
+    pub gaps: Vec<GapJson>,
+    /// What was assumed (absent channels, units).
+    pub notes: Vec<String>,
 }
 
 fn spectrum_json(a: &Analysis) -> Option<SpectrumJson> {
@@ -144,7 +166,9 @@ impl AnalysisJson {
     pub fn new(file: &str, a: &Analysis) -> Self {
         AnalysisJson {
             file: file.to_string(),
-            channels: Channels::from_fn(|c| (&a.channels[c]).into()),
+            format: a.format,
+            channels: Channels::from_fn(|c| a.present[c].then(|| (&a.channels[c]).into())),
+            present: Channels::from_fn(|c| a.present[c]),
             stick_fraction: a.undecided.is_none().then_some(a.stick_fraction),
             stick_slip_hz: a.stick_slip_hz.filter(|_| a.undecided.is_none()),
             slip_onsets: a.slip_onsets,
@@ -160,6 +184,8 @@ impl AnalysisJson {
             samples_at_range: a.samples_at_range,
             spectrum: spectrum_json(a),
             estimator: EstimatorJson::new(a),
+            gaps: a.gaps.iter().map(|g| GapJson { line: g.line, t_before_s: g.t_before, t_after_s: g.t_after, intervals: g.intervals }).collect(),
+            notes: a.notes.clone(),
         }
     }
 }
@@ -189,15 +215,23 @@ fn estimator_lines(a: &Analysis) -> String {
             "thresholds from the noise floor of t = {} to {} s ({}, {} rows: a_rel sigma {} m/s^2, quantum {} m/s^2; adaptive up to {}x)",
             num(f.t_from),
             num(f.t_to),
-            if f.auto { "the first quiet stretch" } else { "--quiet" },
+            match (f.auto, f.quiet_blocks) {
+                (false, _) => "--quiet".to_string(),
+                (true, 0) => "the first quiet stretch".to_string(),
+                (true, b) => format!("the quietest {b} blocks of a_rel found anywhere in the record"),
+            },
             f.report.samples,
             num(f.report.sigma_m_s2[A_REL] as f64),
             num(f.quantum_m_s2),
             num(a.thresholds.onset_max_factor as f64),
         ),
         None => format!(
-            "fixed thresholds from the breakaway jump {} m/s^2 (--breakaway-jump, or no quiet stretch before a signal in the first rows: give --quiet FROM:TO)",
-            num(a.breakaway_jump_m_s2)
+            "fixed thresholds from the breakaway jump {} m/s^2 ({})",
+            num(a.breakaway_jump_m_s2),
+            match &a.floor_note {
+                Some(why) => format!("no noise floor: {why}; give --quiet FROM:TO"),
+                None => "--breakaway-jump".to_string(),
+            }
         ),
     };
     let mut s = match &a.undecided {
@@ -214,6 +248,19 @@ fn estimator_lines(a: &Analysis) -> String {
             s.push_str(&format!("Channel {}: {}.\n", ACCEL_NAMES[c], h.join(", ")));
         }
     }
+    for n in &a.notes {
+        s.push_str(&format!("Note: {n}.\n"));
+    }
+    if !a.gaps.is_empty() {
+        s.push_str(&format!(
+            "Gaps (--gaps split: the contiguous blocks analysed, the estimator restarted after each): {}.\n",
+            a.gaps
+                .iter()
+                .map(|g| format!("line {}: t = {} to {} s ({} intervals)", g.line, num(g.t_before), num(g.t_after), crate::output::format::sig4(g.intervals)))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ));
+    }
     s
 }
 
@@ -221,17 +268,22 @@ fn estimator_lines(a: &Analysis) -> String {
 pub fn analysis_markdown(file: &str, a: &Analysis) -> String {
     let mut s = format!("# {file}\n\n");
     s.push_str(&format!(
-        "{} samples analysed, t = {} to {} s ({} s) at {} Hz (from the time column, {} rows).\n\n",
+        "{} samples analysed, t = {} to {} s ({} s) at {} Hz (from the time axis, {} rows{}).\n\n",
         a.samples,
         num(a.t_first),
         num(a.t_last),
         num(a.duration_s()),
         num(a.sample_rate_hz),
-        a.rows
+        a.rows,
+        if a.format.is_empty() { String::new() } else { format!(", {}", a.format) }
     ));
     s.push_str("| channel | peak-to-peak [m/s^2] | RMS [m/s^2] | spectral peak [Hz] | groan-band RMS [m/s^2] |\n");
     s.push_str("|---|---:|---:|---:|---:|\n");
     for (c, ch) in a.channels.iter().enumerate() {
+        if !a.present[c] {
+            s.push_str(&format!("| {} | absent | absent | absent | absent |\n", ACCEL_NAMES[c]));
+            continue;
+        }
         s.push_str(&format!(
             "| {} | {} | {} | {} | {} |\n",
             ACCEL_NAMES[c],
@@ -542,14 +594,24 @@ pub struct CompareJson {
     pub model: CompareSide,
     pub model_outcome: &'static str,
     pub model_noise_m_s2: f64,
+    /// The measured channels' health, as `analyze` gives it (a channel with a word is not
+    /// compared: its ratios are null).
+    pub health: Channels<Vec<&'static str>>,
+    /// Why the measured stick fraction and frequency cannot be told (then null), or null.
+    pub undecided: Option<String>,
 }
 
 impl CompareJson {
     pub fn new(file: &str, measured: &Analysis, model: &SilReport) -> Self {
         let m = model.measured.as_ref();
+        // the channel-health verdict, as `analyze` gives it: an absent or unhealthy measured
+        // channel is not compared (measured null if absent; ratio null if unhealthy)
         let ch = |c: usize, f: fn(&ChannelStats) -> Option<f64>| {
-            Pair::new(f(&measured.channels[c]), m.and_then(|a| f(&a.channels[c])))
+            let mine = measured.present[c].then(|| f(&measured.channels[c])).flatten();
+            let p = Pair::new(mine, m.and_then(|a| f(&a.channels[c])));
+            if measured.health[c].is_empty() { p } else { Pair { ratio: None, ..p } }
         };
+        let decided = measured.undecided.is_none();
         CompareJson {
             scene: model.name.clone(),
             file: file.to_string(),
@@ -559,8 +621,10 @@ impl CompareJson {
                 rms: ch(c, |s| Some(s.rms)),
                 groan_rms: ch(c, |s| Some(s.groan_rms)),
             }),
-            stick_fraction: Pair::new(Some(measured.stick_fraction), m.map(|a| a.stick_fraction)),
-            stick_slip_hz: Pair::new(measured.stick_slip_hz, m.and_then(|a| a.stick_slip_hz)),
+            stick_fraction: Pair::new(decided.then_some(measured.stick_fraction), m.map(|a| a.stick_fraction)),
+            stick_slip_hz: Pair::new(measured.stick_slip_hz.filter(|_| decided), m.and_then(|a| a.stick_slip_hz)),
+            health: Channels::from_fn(|c| measured.health[c].clone()),
+            undecided: measured.undecided.clone(),
             measured: CompareSide::of(Some(measured)),
             model: CompareSide::of(m),
             model_outcome: model.outcome,
@@ -584,8 +648,21 @@ pub fn compare_markdown(file: &str, measured: &Analysis, model: &SilReport) -> S
         s.push_str(&row(ACCEL_NAMES[c], "RMS [m/s^2]", &cj.rms));
     }
     s.push_str(&row("pad", "stick fraction [-]", &j.stick_fraction));
+    let mut verdict = String::new();
+    if let Some(why) = &j.undecided {
+        verdict.push_str(&format!("Measured stick fraction and stick-slip frequency: cannot decide ({why}).\n"));
+    }
+    for (c, h) in measured.health.iter().enumerate() {
+        if !h.is_empty() {
+            verdict.push_str(&format!("Measured channel {}: {}: not compared.\n", ACCEL_NAMES[c], h.join(", ")));
+        }
+        if !measured.present[c] {
+            verdict.push_str(&format!("Measured channel {}: absent.\n", ACCEL_NAMES[c]));
+        }
+    }
     s.push_str(&row("pad", "stick-slip frequency [Hz]", &j.stick_slip_hz));
     s.push('\n');
+    s.push_str(&verdict);
     s.push_str(&format!(
         "Measured: {} samples at {} Hz{}; model: `{}` through the virtual rig (noise {} m/s^2 rms), {} samples from t = {} s, outcome {}.\n",
         measured.samples,

@@ -329,7 +329,7 @@ fn sample_run<T: Real, M: Motion<T>>(
         // fixed thresholds: the given jump, or the scene's without a quiet phase to measure
         acfg.breakaway_jump_m_s2 = breakaway_jump(ns, opts.breakaway_jump_m_s2)?;
     } else {
-        acfg.floor = FloorSource::Auto;
+        acfg.floor = FloorSource::Lead;
     }
     let mut analyzer = Analyzer::new(acfg);
     let steps_planned = run::planned_steps(scene);

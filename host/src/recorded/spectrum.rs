@@ -107,6 +107,12 @@ impl Welch {
         self.n
     }
 
+    /// Drops the partial segment: the next segment starts with the next sample (after a gap
+    /// in the record, a segment must not reach across it).
+    pub fn restart(&mut self) {
+        self.fill = 0;
+    }
+
     #[inline]
     pub fn push(&mut self, a: &[f64; CH]) {
         let i = self.fill;

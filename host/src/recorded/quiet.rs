@@ -1,0 +1,291 @@
+//! The noise floor found anywhere in a recording: the contact thresholds come from the
+//! record's own stick phases wherever they are, so a recording that starts inside the
+//! stick-slip cycle (no clamped, band-still lead-in) needs no flag.
+//!
+//! In stick the pad moves with the band, so a_rel = pad_x - disc_x (+ the face term) is the
+//! sensors' noise alone, as in the clamped phase; in slip it carries the slip's acceleration.
+//! The search:
+//! 1. a_rel (computed in f32 as the rig computes it) in blocks of [`BLOCK`] rows (1.25 ms at
+//!    25.6 kHz, shorter than the shortest stick phases of Table 3.1's levels), each block's
+//!    mean square about zero (a_rel's value in stick; the sensors are AC-coupled): a slip's
+//!    plateau of nearly constant acceleration (Coulomb friction) is as still as stick within a
+//!    block but not near zero, so it ranks loud;
+//! 2. the blocks sorted by that mean square into a histogram of [`BINS_PER_DECADE`] bins per
+//!    decade (bounded memory: each bin holds the sums of the rows of its blocks, not the
+//!    rows), a bin of its own for blocks that are exactly zero;
+//! 3. the reference v_ref: the [`QUIET_QUANTILE`] quantile of the blocks (robust to a few odd
+//!    blocks; the stick phases of a stick-slip record are far more than 1 % of it); quiet
+//!    blocks: mean square at most [`QUIET_FACTOR`] x v_ref (RMS at most twice; pure noise in
+//!    32 samples exceeds that with probability 6e-4), to one bin (7.5 %);
+//! 4. checks that what is called quiet is quiet: a block louder than
+//!    [`super::analysis::QUIET_LOUD_FACTOR`] x v_ref exists (quiet against a signal); at least
+//!    `MIN_FLOOR_SAMPLES` (256) quiet rows; and the quiet blocks lie at one level: the
+//!    variance of all their rows about their common mean is at most [`LEVEL_FACTOR`] x their
+//!    mean within-block variance (plus 4 quanta^2), so slow motion, a drifting offset or
+//!    flat stretches at different levels (a clipped signal at its two rails) are not a floor;
+//! 5. the floor of each channel and of a_rel from the quiet rows (mean, sigma, peak-to-peak),
+//!    and the quantum: the larger smallest nonzero step of pad_x and disc_x over the record.
+//!
+//! Memory: 1,281 bins of 200 bytes (5 x 4 sums and a few counts), 256 KB, whatever the
+//! record's length.
+
+use stickslip_model::rig::noise_floor::{FloorReport, FLOOR_VALUES, MIN_FLOOR_SAMPLES};
+
+use super::analysis::{FloorOutcome, QUIET_LOUD_FACTOR};
+
+/// Rows per block.
+pub const BLOCK: usize = 32;
+/// Histogram bins per decade of block variance.
+pub const BINS_PER_DECADE: usize = 32;
+/// The histogram's range of block variance [log10 (m/s^2)^2].
+const LOG_RANGE: (f64, f64) = (-30.0, 10.0);
+const BINS: usize = ((LOG_RANGE.1 - LOG_RANGE.0) as usize) * BINS_PER_DECADE;
+/// The quantile of the blocks' variances taken as the reference.
+pub const QUIET_QUANTILE: f64 = 0.01;
+/// A block is quiet with a variance up to this times the reference.
+pub const QUIET_FACTOR: f64 = 4.0;
+/// The quiet rows' variance about their common mean, at most this times their mean
+/// within-block variance.
+pub const LEVEL_FACTOR: f64 = 4.0;
+
+#[derive(Clone, Copy)]
+struct Bin {
+    blocks: u64,
+    n: u64,
+    /// Sums of the values relative to the record's first row, and of their squares.
+    sum: [f64; FLOOR_VALUES],
+    sq: [f64; FLOOR_VALUES],
+    min: [f64; FLOOR_VALUES],
+    max: [f64; FLOOR_VALUES],
+    /// Sum over its blocks of rows x the block's variance of a_rel.
+    within: f64,
+    t_first: f64,
+    t_last: f64,
+}
+
+const EMPTY: Bin = Bin {
+    blocks: 0,
+    n: 0,
+    sum: [0.0; FLOOR_VALUES],
+    sq: [0.0; FLOOR_VALUES],
+    min: [f64::INFINITY; FLOOR_VALUES],
+    max: [f64::NEG_INFINITY; FLOOR_VALUES],
+    within: 0.0,
+    t_first: f64::INFINITY,
+    t_last: f64::NEG_INFINITY,
+};
+
+/// The search, fed row by row (see the module documentation).
+pub struct QuietSearch {
+    face: f32,
+    origin: Option<[f64; FLOOR_VALUES]>,
+    block: [[f64; FLOOR_VALUES]; BLOCK],
+    fill: usize,
+    block_t: (f64, f64),
+    /// bins[0]: blocks that do not change; bins[1..]: by log10 variance.
+    bins: Vec<Bin>,
+    prev: [f64; 2],
+    step: [f64; 2],
+    rows: u64,
+}
+
+impl QuietSearch {
+    /// `face_coefficient`: the estimator's face term (0 without the face).
+    pub fn new(face_coefficient: f32) -> Self {
+        QuietSearch {
+            face: face_coefficient,
+            origin: None,
+            block: [[0.0; FLOOR_VALUES]; BLOCK],
+            fill: 0,
+            block_t: (0.0, 0.0),
+            bins: vec![EMPTY; BINS + 1],
+            prev: [0.0; 2],
+            step: [f64::INFINITY; 2],
+            rows: 0,
+        }
+    }
+
+    /// One row: time [s], disc_x, pad_x, pad_trail, pad_lead [m/s^2].
+    pub fn push(&mut self, t: f64, a: &[f64; 4]) {
+        let rel = (a[1] - a[0]) as f32 + self.face * (a[3] - a[2]) as f32;
+        let v = [a[0], a[1], a[2], a[3], rel as f64];
+        // the channels relative to the first row (the squares then do not cancel an offset);
+        // a_rel as it is: it is ranked by its mean square about zero
+        let v0 = [a[0], a[1], a[2], a[3], 0.0];
+        if self.rows > 0 {
+            for (k, c) in [1usize, 0].iter().enumerate() {
+                let d = (a[*c] - self.prev[k]).abs();
+                if d > 0.0 && d < self.step[k] {
+                    self.step[k] = d;
+                }
+            }
+        }
+        self.prev = [a[1], a[0]];
+        self.rows += 1;
+        let o = *self.origin.get_or_insert(v0);
+        if self.fill == 0 {
+            self.block_t.0 = t;
+        }
+        self.block_t.1 = t;
+        self.block[self.fill] = std::array::from_fn(|i| v[i] - o[i]);
+        self.fill += 1;
+        if self.fill == BLOCK {
+            self.close_block();
+        }
+    }
+
+    fn close_block(&mut self) {
+        let b = &self.block[..self.fill];
+        let n = b.len() as f64;
+        let mean = b.iter().map(|r| r[4]).sum::<f64>() / n;
+        let var = b.iter().map(|r| (r[4] - mean).powi(2)).sum::<f64>() / n;
+        let ms = var + mean * mean;
+        let k = if ms > 0.0 {
+            let x = ((ms.log10() - LOG_RANGE.0) * BINS_PER_DECADE as f64).floor();
+            1 + (x.max(0.0) as usize).min(BINS - 1)
+        } else {
+            0
+        };
+        let bin = &mut self.bins[k];
+        bin.blocks += 1;
+        bin.n += b.len() as u64;
+        bin.within += var * n;
+        bin.t_first = bin.t_first.min(self.block_t.0);
+        bin.t_last = bin.t_last.max(self.block_t.1);
+        for r in b {
+            for i in 0..FLOOR_VALUES {
+                bin.sum[i] += r[i];
+                bin.sq[i] += r[i] * r[i];
+                bin.min[i] = bin.min[i].min(r[i]);
+                bin.max[i] = bin.max[i].max(r[i]);
+            }
+        }
+        self.fill = 0;
+    }
+
+    /// Rows taken.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// The floor, or why there is none (one clause, for the report).
+    pub fn finish(self) -> Result<FloorOutcome, String> {
+        // a partial last block is left out: its variance is over fewer rows
+        let total: u64 = self.bins.iter().map(|b| b.blocks).sum();
+        if total == 0 {
+            return Err(format!("fewer than {BLOCK} rows: no block of a_rel to call quiet"));
+        }
+        let target = ((QUIET_QUANTILE * total as f64).ceil() as u64).max(1);
+        let mut seen = 0;
+        let mut kr = 0;
+        for (k, b) in self.bins.iter().enumerate() {
+            seen += b.blocks;
+            if seen >= target {
+                kr = k;
+                break;
+            }
+        }
+        let upper = |k: usize| if k == 0 { 0.0 } else { 10f64.powf(LOG_RANGE.0 + k as f64 / BINS_PER_DECADE as f64) };
+        let lower = |k: usize| if k == 0 { 0.0 } else { 10f64.powf(LOG_RANGE.0 + (k - 1) as f64 / BINS_PER_DECADE as f64) };
+        let v_ref = upper(kr);
+        let loudest = (0..self.bins.len()).rev().find(|&k| self.bins[k].blocks > 0).unwrap_or(0);
+        if !(lower(loudest) > QUIET_LOUD_FACTOR * v_ref) || loudest == kr {
+            return Err(format!(
+                "no block of a_rel is {QUIET_LOUD_FACTOR} times louder (in mean square) than its quietest 1 %: no stick phase against a signal"
+            ));
+        }
+        let last_quiet = if kr == 0 { 0 } else { (kr..self.bins.len()).take_while(|&k| upper(k) <= QUIET_FACTOR * v_ref * 1.000_001).last().unwrap_or(kr) };
+        let mut q = EMPTY;
+        for b in &self.bins[..=last_quiet] {
+            if b.blocks == 0 {
+                continue;
+            }
+            q.blocks += b.blocks;
+            q.n += b.n;
+            q.within += b.within;
+            q.t_first = q.t_first.min(b.t_first);
+            q.t_last = q.t_last.max(b.t_last);
+            for i in 0..FLOOR_VALUES {
+                q.sum[i] += b.sum[i];
+                q.sq[i] += b.sq[i];
+                q.min[i] = q.min[i].min(b.min[i]);
+                q.max[i] = q.max[i].max(b.max[i]);
+            }
+        }
+        if q.n < MIN_FLOOR_SAMPLES as u64 {
+            return Err(format!("{} quiet rows of a_rel: the floor needs at least {MIN_FLOOR_SAMPLES}", q.n));
+        }
+        let n = q.n as f64;
+        let mean: [f64; FLOOR_VALUES] = std::array::from_fn(|i| q.sum[i] / n);
+        let var: [f64; FLOOR_VALUES] = std::array::from_fn(|i| (q.sq[i] / n - mean[i] * mean[i]).max(0.0));
+        let within = q.within / n;
+        let quantum = [self.step[0], self.step[1]].into_iter().filter(|v| v.is_finite()).fold(0.0, f64::max);
+        if !(var[4] <= LEVEL_FACTOR * within + 4.0 * quantum * quantum) {
+            return Err(format!(
+                "the quietest blocks of a_rel do not lie at one level (their variance about their common mean is {:.4} times their variance within a block): slow motion or a drifting offset, not stick",
+                var[4] / within.max(f64::MIN_POSITIVE)
+            ));
+        }
+        let o = self.origin.expect("rows were taken");
+        let report = FloorReport {
+            samples: q.n.min(u32::MAX as u64) as u32,
+            mean_m_s2: std::array::from_fn(|i| (mean[i] + o[i]) as f32),
+            sigma_m_s2: std::array::from_fn(|i| var[i].sqrt() as f32),
+            pp_m_s2: std::array::from_fn(|i| (q.max[i] - q.min[i]) as f32),
+        };
+        Ok(FloorOutcome { t_from: q.t_first, t_to: q.t_last, auto: true, report, quantum_m_s2: quantum, quiet_blocks: q.blocks })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic uniform number in [-1, 1) (xorshift).
+    fn noise(state: &mut u32) -> f64 {
+        *state ^= *state << 13;
+        *state ^= *state >> 17;
+        *state ^= *state << 5;
+        (*state as f64 / u32::MAX as f64) * 2.0 - 1.0
+    }
+
+    /// Stick phases of 3 ms (noise sigma s) between slips (a 300 Hz burst of 1 m/s^2): the
+    /// floor's sigma is the noise's within 5 %, from the stick rows only.
+    #[test]
+    fn stick_phases_anywhere_give_the_noise() {
+        let fs = 25_600.0;
+        let s = 0.01;
+        let mut st = 7u32;
+        let mut q = QuietSearch::new(0.0);
+        for i in 0..(fs as usize) {
+            let t = i as f64 / fs;
+            let phase = (t * 100.0).fract(); // 100 Hz cycle: 30 % stick
+            let slip = if phase >= 0.3 { (2.0 * std::f64::consts::PI * 300.0 * t).sin() } else { 0.0 };
+            // uniform noise of sigma s: amplitude s sqrt(3)
+            let pad = slip + s * 3f64.sqrt() * noise(&mut st);
+            q.push(t, &[0.0, pad, 0.0, 0.0]);
+        }
+        let f = q.finish().unwrap();
+        let sigma = f.report.sigma_m_s2[4] as f64;
+        assert!((sigma / s - 1.0).abs() < 0.05, "sigma {sigma}");
+        assert!(f.report.samples > 2000 && f.report.samples < 9000, "{}", f.report.samples);
+    }
+
+    #[test]
+    fn steady_sines_and_a_clipped_signal_have_no_floor() {
+        let mut q = QuietSearch::new(0.0);
+        for i in 0..20_000 {
+            let t = i as f64 / 25_600.0;
+            q.push(t, &[0.0, (2.0 * std::f64::consts::PI * 200.0 * t).sin(), 0.0, 0.0]);
+        }
+        assert!(q.finish().is_err());
+        // flat at two rails: quiet blocks at two levels
+        let mut q = QuietSearch::new(0.0);
+        for i in 0..20_000 {
+            let v = if (i / 640) % 2 == 0 { 700.0 } else { -700.0 };
+            let v = if i % 640 < 32 { v * (i % 640) as f64 / 32.0 } else { v };
+            q.push(i as f64 / 25_600.0, &[0.0, v, 0.0, 0.0]);
+        }
+        assert!(q.finish().is_err());
+    }
+}
