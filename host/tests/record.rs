@@ -120,7 +120,7 @@ fn assert_as_decode(dir: &Path, input: &[u8], stdout: &str) -> Vec<String> {
 fn run_record(dir: &Path, input: &str) -> (String, String) {
     let o = stickslip(&["record", "--elf", ELF, "--input", input, "--out", dir.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "record --input {input}: {}", stderr(&o));
-    (String::from_utf8(o.stdout).unwrap(), stderr(&o))
+    (String::from_utf8(o.stdout.clone()).unwrap(), stderr(&o))
 }
 
 #[test]

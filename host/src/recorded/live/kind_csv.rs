@@ -111,3 +111,59 @@ impl KindFile {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::{json, Value};
+
+    fn rec(frame: u64, t: Option<f64>, fields: Vec<(&str, Value)>) -> Record {
+        Record {
+            frame,
+            offset: 0,
+            timestamp: None,
+            timestamp_s: t,
+            level: Some("info"),
+            kind: "log".into(),
+            message: String::new(),
+            fields: fields.into_iter().map(|(k, v)| (k.to_string(), v)).collect(),
+        }
+    }
+
+    /// Records whose fields grow (as positional log lines do): the file is rewritten with the
+    /// longer header, earlier rows padded; after every record it holds decode's CSV of the
+    /// records so far, written out here by hand.
+    #[test]
+    fn new_columns_rewrite_the_file_with_the_rows_padded() {
+        let dir = std::env::temp_dir().join(format!("stickslip-kind-csv-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut files = KindFiles::new(&dir);
+        let steps: [(Record, &str); 4] = [
+            (rec(0, Some(0.5), vec![("arg0", json!(1))]), "frame,timestamp_s,arg0\n0,0.5,1\n"),
+            (
+                rec(2, None, vec![("arg0", json!(2)), ("arg1", json!("x,y"))]),
+                "frame,timestamp_s,arg0,arg1\n0,0.5,1,\n2,,2,\"x,y\"\n",
+            ),
+            (
+                rec(3, Some(0.25), vec![("arg0", json!(3)), ("pp", json!([1.5, 2]))]),
+                "frame,timestamp_s,arg0,arg1,pp_0,pp_1\n0,0.5,1,,,\n2,,2,\"x,y\",,\n3,0.25,3,,1.5,2\n",
+            ),
+            (
+                rec(4, Some(1.0), vec![("pp", json!([4, 5, 6])), ("arg1", json!(true))]),
+                "frame,timestamp_s,arg0,arg1,pp_0,pp_1,pp_2\n0,0.5,1,,,,\n2,,2,\"x,y\",,,\n3,0.25,3,,1.5,2,\n4,1,,true,4,5,6\n",
+            ),
+        ];
+        for (i, (r, want)) in steps.iter().enumerate() {
+            files.write(r).unwrap();
+            let got = std::fs::read_to_string(dir.join("log.csv")).unwrap();
+            assert_eq!(got, *want, "after record {i}");
+        }
+        let c = files.counts();
+        assert_eq!((c.len(), c[0].kind.as_str(), c[0].rows), (1, "log", 4));
+        // the rewrite leaves no temporary file
+        let names: Vec<String> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+        assert_eq!(names, ["log.csv"]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
