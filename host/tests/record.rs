@@ -295,6 +295,45 @@ fn sigint_during_a_slow_pipe_leaves_complete_files_and_a_summary() {
     );
 }
 
+/// The probe path's end without a probe: a source that sends part of the stream and then
+/// reports its connection lost (what the probe's poll thread sends on a USB error). The files
+/// hold everything received, the recording says why it stopped, and decode's counts of the
+/// received bytes (the frame in flight incomplete).
+#[test]
+fn a_lost_connection_keeps_what_was_received() {
+    use stickslip::recorded::decode::load_table;
+    use stickslip::recorded::live::source::{Chunk, End, Stop};
+    use stickslip::recorded::live::{create_output, record_chunks};
+
+    let dir = scratch("record-lost");
+    let one = std::fs::read(STREAM).unwrap();
+    let fr = frames(&one);
+    // up to the middle of the window frame, in chunks of 7 bytes
+    let (wo, wn) = fr[WINDOW_FRAME];
+    let sent = one[..wo + wn / 2].to_vec();
+    let (tx, rx) = std::sync::mpsc::sync_channel(4);
+    let stop = Stop::new(tx.clone());
+    let chunks: Vec<Vec<u8>> = sent.chunks(7).map(<[u8]>::to_vec).collect();
+    let source = std::thread::spawn(move || {
+        for c in chunks {
+            tx.send(Chunk::Data(c)).unwrap();
+        }
+        tx.send(Chunk::End(End::Lost("USB device gone".into()))).unwrap();
+    });
+    let table = load_table("fixture", &std::fs::read(ELF).unwrap()).unwrap();
+    let out = dir.join("rec");
+    let mut status = Vec::new();
+    let rec = record_chunks(&table, rx, &stop, create_output(Some(&out), None).unwrap(), false, &mut status);
+    source.join().unwrap();
+    assert_eq!(rec.end, End::Lost("USB device gone".into()));
+    let summary = rec.summary();
+    assert!(summary.starts_with("record: the probe connection was lost: USB device gone\n"), "{summary}");
+    assert_as_decode(&out, &sent, &summary);
+    // the frames before the window, the window's first half incomplete
+    assert_eq!((rec.stats.frames_decoded, rec.stats.frames_dropped, rec.stats.incomplete_bytes), (WINDOW_FRAME as u64, 0, (wn / 2) as u64));
+    assert_eq!(rec.kinds.iter().map(|k| k.rows).sum::<u64>(), WINDOW_FRAME as u64);
+}
+
 #[test]
 fn bad_input_is_one_line_and_exit_2() {
     let dir = scratch("record-bad");

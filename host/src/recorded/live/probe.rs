@@ -52,7 +52,7 @@ pub struct ProbeRequest<'a> {
 pub fn start(req: &ProbeRequest, tx: SyncSender<Chunk>, stop: Arc<AtomicBool>) -> Result<String> {
     let selector = match req.probe {
         Some(s) => Some(s.parse::<DebugProbeSelector>().map_err(|e| {
-            HostError::Input(format!("--probe {s}: {e}: want VID:PID[:SERIAL], VID and PID in hex (e.g. 0483:374b)"))
+            HostError::Input(format!("--probe {s}: not VID:PID[:SERIAL] with VID and PID in hex, e.g. 0483:374b ({e})"))
         })?),
         None => None,
     };
