@@ -23,7 +23,8 @@ Exit codes: 0 success (a run that halts, e.g. on contact loss or sprag, is a fin
 exits 0, with the outcome reported); 2 bad input (unknown scene, unreadable or invalid scene
 file or recording, bad option value), with one line on stderr naming the file or option, the
 field (or line and column) and the rule; 1 an output file could not be written; 3 a bound of
-`accuracy --check` or `stability --check` failed (the report is still printed).";
+`accuracy --check` or `stability --check` failed (the report is still printed); 4 the debug
+probe's connection was lost while `record` recorded (what was saved is summarized).";
 
 #[derive(Debug, Parser)]
 #[command(

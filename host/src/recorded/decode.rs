@@ -22,6 +22,10 @@
 //! as `name key={..} key={..} ...` (every record of the firmware's log: firmware/records, listed
 //! in firmware/README.md, "Log records") is kind `name` with its keys as fields; any other
 //! line (embassy-stm32's own defmt lines, say) is kind `log` with fields `arg0`, `arg1`...
+//!
+//! `stickslip record` (`recorded::live`) decodes with [`decode_stream`] as the bytes arrive and
+//! writes its per-kind CSVs with [`extend_kind_columns`], [`kind_header`] and [`kind_row`],
+//! the functions of `--kind` here.
 
 use std::io::Read;
 
