@@ -10,13 +10,17 @@
 #                                                                    scripts/build-firmware.sh
 #   3. tests/on-target for thumbv7em-none-eabihf: release (bins digest, count, rig, rig_count,
 #      records, count_model2, stack_overflow) and bin rig_count again with the firmware's code generation (profile `firmware`)
-#   4. host workspace: cargo test --workspace --release
+#   4. host workspace: cargo test --workspace --release; then, as a step of its own, the
+#      debug-probe path of `stickslip record` (cargo feature `probe`, the probe-rs library):
+#      cargo test --release -p stickslip --features probe --test record
 #   5. the model and the rig's per-sample chain on the emulated Cortex-M4F against the host,
 #      bit for bit (bins digest and rig):
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
 #      and the firmware's log: the defmt stream of bin records, captured under QEMU, decoded
 #      record by record against the host (--test records_on_target), then by the command line
-#      (`stickslip decode`, which must report nothing lost); and a stack overflow (bin
+#      (`stickslip decode`, which must report nothing lost), and by `stickslip record` (fed the
+#      stream as QEMU produces it, and by the command line: raw copy and CSVs equal to
+#      decode's); and a stack overflow (bin
 #      stack_overflow), which must end in the firmware's fault entry with both valves vented
 #      (--test stack_overflow_on_target)
 #   6. instruction counts under QEMU                                 scripts/count-instructions.sh
@@ -96,6 +100,9 @@ arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count" "$on_target_di
 
 section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
+echo
+echo "== 4b: stickslip record's debug-probe path (cargo feature probe, probe-rs): build and tests"
+cargo test --release -p stickslip --features probe --test record
 
 section "5/8 model and rig chain on the emulated Cortex-M4F == on the host, the fault path (QEMU netduinoplus2)"
 STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" STICKSLIP_ON_TARGET_RIG_ELF="$on_target_dir/rig" \
@@ -117,6 +124,14 @@ cat "$decode_err"
 grep -q "dropped 0 frames (0 bytes skipped); 0 bytes of an incomplete frame" "$decode_err" \
     || { echo "stickslip decode lost frames of the on-target stream" >&2; exit 1; }
 rm -f "$decode_out" "$decode_err"
+# `stickslip record --input` on the same stream: the raw copy is the stream, window.csv is decode's
+record_parent="$(mktemp -d)"
+cargo run --release -q -p stickslip -- record --elf "$on_target_dir/records" --input "$records_stream" \
+    --out "$record_parent/rec" 2>/dev/null
+cmp "$records_stream" "$record_parent/rec/raw.defmt"
+cargo run --release -q -p stickslip -- decode --elf "$on_target_dir/records" "$records_stream" --kind window 2>/dev/null \
+    | cmp - "$record_parent/rec/window.csv"
+rm -rf "$record_parent"
 
 section "6/8 instruction counts under QEMU (scripts/count-instructions.sh)"
 COUNT_ELF="$on_target_dir/count" RIG_COUNT_ELF="$rig_count_elf" bash "$root/scripts/count-instructions.sh"

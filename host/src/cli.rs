@@ -23,7 +23,8 @@ Exit codes: 0 success (a run that halts, e.g. on contact loss or sprag, is a fin
 exits 0, with the outcome reported); 2 bad input (unknown scene, unreadable or invalid scene
 file or recording, bad option value), with one line on stderr naming the file or option, the
 field (or line and column) and the rule; 1 an output file could not be written; 3 a bound of
-`accuracy --check` or `stability --check` failed (the report is still printed).
+`accuracy --check` or `stability --check` failed (the report is still printed); 4 the debug
+probe's connection was lost while `record` recorded (what was saved is summarized).
 
 Limits: files read whole are at most 1 MiB (scene files, `fit --table`), 64 MiB (a `map merge`
 shard, the `decode --elf` firmware); recordings and defmt streams are streamed. A run's work is
@@ -93,6 +94,11 @@ pub enum Command {
     /// with the firmware ELF into CSV or JSON records
     #[command(after_help = DECODE_AFTER)]
     Decode(DecodeArgs),
+    /// Record the firmware's log as it arrives, from the board's debug probe (RTT) or from a
+    /// stream (--input): the raw stream, one CSV per record kind (decode's), a status line per
+    /// window, a summary of what was recorded and lost
+    #[command(after_help = RECORD_AFTER)]
+    Record(RecordArgs),
 }
 
 const ANALYZE_AFTER: &str = "\
@@ -450,6 +456,68 @@ has none).
 Exit codes: 0 (also when frames were lost: the counts say so), 2 an unreadable or defmt-less
 ELF (at most 64 MiB), a stream that does not fit the ELF's table (see above), a --kind with
 no record, an unreadable stream.";
+
+#[derive(Debug, Args)]
+pub struct RecordArgs {
+    /// The firmware ELF that runs on the board (its .defmt table decodes the log)
+    #[arg(long, value_name = "FIRMWARE_ELF")]
+    pub elf: PathBuf,
+    /// Read the raw defmt stream from FILE (`-`: standard input, e.g. a pipe) instead of a probe
+    #[arg(long, value_name = "FILE|-", conflicts_with_all = ["probe", "flash"])]
+    pub input: Option<String>,
+    /// The folder for raw.defmt and the CSVs, new or empty (default: a new folder
+    /// rig-YYYYMMDDTHHMMSSZ, the start time in UTC, in the current directory)
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Write the raw stream to FILE (a new file) instead of DIR/raw.defmt
+    #[arg(long, value_name = "FILE")]
+    pub raw: Option<PathBuf>,
+    /// The target chip, as probe-rs names it
+    #[arg(long, value_name = "CHIP", default_value = "STM32F407VGTx")]
+    pub chip: String,
+    /// The debug probe when several are connected: USB vendor and product id in hex, and its
+    /// serial number (e.g. 0483:374b:066DFF535155878281123456)
+    #[arg(long, value_name = "VID:PID[:SERIAL]")]
+    pub probe: Option<String>,
+    /// Flash this ELF (it must be the --elf file) and reset the chip before recording; without
+    /// it, attach to the firmware that runs
+    #[arg(long, value_name = "ELF")]
+    pub flash: Option<PathBuf>,
+}
+
+const RECORD_AFTER: &str = "\
+Sources: the board through a debug probe (probe-rs: attach to CHIP, or --flash and reset; the
+RTT control block found from the ELF's _SEGGER_RTT symbol or by a scan of RAM; up-channel 0,
+the firmware's defmt log, read raw), or --input FILE|- (a saved stream, or a pipe such as QEMU's
+semihosting output). The probe needs this tool built with the cargo feature `probe` (README,
+At the rig).
+
+Written as the records arrive, in DIR: raw.defmt (or --raw FILE), every byte read, in order:
+`stickslip decode --elf ELF DIR/raw.defmt` decodes it again; KIND.csv for every record kind
+seen (window, event, state, command, floor, health, boot, ...; kind log for other lines), each
+equal to `stickslip decode --elf ELF DIR/raw.defmt --kind KIND` (columns frame, timestamp_s
+[s], then the record's keys, arrays as key_0...), one line written per record: a crash or a
+pulled cable loses at most the record in flight. Decoding is decode's own: a frame that does
+not decode is dropped and counted, a cut frame at the end is counted as incomplete.
+
+stderr: a status line per window record: the record and window number, stick fraction [-],
+stick-slip frequency [Hz], pad_x peak-to-peak [m/s^2], the valves (actuator/band open, from
+the last state record) and the sequencer state, and the frames dropped so far; a line per
+state and command record and per warn or error record. On a terminal the status line is
+redrawn in place.
+
+Stops at the end of the input, on Ctrl-C (SIGINT: the files are complete; a second Ctrl-C
+exits at once), or when the probe connection is lost. stdout then gets the summary: why it
+stopped, the raw bytes, decode's counts (frames decoded and dropped, bytes skipped,
+incomplete bytes), the records per kind with their files, and what the firmware itself
+reports as not logged (the window records' events_dropped, windows_dropped, overruns).
+
+Exit codes: 0 the input ended or Ctrl-C (also when frames were lost: the summary counts
+them); 2 bad input: an unreadable or defmt-less ELF, an unreadable --input, --out not empty,
+--raw exists, --flash not the --elf file, no probe attached, a probe or chip that cannot be
+opened or attached, no RTT control block, or a tool built without the feature `probe` asked
+for one; 1 a file could not be written (the summary says what was saved); 4 the probe
+connection was lost while recording (the summary says what was saved).";
 
 const ACCURACY_AFTER: &str = "\
 Steps 1e-6, 1e-5, 1/25600, 1e-4, 2.5e-4 and 1e-3 s (--quick: 1/25600, 2.5e-4, 1e-3 s); methods

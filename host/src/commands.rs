@@ -520,6 +520,20 @@ pub fn decode(a: &crate::cli::DecodeArgs) -> Result<String> {
     })
 }
 
+/// `record`.
+pub fn record(a: &crate::cli::RecordArgs) -> Result<String> {
+    crate::recorded::live::run(&crate::recorded::live::RecordRequest {
+        elf: &a.elf,
+        input: a.input.as_deref(),
+        out: a.out.as_deref(),
+        raw: a.raw.as_deref(),
+        chip: &a.chip,
+        probe: a.probe.as_deref(),
+        flash: a.flash.as_deref(),
+        status_in_place: stderr_is_terminal(),
+    })
+}
+
 /// `map` and `map merge`.
 pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
     use crate::map::{self, cell::CellOptions, sweep::Grid, sweep::Sweep, MapSpec, Shard};

@@ -11,6 +11,8 @@ pub enum HostError {
     Output(String),
     /// A bound of a report's `--check` failed. Exit code 3.
     Check(String),
+    /// The connection to the board (the debug probe) was lost while recording. Exit code 4.
+    Link(String),
 }
 
 impl HostError {
@@ -19,6 +21,7 @@ impl HostError {
             HostError::Input(_) => 2,
             HostError::Output(_) => 1,
             HostError::Check(_) => 3,
+            HostError::Link(_) => 4,
         }
     }
 }
@@ -26,7 +29,7 @@ impl HostError {
 impl fmt::Display for HostError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let msg = match self {
-            HostError::Input(m) | HostError::Output(m) | HostError::Check(m) => m,
+            HostError::Input(m) | HostError::Output(m) | HostError::Check(m) | HostError::Link(m) => m,
         };
         // Always one line: fold any line breaks a library put in its message.
         let mut first = true;

@@ -62,6 +62,7 @@ fn main() -> ExitCode {
         Command::Map(a) => commands::map(a),
         Command::Fit(a) => commands::fit(a),
         Command::Decode(a) => commands::decode(a),
+        Command::Record(a) => commands::record(a),
     };
     match result {
         Ok(out) => {

@@ -399,6 +399,70 @@ fn the_firmware_log_decodes_to_the_records_the_host_computes() {
     assert!(kinds.contains(&"record") && kinds.contains(&"fault") && kinds.contains(&"idle"), "states entered: {kinds:?}");
 }
 
+/// `stickslip record` on the same program's stream as QEMU produces it: the stream is fed to
+/// record's pipeline (`record_reader`, what `record --input -` runs) while the program runs,
+/// through a copy kept here. The raw file must be the bytes QEMU wrote, each KIND.csv what
+/// `stickslip decode --kind KIND` prints for the raw file, nothing lost, and the kinds and
+/// record counts those of the session on the host.
+#[test]
+#[ignore = "needs qemu-system-arm and STICKSLIP_ON_TARGET_RECORDS_ELF (scripts/test-all.sh runs it)"]
+fn record_writes_what_decode_reads_from_the_stream_as_it_is_produced() {
+    use std::io::Read;
+    use std::sync::{Arc, Mutex};
+    use stickslip::recorded::decode::{run as decode_run, DecodeRequest};
+    use stickslip::recorded::live::{record_reader, source::End};
+
+    /// QEMU's stdout, copied as it is read.
+    struct Copy<R> {
+        inner: R,
+        kept: Arc<Mutex<Vec<u8>>>,
+    }
+    impl<R: Read> Read for Copy<R> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let n = self.inner.read(buf)?;
+            self.kept.lock().unwrap().extend_from_slice(&buf[..n]);
+            Ok(n)
+        }
+    }
+
+    let elf = qemu::elf_from_env("STICKSLIP_ON_TARGET_RECORDS_ELF", "records");
+    let (mut child, stdout) = qemu::spawn(&elf);
+    let kept = Arc::new(Mutex::new(Vec::new()));
+    let out = std::env::temp_dir().join(format!("stickslip-record-on-target-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let table = load_table("records ELF", &std::fs::read(&elf).expect("the ELF reads")).expect("the ELF has a defmt table");
+    let waiter = std::thread::spawn(move || qemu::wait(&mut child));
+    let rec = record_reader(&table, Copy { inner: stdout, kept: kept.clone() }, Some(&out), None, &mut std::io::sink())
+        .expect("record's folder");
+    let status = waiter.join().expect("QEMU's waiter");
+    assert!(status.success(), "QEMU: {status}");
+    println!("record: {}", rec.summary());
+    assert_eq!(rec.end, End::Input);
+    let stream = kept.lock().unwrap().clone();
+    let raw = std::fs::read(&rec.raw_path).expect("raw.defmt");
+    assert!(raw == stream, "raw.defmt ({} bytes) is not QEMU's stream ({} bytes)", raw.len(), stream.len());
+    assert_eq!((rec.stats.bytes as usize, rec.stats.frames_dropped, rec.stats.bytes_skipped, rec.stats.incomplete_bytes), (stream.len(), 0, 0, 0));
+
+    let want = host_session();
+    let mut kinds: Vec<&str> = Vec::new();
+    for e in &want {
+        if !kinds.contains(&e.kind) {
+            kinds.push(e.kind);
+        }
+    }
+    let got: Vec<(&str, u64)> = rec.kinds.iter().map(|k| (k.kind.as_str(), k.rows)).collect();
+    let expect: Vec<(&str, u64)> = kinds.iter().map(|k| (*k, want.iter().filter(|e| e.kind == *k).count() as u64)).collect();
+    assert_eq!(got, expect, "kinds and records per kind, recorded vs the session on the host");
+    let raw_path = rec.raw_path.to_str().expect("a UTF-8 path").to_string();
+    for k in &kinds {
+        let ours = std::fs::read_to_string(out.join(format!("{k}.csv"))).expect("the kind's CSV");
+        let theirs = decode_run(&DecodeRequest { elf: &elf, input: &raw_path, json: false, kind: Some(k) }).expect("decode --kind");
+        assert!(ours == theirs, "{k}.csv differs from decode --kind {k}");
+    }
+    assert_eq!(rec.firmware.windows as usize, want.iter().filter(|e| e.kind == "window").count());
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// The host side of the comparison on its own, runnable without QEMU: the session plays, and
 /// its records satisfy what the schema says of them (so the comparison above cannot pass on an
 /// empty or degenerate session).

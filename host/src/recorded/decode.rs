@@ -25,6 +25,10 @@
 //! as `name key={..} key={..} ...` (every record of the firmware's log: firmware/records, listed
 //! in firmware/README.md, "Log records") is kind `name` with its keys as fields; any other
 //! line (embassy-stm32's own defmt lines, say) is kind `log` with fields `arg0`, `arg1`...
+//!
+//! `stickslip record` (`recorded::live`) decodes with [`decode_stream`] as the bytes arrive and
+//! writes its per-kind CSVs with [`extend_kind_columns`], [`kind_header`] and [`kind_row`],
+//! the functions of `--kind` here.
 
 use std::io::Read;
 
@@ -365,7 +369,9 @@ pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(
     Ok(st)
 }
 
-fn csv_line(cells: &[String]) -> String {
+/// One CSV line (with its `\n`) of `cells`, quoted where needed: every CSV line `decode` and
+/// `record` write.
+pub fn csv_line(cells: &[String]) -> String {
     let mut w = csv::WriterBuilder::new().terminator(csv::Terminator::Any(b'\n')).from_writer(Vec::new());
     let _ = w.write_record(cells);
     String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
@@ -471,35 +477,57 @@ fn render(a: &DecodeRequest, label: &str, records: &[Record], stats: &StreamStat
                     if found.is_empty() { "none".to_string() } else { found.join(", ") }
                 )));
             }
-            // the union of the fields in order of appearance (the lines of kind `log` have
-            // different fields); an array field expands to key_0, key_1, ...
-            let mut cols: Vec<(String, Option<usize>)> = Vec::new();
+            let mut cols: Vec<KindColumn> = Vec::new();
             for r in &chosen {
-                for (k, v) in &r.fields {
-                    let parts: Vec<Option<usize>> = match v {
-                        Value::Array(a) => (0..a.len()).map(Some).collect(),
-                        _ => vec![None],
-                    };
-                    for p in parts {
-                        if !cols.iter().any(|(c, q)| c == k && *q == p) {
-                            cols.push((k.clone(), p));
-                        }
-                    }
-                }
+                extend_kind_columns(&mut cols, r);
             }
-            let mut head = vec!["frame".to_string(), "timestamp_s".to_string()];
-            head.extend(cols.iter().map(|(c, p)| p.map_or(c.clone(), |i| format!("{c}_{i}"))));
-            out.push_str(&csv_line(&head));
+            out.push_str(&csv_line(&kind_header(&cols)));
             for r in chosen {
-                let mut row = vec![r.frame.to_string(), r.timestamp_s.map_or(String::new(), |t| t.to_string())];
-                row.extend(cols.iter().map(|(c, p)| match (r.field(c), p) {
-                    (Some(Value::Array(a)), Some(i)) => a.get(*i).map_or(String::new(), cell),
-                    (Some(v), None) => cell(v),
-                    _ => String::new(),
-                }));
-                out.push_str(&csv_line(&row));
+                out.push_str(&csv_line(&kind_row(r, &cols)));
             }
         }
     }
     Ok(out)
+}
+
+/// A column of `--kind`'s CSV after `frame,timestamp_s`: a field by name, or element `i` of an
+/// array field (`key_i`).
+pub type KindColumn = (String, Option<usize>);
+
+/// Appends the columns of `r` that `cols` lacks, in the order of `r`'s fields: over a kind's
+/// records in stream order, the union of their fields in order of appearance (the lines of kind
+/// `log` have different fields); an array field expands to key_0, key_1, ... Returns whether a
+/// column was added.
+pub fn extend_kind_columns(cols: &mut Vec<KindColumn>, r: &Record) -> bool {
+    let before = cols.len();
+    for (k, v) in &r.fields {
+        let parts: Vec<Option<usize>> = match v {
+            Value::Array(a) => (0..a.len()).map(Some).collect(),
+            _ => vec![None],
+        };
+        for p in parts {
+            if !cols.iter().any(|(c, q)| c == k && *q == p) {
+                cols.push((k.clone(), p));
+            }
+        }
+    }
+    cols.len() > before
+}
+
+/// The header of `--kind`'s CSV: frame, timestamp_s, then the columns.
+pub fn kind_header(cols: &[KindColumn]) -> Vec<String> {
+    let mut head = vec!["frame".to_string(), "timestamp_s".to_string()];
+    head.extend(cols.iter().map(|(c, p)| p.map_or(c.clone(), |i| format!("{c}_{i}"))));
+    head
+}
+
+/// A record's row of `--kind`'s CSV under `cols` (empty where it has no such field).
+pub fn kind_row(r: &Record, cols: &[KindColumn]) -> Vec<String> {
+    let mut row = vec![r.frame.to_string(), r.timestamp_s.map_or(String::new(), |t| t.to_string())];
+    row.extend(cols.iter().map(|(c, p)| match (r.field(c), p) {
+        (Some(Value::Array(a)), Some(i)) => a.get(*i).map_or(String::new(), cell),
+        (Some(v), None) => cell(v),
+        _ => String::new(),
+    }));
+    row
 }

@@ -11,7 +11,8 @@
 //! - [`report`]: Markdown and JSON of the three analysis commands;
 //! - [`windows`]: the estimator's window statistics as CSV (`analyze --windows`);
 //! - [`figures`]: the SVG figures;
-//! - [`decode`]: the defmt stream decoder.
+//! - [`decode`]: the defmt stream decoder;
+//! - [`live`]: `record`, the log as it arrives (probe or pipe) into the raw stream and CSVs.
 //!
 //! Comparisons are written `!(a > b)` on purpose: a NaN then takes the error branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -24,6 +25,7 @@ pub mod csv_in;
 pub mod decode;
 pub mod envelope;
 pub mod figures;
+pub mod live;
 pub mod numbers;
 pub mod progress;
 pub mod quiet;

@@ -67,3 +67,35 @@ pub fn elf_from_env(var: &str, bin: &str) -> PathBuf {
     assert!(elf.is_file(), "{var}={} is not a file", elf.display());
     elf
 }
+
+/// Starts `elf` under QEMU as [`run`] does and hands over its standard output as it comes
+/// (standard error is discarded); [`wait`] ends it.
+pub fn spawn(elf: &Path) -> (std::process::Child, std::process::ChildStdout) {
+    let mut child = Command::new("qemu-system-arm")
+        .args(["-M", "netduinoplus2", "-nographic", "-monitor", "none", "-serial", "null"])
+        .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
+        .arg(elf)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start qemu-system-arm: {e} (install the Debian package qemu-system-arm)"));
+    let stdout = child.stdout.take().expect("piped stdout");
+    (child, stdout)
+}
+
+/// Waits for a QEMU started by [`spawn`], killed after the hang guard.
+pub fn wait(child: &mut std::process::Child) -> std::process::ExitStatus {
+    let started = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().expect("waiting for QEMU") {
+            return status;
+        }
+        if started.elapsed() > QEMU_WATCHDOG {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("QEMU did not exit within {QEMU_WATCHDOG:?}: killed");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
