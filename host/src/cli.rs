@@ -207,6 +207,12 @@ counts cannot be estimated closer than that (pad_trail of push_trail: 15 counts,
 \"channels\": {\"disc_x\": {\"pp\": {\"estimated\", \"true\", \"error\"}, \"pp_bound\" [m/s^2], \"rms\",
 \"peak_hz\", \"groan_rms\"}, ...}}.
 
+Channel health (`analyze`'s rule and words: flat, saturated, noisier than the signal) applies
+to the virtual recording, with a channel at its range or an ADC rail in any frame of the window
+saturated: where the estimator cannot decide, the stick fraction, frequency and onsets are not
+estimated (null) and the summary says why; a saturated channel's peak-to-peak is not estimated.
+--json then adds \"undecided\" (why) and \"health\" (per channel, a list of words).
+
 --csv FILE writes every sample's calibrated channels: t_s,disc_x_m_s2,pad_x_m_s2,
 pad_trail_m_s2,pad_lead_m_s2 (values that read back to the same numbers), which `analyze` and
 `compare` accept. --plots DIR writes the figures of `analyze --plots` for the window.";

@@ -46,7 +46,7 @@ impl Sweep {
             Ok(n) if (1..=crate::limits::SWEEP_MAX_N).contains(&n) => n,
             _ => {
                 return bad(format!(
-                    "N `{}` must be a whole number from 1 to {} (values of one sweep)",
+                    "N `{}` must be a whole number >= 1 (at most {} values in one sweep)",
                     parts[2],
                     crate::limits::SWEEP_MAX_N
                 ))
