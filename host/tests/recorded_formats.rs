@@ -279,6 +279,12 @@ fn the_time_axis_is_checked_at_full_precision() {
     assert!((num(&gaps[0], &["intervals"]) - 1.5).abs() < 1e-3);
     assert_eq!(num(&v, &["sample_rate_hz"]).round(), 25_600.0);
     assert!((num(&v, &["stick_slip_hz"]) / 100.0 - 1.0).abs() <= 0.01, "{}", v["stick_slip_hz"]);
+    // a gap right after a gap is a gap too (the new block's first interval is checked)
+    let t5 = |i: usize| format!("{:.8}", (i as f64 + if i == 2000 { 0.5 } else if i > 2000 { 2.0 } else { 0.0 }) / 25_600.0);
+    let f = write(&dir, "two_gaps.csv", with_times(t5, &[]));
+    let v = json(&["analyze", &f, "--gaps", "split", "--json"]);
+    let lines: Vec<u64> = v["gaps"].as_array().unwrap().iter().map(|g| g["line"].as_u64().unwrap()).collect();
+    assert_eq!(lines, [2002, 2003], "{}", v["gaps"]);
     // a repeated time is an error even with --gaps split
     let t4 = |i: usize| format!("{:.8}", (if i == 3000 { i - 1 } else { i }) as f64 / 25_600.0);
     let f = write(&dir, "repeat.csv", with_times(t4, &[]));

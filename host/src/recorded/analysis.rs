@@ -651,10 +651,19 @@ impl Analyzer {
 
     /// The mean interval of the rows so far, within the blocks [s].
     fn mean_interval(&self) -> f64 {
-        if self.done_intervals == 0 {
+        if self.gaps.is_empty() {
             (self.t_prev - self.t0) / (self.rows - 1) as f64
         } else {
-            (self.done_span + (self.t_prev - self.block_t0)) / (self.done_intervals + self.block_rows - 1) as f64
+            (self.done_span + (self.t_prev - self.block_t0)) / self.intervals() as f64
+        }
+    }
+
+    /// The intervals the mean is taken over (within the blocks).
+    fn intervals(&self) -> u64 {
+        if self.gaps.is_empty() {
+            self.rows.saturating_sub(1)
+        } else {
+            self.done_intervals + self.block_rows.saturating_sub(1)
         }
     }
 
@@ -683,7 +692,7 @@ impl Analyzer {
                 self.line_prev
             ));
         }
-        if self.rows >= 2 && !(self.split_gaps && self.block_rows < 2) {
+        if self.rows >= 2 && self.intervals() > 0 {
             let mean = self.mean_interval();
             let eps = 8.0 * f64::EPSILON * t.abs().max(self.t0.abs());
             // each row's time is within half its printed resolution of the truth
