@@ -12,7 +12,8 @@
 #      records, count_model2, stack_overflow) and bin rig_count again with the firmware's code generation (profile `firmware`)
 #   4. host workspace: cargo test --workspace --release; then, as a step of its own, the
 #      debug-probe path of `stickslip record` (cargo feature `probe`, the probe-rs library):
-#      cargo test --release -p stickslip --features probe --test record
+#      cargo test --release -p stickslip --features probe --test record; and the campaign of
+#      bad inputs, scripts/bad-inputs.sh (python3 and /usr/bin/time, in Debian's base image)
 #   5. the model and the rig's per-sample chain on the emulated Cortex-M4F against the host,
 #      bit for bit (bins digest and rig):
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
@@ -101,7 +102,10 @@ arm-none-eabi-size "$on_target_dir/digest" "$on_target_dir/count" "$on_target_di
 section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
 echo
-echo "== 4b: stickslip record's debug-probe path (cargo feature probe, probe-rs): build and tests"
+echo "== 4b: the campaign of bad inputs (scripts/bad-inputs.sh: each one line and exit 2 or a classified halt, within 5 s and 200 MB)"
+bash scripts/bad-inputs.sh
+echo
+echo "== 4c: stickslip record's debug-probe path (cargo feature probe, probe-rs): build and tests"
 cargo test --release -p stickslip --features probe --test record
 
 section "5/8 model and rig chain on the emulated Cortex-M4F == on the host, the fault path (QEMU netduinoplus2)"

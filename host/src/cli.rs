@@ -519,7 +519,9 @@ incomplete bytes), the records per kind with their files, and what the firmware 
 reports as not logged (the window records' events_dropped, windows_dropped, overruns).
 
 Exit codes: 0 the input ended or Ctrl-C (also when frames were lost: the summary counts
-them); 2 bad input: an unreadable or defmt-less ELF, an unreadable --input, --out not empty,
+them); 2 bad input: an unreadable or defmt-less ELF (at most 64 MiB), a stream that does not
+fit the ELF's table (as decode refuses it; the files stay, the summary is printed), an
+unreadable --input, --out not empty,
 --raw exists, --flash not the --elf file, no probe attached, a probe or chip that cannot be
 opened or attached, no RTT control block, or a tool built without the feature `probe` asked
 for one; 1 a file could not be written (the summary says what was saved); 4 the probe

@@ -253,7 +253,7 @@ pub fn record_reader<R: Read + Send + 'static>(
 /// `stickslip record`.
 pub fn run(a: &RecordRequest) -> Result<String> {
     let elf_label = a.elf.display().to_string();
-    let elf = std::fs::read(a.elf).map_err(|e| HostError::Input(format!("{elf_label}: cannot read the ELF: {e}")))?;
+    let elf = crate::limits::read_bytes(a.elf, "ELF", crate::limits::ELF_FILE_MAX_BYTES)?;
     let table = load_table(&elf_label, &elf)?;
     let (tx, rx) = sync_channel(source::CHANNEL_CHUNKS);
     let stop = Stop::new(tx.clone());
@@ -283,6 +283,11 @@ pub fn run(a: &RecordRequest) -> Result<String> {
         let _ = std::io::stdout().flush();
         Err(e)
     };
+    // decode's rule for a stream of another build (most frames do not fit the ELF's table):
+    // the files stay, the recording is refused as decode refuses it
+    if let Err(e) = crate::recorded::decode::check_match(&from, &elf_label, &rec.stats) {
+        return fail(e);
+    }
     match &rec.end {
         End::Input | End::Interrupted => Ok(summary),
         End::ReadFailed(_) => fail(HostError::Input(format!("{from}: {}", rec.end_text()))),
