@@ -640,6 +640,11 @@ pub struct FitArgs {
     /// to the first horizon, then to the next, then to the whole record (see below)
     #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS)]
     pub horizons: Vec<f64>,
+    /// What recordings are compared by: waveform (pad_x sample by sample, multiple shooting over
+    /// the cycles: 1-DOF scenes), statistics (the whole record's), or auto (waveform where it
+    /// applies: recordings alone, every case a 1-DOF scene)
+    #[arg(long, value_name = "auto|waveform|statistics", default_value = "auto")]
+    pub cost: String,
     /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its
     /// Levenberg-Marquardt run)
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_MAX_ITERS)]

@@ -33,6 +33,21 @@ pub struct ParameterJson {
     pub start: f64,
     pub lo: f64,
     pub hi: f64,
+    /// The 95 % profile-likelihood interval [lo, hi]; null on a side where the profile does not
+    /// close inside the bounds (not identifiable there); absent where not computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interval: Option<[Option<f64>; 2]>,
+}
+
+#[derive(Serialize)]
+pub struct GoodnessJson {
+    pub chi2_per_dof: f64,
+    pub dof: usize,
+    pub noise: f64,
+    pub noise_source: String,
+    pub chi2_limit: f64,
+    pub starts_agreeing: usize,
+    pub verdict: &'static str,
 }
 
 #[derive(Serialize)]
@@ -83,6 +98,9 @@ pub struct FitJson {
     pub residuals: Vec<ComparedJson>,
     pub holdout: Vec<ComparedJson>,
     pub converged: bool,
+    pub goodness: GoodnessJson,
+    /// "waveform" (the time-domain cost) or "statistics".
+    pub cost_kind: &'static str,
     pub identifiable: bool,
     pub flat_directions: Vec<FlatJson>,
     pub correlation: BTreeMap<String, BTreeMap<String, Option<f64>>>,
@@ -135,6 +153,7 @@ impl FitJson {
                         start: f.start,
                         lo: f.lo,
                         hi: f.hi,
+                        interval: r.intervals.get(k).map(|(a, b)| [*a, *b]),
                     },
                 )
             })
@@ -153,6 +172,16 @@ impl FitJson {
             residuals: r.fitted.iter().map(Into::into).collect(),
             holdout: r.holdout.iter().map(Into::into).collect(),
             converged: r.converged,
+            goodness: GoodnessJson {
+                chi2_per_dof: r.goodness.chi2_per_dof,
+                dof: r.goodness.dof,
+                noise: r.goodness.noise,
+                noise_source: r.goodness.noise_source.clone(),
+                chi2_limit: super::goodness::chi2_limit(r.goodness.dof),
+                starts_agreeing: r.goodness.starts_agreeing,
+                verdict: r.goodness.verdict.name(),
+            },
+            cost_kind: if r.time_domain { "waveform" } else { "statistics" },
             identifiable: r.identifiable(),
             flat_directions: r
                 .uncertainty
@@ -241,20 +270,38 @@ pub fn markdown(r: &FitReport) -> String {
         if r.free.len() == 1 { "" } else { "s" },
         r.evaluations,
         r.seconds,
-        if r.converged { "the search converged" } else { "**the search stopped at its iteration limit** (raise --max-iters)" }
+        match r.goodness.verdict {
+            super::goodness::Verdict::Fits => "verdict **fits**: the best cost is what the noise explains",
+            super::goodness::Verdict::Misfit => "verdict **misfit**: the starts agree on a cost the noise does not explain (the model family does not fit)",
+            super::goodness::Verdict::NotConverged => "verdict **not converged**: the starts end at different costs",
+        }
     ));
-    s.push_str("| key | start | fitted | std (Jacobian) | std (bootstrap) | bounds |\n|---|---:|---:|---:|---:|---|\n");
+    s.push_str(&format!(
+        "Goodness: chi^2 / dof = {:.4} over {} degrees of freedom (fits up to {:.4}); noise {} ({}); {} of {} starts at the best cost. Cost: {}.\n\n",
+        r.goodness.chi2_per_dof,
+        r.goodness.dof,
+        super::goodness::chi2_limit(r.goodness.dof),
+        num(r.goodness.noise),
+        r.goodness.noise_source,
+        r.goodness.starts_agreeing,
+        r.starts.len(),
+        if r.time_domain { "the recorded pad_x sample by sample (time domain, multiple shooting over the cycles)" } else { "the statistics' log ratios" }
+    ));
+    s.push_str("| key | start | fitted | std (Jacobian) | std (bootstrap) | 95 % interval (profile) | bounds |\n|---|---:|---:|---:|---:|---|---|\n");
     for (k, f) in r.free.iter().enumerate() {
         let rel = r.std[k] / r.values[k];
         let boot = r.std_bootstrap.as_ref().map_or("-".into(), |b| format!("{} ({})", num(b[k]), pct(b[k] / r.values[k])));
+        let side = |x: Option<f64>, open: &str| x.map_or(open.to_string(), num);
+        let interval = r.intervals.get(k).map_or("-".into(), |(a, b)| format!("[{}, {}]", side(*a, "not closed"), side(*b, "not closed")));
         s.push_str(&format!(
-            "| {} | {} | {} | {} ({}) | {} | [{}, {}] |\n",
+            "| {} | {} | {} | {} ({}) | {} | {} | [{}, {}] |\n",
             f.key,
             num(f.start),
             num(r.values[k]),
             num(r.std[k]),
             pct(rel),
             boot,
+            interval,
             num(f.lo),
             num(f.hi)
         ));
