@@ -12,10 +12,11 @@
 //!   table's from its `sigma` column where it has one, else [`ASSUMED_SIGMA_LN`] (Table 3.1
 //!   states none: assumed, and said so); dof = statistics less free keys.
 //!
-//! `fits`: chi^2 / dof <= [`chi2_limit`]; `misfit`: above it while the starts agree;
-//! `not_converged`: fewer than two starts end at the best cost (within [`AGREE_CHI2`] of chi^2,
-//! or 1e-3 of it relative), when there was more than one start, or the one start's local search
-//! stopped at its limit.
+//! `fits`: chi^2 / dof <= [`chi2_limit`] (a cost the noise explains: no other optimum can be
+//! better by more than the noise, whatever the other starts found); `misfit`: above it, and
+//! at least two starts end at the best cost (within [`AGREE_CHI2`] of chi^2, or 1e-3 of it
+//! relative; or the only start converged): the model family does not fit; `not_converged`:
+//! above it, and no other start confirms the best.
 
 use super::solve::StartReport;
 
@@ -80,12 +81,15 @@ pub fn judge(chi2: f64, dof: usize, noise: f64, noise_source: String, starts: &[
     let agree = agreeing(starts, cost_to_chi2);
     let chi2_per_dof = chi2 / dof.max(1) as f64;
     let searched_once = starts.len() == 1 && starts[0].converged;
-    let verdict = if !(agree >= 2 || searched_once) {
-        Verdict::NotConverged
-    } else if chi2_per_dof <= chi2_limit(dof) {
+    // a cost the noise explains cannot be beaten by more than the noise: it fits whether or
+    // not the other starts found it; a cost it does not explain is the model's only if the
+    // starts agree on it
+    let verdict = if chi2_per_dof <= chi2_limit(dof) {
         Verdict::Fits
-    } else {
+    } else if agree >= 2 || searched_once {
         Verdict::Misfit
+    } else {
+        Verdict::NotConverged
     };
     Goodness { chi2_per_dof, dof, noise, noise_source, starts_agreeing: agree, verdict }
 }

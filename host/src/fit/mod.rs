@@ -381,7 +381,10 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         .filter(|m| weight_of(m.key.stat) > 0.0)
         .filter_map(|m| case_names.iter().position(|c| *c == m.key.case).map(|i| row_of(m, i)))
         .collect();
-    if rows.len() <= free.len() {
+    // the time-domain cost fits the samples, not the statistics: their count does not limit it
+    let waveform_possible =
+        req.cost != CostKind::Statistics && req.tables.is_empty() && !req.recordings.is_empty() && waveform::applies(&base.scene);
+    if rows.len() <= free.len() && !waveform_possible {
         return Err(HostError::Input(format!(
             "{} weighted statistics for {} free keys: a fit needs more statistics than free keys",
             rows.len(),
@@ -410,7 +413,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         skipped.push(Skipped { key: r.key, source: r.source, why: "the scene does not move this channel (0 in the model)".into() });
     }
     problem.rows = keep.into_iter().map(|(r, _)| r).collect();
-    if problem.rows.len() <= free.len() {
+    if problem.rows.len() <= free.len() && !waveform_possible {
         return Err(HostError::Input(format!(
             "{} statistics the scene can produce for {} free keys: a fit needs more statistics than free keys",
             problem.rows.len(),

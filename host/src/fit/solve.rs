@@ -473,7 +473,19 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
                 chain.push(StageResult { values: st.values(&su), cost: c, converged: conv });
                 u = su;
             }
-            let (u, cost, converged) = local_search(p, &u, max_iters)?;
+            // the samples' cost after the features' stage: smooth, and started in its basin:
+            // Levenberg-Marquardt alone (a simplex would spend a hundred evaluations of the
+            // samples to find the basin the features already found)
+            let (u, cost, converged) = if p.time_domain() && !stages.is_empty() {
+                let (lu, lc, conv) = levenberg_marquardt(p, &u, max_iters);
+                if lc < OUTSIDE {
+                    (lu, lc, conv)
+                } else {
+                    local_search(p, &u, max_iters)?
+                }
+            } else {
+                local_search(p, &u, max_iters)?
+            };
             let values = p.values(&u);
             eprintln!(
                 "fit: start {} of {total}: cost {cost:.6e} ({}): {}",

@@ -64,7 +64,10 @@ const LOUD_SIGMA: f64 = 8.0;
 const QUIET_RUN: usize = 8;
 /// A slip still going after this many periods of the pad on its spring counts as steady
 /// sliding (no cycle to place).
-const MAX_SLIP_PERIODS: f64 = 50.0;
+const MAX_SLIP_PERIODS: f64 = 20.0;
+/// Most RK4 steps one slip may take: beyond, the point is rejected (in practice only points of the global screen with v_s far below the
+/// truth's).
+const STEP_BUDGET: usize = 400_000;
 /// pad_x's column in a recording's row.
 const PAD_X: usize = 1;
 
@@ -268,8 +271,8 @@ pub fn cycle(scene: &Scene, dt: f64, max_s: f64) -> std::result::Result<Cycle, S
     // MAX_SLIP_PERIODS is steady sliding (decaying toward it)
     let max_s = max_s.min(MAX_SLIP_PERIODS * std::f64::consts::TAU / omega);
     let steps_max = (max_s / h).ceil() as usize + 2;
-    if steps_max > 20_000_000 {
-        return Err(format!("the slip needs {steps_max} steps of {h:.3e} s"));
+    if steps_max > STEP_BUDGET {
+        return Err(format!("the slip would need up to {steps_max} steps of {h:.3e} s (a Stribeck slope too steep for this cost)"));
     }
     let (mut x, mut w) = (x_s, 0.0f64);
     let mut out = vec![acc(x, w)];
