@@ -397,6 +397,10 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         p
     });
     let mut problem = Problem::new(free.clone(), cases, rows, jump, req.segment, progress.clone());
+    problem.ratios = model::held_ratios(base, &free);
+    for (z, v) in &problem.ratios {
+        notes.push(format!("{z} = {} is held as given by the scene file: its coefficient follows the fitted stiffness and mass", crate::output::format::num(*v)));
+    }
     // the start must be a valid scene for every case
     let start_stats = problem.run_cases(&problem.cases, &problem.values(&vec![0.0; free.len()]));
     if let Some(Err(e)) = start_stats.iter().find(|s| s.is_err()) {
@@ -448,6 +452,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
             let mut p = Problem::new(problem.free.clone(), problem.cases.clone(), problem.rows.clone(), jump, req.segment, progress.clone());
             p.traces = problem.traces.clone();
             p.features = true;
+            p.ratios = problem.ratios.clone();
             vec![Stage { problem: p, cycles: 0.0, horizons: Vec::new() }]
         } else {
             notes.push("a recording has fewer than two re-sticks: no global stage on the cycles' features; the starts are screened on the samples".into());
@@ -512,7 +517,8 @@ fn horizon_stages(
             notes.push(format!("horizon of {n} cycles: {} statistics for {} free keys: stage left out", rows.len(), problem.free.len()));
             continue;
         }
-        let p = Problem::new(problem.free.clone(), cases, rows, problem.jump_m_s2, problem.segment, progress.clone());
+        let mut p = Problem::new(problem.free.clone(), cases, rows, problem.jump_m_s2, problem.segment, progress.clone());
+        p.ratios = problem.ratios.clone();
         out.push(Stage { problem: p, cycles: n, horizons: hz });
     }
     Ok(out)
@@ -537,7 +543,19 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let j = solve::jacobian(&problem, &sol.u, &r);
     let unc = solve::uncertainty(&j, &r);
     let first_steps: Vec<f64> = (0..free.len()).map(|k| unc.cov_u[(k, k)].sqrt()).collect();
-    let intervals = solve::profile_intervals(&problem, &sol.u, sol.cost, chi2_scale, goodness.chi2_per_dof, &first_steps, req.max_iters);
+    // intervals where the model fits: a misfit's profile would measure the model's error, not
+    // the data's (and not_converged has no one optimum to profile)
+    let intervals = if goodness.verdict == goodness::Verdict::Fits {
+        solve::profile_intervals(&problem, &sol.u, sol.cost, chi2_scale, goodness.chi2_per_dof, &first_steps, req.max_iters)
+    } else {
+        if problem.time_domain() {
+            notes.push(format!(
+                "no profile-likelihood intervals: the verdict is {} (a profile would measure the model's error, not the data's)",
+                goodness.verdict.name()
+            ));
+        }
+        Vec::new()
+    };
     let sources: Vec<String> = {
         let mut s: Vec<String> = problem.rows.iter().filter(|r| !r.windows.is_empty()).map(|r| r.source.clone()).collect();
         s.sort();
@@ -589,7 +607,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
             !structural_zero
         })
         .collect();
-    let fitted_scene = model::with_values(&base.scene, &free, &values)
+    let fitted_scene = model::with_values_held(&base.scene, &free, &values, &problem.ratios)
         .map_err(|e| HostError::Input(format!("the fitted values in scene `{}`: {e}", base.name)))?;
     if let Some(p) = progress {
         p.finish_and_clear();
@@ -633,7 +651,7 @@ fn judge(problem: &Problem, sol: &solve::Solution, r: &[f64], notes: &mut Vec<St
         let (mut chi2, mut count, mut shifts) = (0.0, 0usize, 0usize);
         let mut noise2 = 0.0;
         for tr in &problem.traces {
-            let scene = model::with_values(&problem.cases[tr.case_index].1, &problem.free, &values)?;
+            let scene = model::with_values_held(&problem.cases[tr.case_index].1, &problem.free, &values, &problem.ratios)?;
             let mut m = Vec::new();
             let res = waveform::residuals(tr, &scene, Some(&mut m))?;
             let (sd, used) = waveform::stick_noise(tr, &m);

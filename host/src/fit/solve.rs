@@ -89,6 +89,8 @@ pub struct Problem {
     /// With `traces`: the global stage's cost, the recordings' cycle features
     /// ([`super::waveform::feature_residuals`]), instead of their samples.
     pub features: bool,
+    /// Damping ratios held while the free keys move ([`model::held_ratios`]).
+    pub ratios: Vec<(String, f64)>,
 }
 
 impl Problem {
@@ -113,6 +115,7 @@ impl Problem {
             progress,
             traces: Vec::new(),
             features: false,
+            ratios: Vec::new(),
         }
     }
 
@@ -136,7 +139,7 @@ impl Problem {
             .traces
             .par_iter()
             .map(|tr| {
-                let scene = model::with_values(&self.cases[tr.case_index].1, &self.free, values)?;
+                let scene = model::with_values_held(&self.cases[tr.case_index].1, &self.free, values, &self.ratios)?;
                 if self.features {
                     super::waveform::feature_residuals(tr, &scene)
                 } else {
@@ -161,7 +164,7 @@ impl Problem {
         cases
             .par_iter()
             .map(|(name, s)| {
-                let scene = model::with_values(s, &self.free, values)?;
+                let scene = model::with_values_held(s, &self.free, values, &self.ratios)?;
                 model::statistics(name, &scene, self.jump_m_s2, self.segment, self.spectra)
             })
             .collect()
@@ -473,19 +476,7 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
                 chain.push(StageResult { values: st.values(&su), cost: c, converged: conv });
                 u = su;
             }
-            // the samples' cost after the features' stage: smooth, and started in its basin:
-            // Levenberg-Marquardt alone (a simplex would spend a hundred evaluations of the
-            // samples to find the basin the features already found)
-            let (u, cost, converged) = if p.time_domain() && !stages.is_empty() {
-                let (lu, lc, conv) = levenberg_marquardt(p, &u, max_iters);
-                if lc < OUTSIDE {
-                    (lu, lc, conv)
-                } else {
-                    local_search(p, &u, max_iters)?
-                }
-            } else {
-                local_search(p, &u, max_iters)?
-            };
+            let (u, cost, converged) = local_search(p, &u, max_iters)?;
             let values = p.values(&u);
             eprintln!(
                 "fit: start {} of {total}: cost {cost:.6e} ({}): {}",
