@@ -35,8 +35,9 @@
 //! information of a time shift of the first segment).
 //!
 //! **The model side.** The slip is integrated by classical RK4 on the sliding velocity at a
-//! step of at most 1/8 of the sampling interval, 1/20 of the slip's fastest time scale (the
-//! Stribeck slope's m v_s / (N (mu_s - mu_k))) and 1/50 of a period; its end (the sliding
+//! step of at most 1/20 of the slip's fastest time scale (the Stribeck slope's
+//! m v_s / (N (mu_s - mu_k))) and 1/50 of a period, and 1/8 of the sampling interval where
+//! [`STEP_BUDGET`] steps over 20 periods allow it; its end (the sliding
 //! velocity back at 0) is located inside the step on the cubic Hermite interpolant, so the
 //! model's events are placed far inside a sample; between steps the acceleration is
 //! interpolated by Catmull-Rom splines.
@@ -263,17 +264,23 @@ pub fn cycle(scene: &Scene, dt: f64, max_s: f64) -> std::result::Result<Cycle, S
     // sliding velocity w = x' - V < 0 in the slip (friction +mu N)
     let acc = |x: f64, w: f64| (-k * x - c * (w + v) + mu(w.abs()) * n) / m;
     let omega = (k / m).sqrt();
-    let mut h = (dt / 8.0).min(0.02 * std::f64::consts::TAU / omega);
+    // the step accuracy asks for: 1/50 of a period, 1/20 of the Stribeck slope's time scale
+    let mut h_acc = 0.02 * std::f64::consts::TAU / omega;
     if stribeck && mu_s > mu_k {
-        h = h.min(0.05 * m * vs / (n * (mu_s - mu_k) * ex.max(1.0)));
+        h_acc = h_acc.min(0.05 * m * vs / (n * (mu_s - mu_k) * ex.max(1.0)));
     }
     // a slip lasts about one period of the pad on its spring; one still going after
     // MAX_SLIP_PERIODS is steady sliding (decaying toward it)
     let max_s = max_s.min(MAX_SLIP_PERIODS * std::f64::consts::TAU / omega);
-    let steps_max = (max_s / h).ceil() as usize + 2;
-    if steps_max > STEP_BUDGET {
-        return Err(format!("the slip would need up to {steps_max} steps of {h:.3e} s (a Stribeck slope too steep for this cost)"));
+    // 1/8 of a sample where the budget allows, never coarser than accuracy asks
+    let mut h = h_acc.min(dt / 8.0);
+    if max_s / h > STEP_BUDGET as f64 {
+        h = max_s / STEP_BUDGET as f64;
     }
+    if h > h_acc {
+        return Err(format!("the slip would need steps of {h_acc:.3e} s over {max_s:.3e} s (a Stribeck slope too steep for this cost)"));
+    }
+    let steps_max = (max_s / h).ceil() as usize + 2;
     let (mut x, mut w) = (x_s, 0.0f64);
     let mut out = vec![acc(x, w)];
     let arm = -1e-9 * v;
