@@ -119,7 +119,12 @@ fn truth_recording(dir: &std::path::Path, i: usize) -> (Scene, std::path::PathBu
 /// v_s x 1.3; the other keys the truth's), default bounds and starts: mu_s and mu_k within 2 %,
 /// v_s within 5 %, every truth inside its 95 % profile interval, closed on both sides (the data
 /// determine all three), and the verdict `fits` (converged).
+///
+/// Long (each truth 40 s to several minutes on the shared 2-core machine, most of it the
+/// profile intervals): run it with `cargo test --release -p stickslip --test fit_waveform --
+/// --ignored --nocapture --test-threads=1`.
 #[test]
+#[ignore = "long: minutes per truth on a shared 2-core machine; run with --ignored"]
 fn eight_stribeck_truths_are_recovered_inside_their_intervals() {
     let dir = scratch("fit-waveform-truths");
     let mut failures = Vec::new();
