@@ -1,10 +1,10 @@
-//! The model-2 stepper against the independent reference (`stickslip::numerics::reference2`: its own
+//! The model-2 stepper against the independent reference (`stickslip::numerics::reference::model2`: its own
 //! right-hand side from docs/model.md, adaptive DOP853 at rtol 1e-12, events bisected to
 //! 1e-13 s): the 1-DOF Stribeck oracle's period and amplitude, a 2-DOF Stribeck case and a
 //! rig-set case (Stribeck, band, damping), at the rig's step, in f64 and f32.
 
 use stickslip::scenes::builtin;
-use stickslip::numerics::reference2;
+use stickslip::numerics::reference::model2 as reference;
 use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
 use stickslip_model::{Real, Scene};
 
@@ -23,7 +23,7 @@ fn rel(a: f64, b: f64) -> f64 {
 
 /// Relative errors of (period, x pp, x' pp, stick fraction) against the reference.
 fn errors(scene: &Scene, s: &Stats2) -> [f64; 4] {
-    let r = reference2::simulate(scene).unwrap().stats(scene).unwrap();
+    let r = reference::simulate(scene).unwrap().stats(scene).unwrap();
     [
         rel(1.0 / s.stick_slip_hz, 1.0 / r.stick_slip_hz),
         rel(s.pp(0), r.pp(0)),

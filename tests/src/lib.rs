@@ -1,2 +1,2 @@
 //! Cross-crate tests live in `tests/tests/`; the reference simulation they use is
-//! `stickslip::numerics::reference` (host/src/numerics/reference.rs).
+//! `stickslip::numerics::reference::thesis` (host/src/numerics/reference/thesis.rs).

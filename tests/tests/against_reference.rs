@@ -1,7 +1,7 @@
 //! The exact stepper (f64, default step 1/25600 s) against the independent event-driven
 //! DOP853 reference, on the six cases and the 1-DOF oracle.
 
-use stickslip::numerics::reference::{self, Mode};
+use stickslip::numerics::reference::thesis::{self, Mode};
 use stickslip_model::stats::StatsObserver;
 use stickslip_model::{scene::CASE_BETAS, Caliper, ExactStepper, Observer, Regime, Scene, Transition};
 
@@ -41,7 +41,7 @@ fn rel(a: f64, b: f64) -> f64 {
 fn pull_cases_match_the_reference_trajectory_and_statistics() {
     for (name, beta) in CASE_BETAS {
         let scene = Scene::case(Caliper::Pull, beta);
-        let r = reference::simulate(&scene);
+        let r = thesis::simulate(&scene);
         let (s, tr) = exact(&scene);
         // the same sequence of transitions at the same times
         assert_eq!(tr.len(), r.transitions.len(), "pull_{name}: transition count");
@@ -64,7 +64,7 @@ fn pull_cases_match_the_reference_trajectory_and_statistics() {
 fn push_cases_match_the_reference_statistics() {
     for (name, beta) in CASE_BETAS {
         let scene = Scene::case(Caliper::Push, beta);
-        let r = reference::simulate(&scene);
+        let r = thesis::simulate(&scene);
         let (s, _) = exact(&scene);
         let worst_pp = (0..4).map(|i| rel(s.pp(i), r.stats.pp(i))).fold(0.0, f64::max);
         eprintln!(
@@ -84,7 +84,7 @@ fn pull_center_converges_at_every_step_size() {
     // The exact method's error does not grow with the step: from 1 ms to 10 us the periodic
     // pull_center run stays on the reference trajectory.
     let base = Scene::case(Caliper::Pull, 0.040);
-    let r = reference::simulate(&base);
+    let r = thesis::simulate(&base);
     for dt in [1e-3, 2.5e-4, 1e-4, 1.0 / 25600.0, 1e-5] {
         let mut scene = base;
         scene.dt = dt;
@@ -103,7 +103,7 @@ fn pull_center_converges_at_every_step_size() {
 fn oracle_1dof_matches_the_reference_too() {
     // the reference on the closed-form scene: its own accuracy, for the record
     let s = Scene::oracle_1dof();
-    let r = reference::simulate(&s);
+    let r = thesis::simulate(&s);
     let x_max = 0.4 * 10.0 / 100.0 + ((0.2f64 * 10.0 / 100.0).powi(2) + (0.05f64 / 10.0).powi(2)).sqrt();
     assert!(rel(r.stats.max[0], x_max) < 1e-9, "reference x_max {} vs {}", r.stats.max[0], x_max);
     assert!((r.transitions[0].0 - 1.2).abs() < 1e-9);

@@ -18,7 +18,7 @@
 //! 4e-21 s), cross-checked live against DOP853 at rtol 1e-12 (the agreement is printed).
 //!
 //! Model 2 (`MODEL2_SCENES`): the model-2 stepper in f64 and f32 against the independent
-//! model-2 reference (`reference2`, DOP853 at rtol 1e-12), and in f32 with each alternative
+//! model-2 reference (`reference::model2`, DOP853 at rtol 1e-12), and in f32 with each alternative
 //! exponential the firmware can build with (`exp_variants`: libm's, micromath's; plain "f32"
 //! rows use the model's own), beside the exponentials' own errors on the Stribeck range.
 //!
@@ -38,8 +38,7 @@ use stickslip_model::propagator::Propagator;
 use crate::scenes::builtin;
 use crate::error::{HostError, Result};
 use crate::numerics::exp_variants::{max_rel_error_stribeck_range, ExpF32, F32Exp, LibmExp, MicromathExp, ModelExp};
-use crate::numerics::reference::{self, Tolerances};
-use crate::numerics::reference2;
+use crate::numerics::reference::{model2 as model2_reference, thesis, Tolerances};
 use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 
 /// The rig's sample period [s].
@@ -122,14 +121,14 @@ fn observe_model2<T: Real>(scene: &Scene) -> Result<Observed> {
 }
 
 /// The model-2 reference (DOP853, its own right-hand side) at `tol`, as an observed run.
-fn observe_reference2(scene: &Scene, tol: Tolerances) -> Result<Observed> {
-    let run = reference2::simulate_from(scene, reference2::Start::default_of(scene), tol).map_err(HostError::Input)?;
+fn observe_model2_reference(scene: &Scene, tol: Tolerances) -> Result<Observed> {
+    let run = model2_reference::simulate_from(scene, model2_reference::Start::default_of(scene), tol).map_err(HostError::Input)?;
     let st = run.stats(scene).map_err(HostError::Input)?;
     Ok(Observed {
         onsets: run
             .transitions
             .iter()
-            .filter(|t| t.from == reference2::Regime::Stick && t.t >= scene.stats_from)
+            .filter(|t| t.from == model2_reference::Regime::Stick && t.t >= scene.stats_from)
             .map(|t| t.t)
             .collect(),
         min: [st.min[0], st.min[1], st.min[2], st.min[3]],
@@ -198,7 +197,7 @@ fn model2_adaptive_row(name: &str, truth: &Truth, scene: &Scene, rtol: f64, repe
     let mut o = Observed::default();
     for _ in 0..repeats.max(1) {
         let t0 = Instant::now();
-        o = observe_reference2(scene, tol)?;
+        o = observe_model2_reference(scene, tol)?;
         best = best.min(t0.elapsed().as_secs_f64());
     }
     let (error, ep, ea, ef) = measure(truth, &o);
@@ -527,11 +526,11 @@ fn method_row<T: Real>(scene_name: &str, truth: &Truth, kind: MethodKind, scene:
 
 fn adaptive_row(scene_name: &str, truth: &Truth, scene: &Scene, rtol: f64, repeats: usize) -> Result<Row> {
     let tol = Tolerances::loose(rtol);
-    let run = reference::simulate_with(scene, tol, true).map_err(HostError::Input)?;
+    let run = thesis::simulate_with(scene, tol, true).map_err(HostError::Input)?;
     let window_onsets: Vec<f64> = run
         .transitions
         .iter()
-        .filter(|t| t.1 == reference::Mode::Stick && t.0 >= scene.stats_from)
+        .filter(|t| t.1 == thesis::Mode::Stick && t.0 >= scene.stats_from)
         .map(|t| t.0)
         .collect();
     let o = Observed {
@@ -548,7 +547,7 @@ fn adaptive_row(scene_name: &str, truth: &Truth, scene: &Scene, rtol: f64, repea
     let mut steps = 0;
     for _ in 0..repeats.max(1) {
         let t0 = Instant::now();
-        let r = reference::simulate_with(scene, tol, false).map_err(HostError::Input)?;
+        let r = thesis::simulate_with(scene, tol, false).map_err(HostError::Input)?;
         best = best.min(t0.elapsed().as_secs_f64());
         steps = r.accepted_steps;
     }
@@ -580,7 +579,7 @@ pub struct Options {
 
 fn cross_check() -> Result<ReferenceCheck> {
     let scene = builtin::find("pull_center").expect("built-in").scene;
-    let r = reference::simulate(&scene);
+    let r = thesis::simulate(&scene);
     let mut st = ExactStepper::<f64>::new(&scene).map_err(|e| HostError::Input(e.to_string()))?;
     let mut ob = ExactObserver { stats: StatsObserver::<f64>::new(scene.stats_from, scene.dt), onsets: Vec::new(), from: 0.0 };
     let mut times = Vec::new();
@@ -628,10 +627,10 @@ pub fn run(opts: &Options) -> Result<Report> {
         }
     }
     // model 2: its stepper in f32 and f64 against the independent adaptive reference at
-    // rtol 1e-12 (reference2: its own right-hand side from docs/model.md)
+    // rtol 1e-12 (reference::model2: its own right-hand side from docs/model.md)
     for name in MODEL2_SCENES {
         let base = model2_scene(name);
-        let truth = periodic_truth(&observe_reference2(&base, Tolerances::default())?);
+        let truth = periodic_truth(&observe_model2_reference(&base, Tolerances::default())?);
         for &dt in dts {
             let mut scene = base;
             scene.dt = dt;

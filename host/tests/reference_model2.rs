@@ -1,9 +1,11 @@
-//! Checks of the model-2 reference (`stickslip::numerics::reference2`) against yardsticks that do not come
-//! from it: the thesis-model reference (`reference.rs`), the linear stability of steady
+//! Checks of the model-2 reference (`stickslip::numerics::reference::model2`) against yardsticks
+//! that do not come from it: the thesis-model reference (`reference::thesis`, its own right-hand
+//! side), the linear stability of steady
 //! Stribeck sliding, the stiff-band limit, and a closed-form breakaway of the stuck pad + band.
 
-use stickslip::numerics::reference::{self, Mode, Tolerances};
-use stickslip::numerics::reference2::{self, Regime, Start};
+use stickslip::numerics::reference::model2::{self, Regime, Start};
+use stickslip::numerics::reference::thesis::{self, Mode};
+use stickslip::numerics::reference::Tolerances;
 use stickslip_model::{Caliper, FrictionLaw, Scene};
 
 fn rel(a: f64, b: f64, scale: f64) -> f64 {
@@ -19,8 +21,8 @@ fn same_mode(m: Mode, r: Regime) -> bool {
 fn options_off_agrees_with_the_thesis_reference_on_pull_center() {
     let scene = Scene::case(Caliper::Pull, 0.040);
     assert!(!scene.uses_model2());
-    let old = reference::simulate(&scene);
-    let new = reference2::simulate(&scene).expect("reference2 run");
+    let old = thesis::simulate(&scene);
+    let new = model2::simulate(&scene).expect("model-2 reference run");
     assert_eq!(old.transitions.len(), new.transitions.len(), "transition counts");
     assert!(old.transitions.len() > 50, "a stick-slip run: {} transitions", old.transitions.len());
     let mut worst_t: f64 = 0.0;
@@ -82,7 +84,7 @@ fn sliding_growth(frac: f64) -> (f64, f64) {
     let x_eq = mu(s.v) * n / s.k_g;
     let eps = 1e-6;
     let start = Start { state: [x_eq + eps, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], regime: Regime::Slower };
-    let run = reference2::simulate_from(&s, start, Tolerances::default()).expect("run");
+    let run = model2::simulate_from(&s, start, Tolerances::default()).expect("run");
     assert!(run.transitions.is_empty(), "steady sliding must not stick: {:?}", run.transitions.first());
     let h = 1e-3;
     let times: Vec<f64> = (0..=20_000).map(|k| k as f64 * h).collect();
@@ -136,7 +138,7 @@ fn stiff_band_tends_to_the_constant_speed_band() {
     let mut s = Scene::case(Caliper::Pull, 0.040);
     s.duration = 0.3;
     s.stats_from = 0.1;
-    let plain = reference2::simulate(&s).expect("no band");
+    let plain = model2::simulate(&s).expect("no band");
     let a = plain.stats(&s).expect("stats");
     let mut sb = s;
     sb.band = true;
@@ -147,7 +149,7 @@ fn stiff_band_tends_to_the_constant_speed_band() {
     // stuck pad feels m x'' of it in F_req; with a fixed damping ratio it dies out in a few
     // periods 2 pi sqrt(m_b / k_b)
     sb.c_b = 2.0 * 0.5 * (sb.k_b * sb.m_b).sqrt();
-    let banded = reference2::simulate(&sb).expect("band");
+    let banded = model2::simulate(&sb).expect("band");
     let b = banded.stats(&sb).expect("stats");
     assert_eq!(plain.transitions.len(), banded.transitions.len());
     assert!(a.slip_onsets >= 5, "{} onsets", a.slip_onsets);
@@ -221,13 +223,13 @@ fn band_first_breakaway_matches_the_closed_form() {
         }
     }
     let t_closed = hi;
-    let run = reference2::simulate(&s).expect("run");
+    let run = model2::simulate(&s).expect("run");
     let first = run.transitions.first().expect("a breakaway");
     assert_eq!((first.from, first.to), (Regime::Stick, Regime::Slower));
     // the quasi-static estimate without the band's dynamics, to show the test discriminates
     let t_qs = limit / (s.k_g * s.v) * (1.0 + s.k_g / s.k_b) - s.c_x / s.k_g;
     eprintln!(
-        "band breakaway: reference2 {:.12} s, closed form {t_closed:.12} s, difference {:.3e} s (quasi-static {t_qs:.6} s)",
+        "band breakaway: model-2 reference {:.12} s, closed form {t_closed:.12} s, difference {:.3e} s (quasi-static {t_qs:.6} s)",
         first.t,
         first.t - t_closed
     );
@@ -259,7 +261,7 @@ fn stribeck_band_stick_slip_runs_and_is_consistent() {
     s.c_b = 2.0 * 0.05 * (s.k_b * s.m_b).sqrt();
     s.duration = 0.4;
     s.stats_from = 0.2;
-    let run = reference2::simulate(&s).expect("run");
+    let run = model2::simulate(&s).expect("run");
     let st = run.stats(&s).expect("stats");
     let slips = run.transitions.iter().filter(|t| t.from != Regime::Stick).count();
     let mut shortest_slip = f64::INFINITY;
@@ -298,7 +300,7 @@ fn stribeck_band_stick_slip_runs_and_is_consistent() {
 
 /// Check 6: A Stribeck slip phase that starts at (round-off of) v = 0 with v' a hair above 0 must not
 /// end at a crest of v within its first instants: the slip->stick guard is armed only once v
-/// has been clearly negative (module doc of reference2).
+/// has been clearly negative (module doc of reference::model2).
 #[test]
 fn stribeck_slip_is_not_ended_by_round_off_at_its_start() {
     let (mut s, _) = stribeck_oracle(0.05);
@@ -308,7 +310,7 @@ fn stribeck_slip_is_not_ended_by_round_off_at_its_start() {
     // just below breakaway (x'' > 0 for a moment) and v = +1e-13 m/s: v crests at about
     // +1e-13 m/s within ~2e-8 s, then falls as the spring's force grows
     let start = Start { state: [s.mu_s * n / s.k_g - 1e-9, s.v + 1e-13, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], regime: Regime::Slower };
-    let run = reference2::simulate_from(&s, start, Tolerances::default()).expect("run");
+    let run = model2::simulate_from(&s, start, Tolerances::default()).expect("run");
     let first = run.transitions.first().expect("the slip ends");
     eprintln!("slip from v = +1e-13 m/s: first transition {:?} -> {:?} at {:.6} s", first.from, first.to, first.t);
     assert_eq!(first.from, Regime::Slower);

@@ -1,9 +1,9 @@
-//! An event-driven reference simulation of model 2, part 1 (docs/model.md, "Model 2, part 1:
-//! falling friction, a band that moves, damping"), independent of `stickslip_model`'s matrices
-//! and steppers, and of [`crate::numerics::reference`]'s code: its own right-hand side written from the
-//! equations of docs/model.md (it takes only the scene's data and computes the lever arms
-//! itself), the adaptive DOP853 integrator of the `ode_solvers` crate, and event location by
-//! bisection on re-integrated sub-intervals.
+//! The reference simulation of model 2, part 1 (docs/model.md, "Model 2, part 1: falling
+//! friction, a band that moves, damping"), independent of `stickslip_model`'s matrices and
+//! steppers, and of the thesis reference's right-hand side ([`super::thesis`]): its own
+//! right-hand side written from the equations of docs/model.md (it takes only the scene's data
+//! and computes the lever arms itself), run by the event-driven DOP853 driver
+//! ([`super::driver`]) in chunks of 400 largest steps.
 //!
 //! The state is `z = [x, x', phi, phi', u, u']` with `u = x_b - V t` the band's offset from its
 //! drive point (`u = u' = 0` for good without the band; `phi = phi_0`, `phi' = 0` for good
@@ -12,14 +12,11 @@
 //! from the three equations of motion and the constraint `v' = 0` as written (not from the
 //! model crate's scaled form).
 //!
-//! Event location:
+//! Event location (the driver's, with what this model gives it):
 //! - a regime's guard `g(z)` is negative while the regime holds (stick:
 //!   `|F_req| - mu_s N`; slip with the pad slower: `v`; faster: `-v`);
-//! - it is checked at every accepted DOP853 step end, and between two step ends where it is
-//!   negative at both, a crest of `g` (its rate, written analytically, turning from + to -) is
-//!   located by bisection and the guard tested there, so a graze inside a step is not missed;
-//!   the step is also capped at a fraction of the fastest time scale (as in `reference.rs`);
-//! - the first time where `g >= 0` is bisected on re-integrated sub-intervals to `t_tol`.
+//! - its rate is written analytically, so that the driver locates crests of `g` inside a step
+//!   (a graze is not missed); the step is capped at a fraction of the fastest time scale;
 //! - **Arming of slip phases.** With Stribeck friction a slip phase starts at `v = 0` with
 //!   `v' = 0` (the friction is continuous at breakaway), so its guard is 0 (or round-off above
 //!   it) at the start. A slip phase's guard is therefore *armed* only once it has been below
@@ -34,18 +31,15 @@
 //!
 //! Slow and allocating: a yardstick for tests, not the product.
 
-use crate::numerics::reference::Tolerances;
-use ode_solvers::dop853::Dop853;
-use ode_solvers::{OutputType, SVector, System};
+use super::driver::{self, arr, Bracket, Hybrid, Plan, State};
+pub use super::driver::Tolerances;
 use stickslip_model::{Caliper, FrictionLaw, Scene};
 
 /// [x, x', phi, phi', u, u', y, y'] (y: the floating pad's pivot normal to the band).
-type Z = SVector<f64, 8>;
+type Z = State<8>;
 
 /// Guards of slip phases are armed once `v` has been beyond `ARM * V` (see the module doc).
 const ARM: f64 = 1e-9;
-/// A run with more transitions than this stops with an error (a chattering contact).
-const MAX_TRANSITIONS: usize = 10_000_000;
 /// Integration is done in chunks of this many largest steps, so an early event does not pay for
 /// integrating to the end of the run.
 const CHUNK_STEPS: f64 = 400.0;
@@ -300,67 +294,6 @@ impl Phys {
         }
     }
 
-    fn rhs(&self, regime: Regime, z: &Z) -> Z {
-        let ff = self.friction(regime, z);
-        let (xdd, udd) = match regime {
-            Regime::Stick if self.face => {
-                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
-                let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
-                (xdd, udd)
-            }
-            Regime::Stick => {
-                if self.band {
-                    let a = (-self.kg * z[0] - self.cx * z[1] - self.kb * z[4] - self.cb * z[5]) / (self.m + self.mb);
-                    (a, a)
-                } else {
-                    (0.0, 0.0)
-                }
-            }
-            _ => {
-                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
-                let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
-                (xdd, udd)
-            }
-        };
-        let ud = if self.band { z[5] } else { 0.0 };
-        if self.floating {
-            let (q_phi, q_y) = self.float_forces(z, 1.0);
-            let (phidd, ydd) = self.float_acc(q_phi + self.s * self.w * ff, q_y);
-            return Z::from_column_slice(&[z[1], xdd, z[3], phidd, ud, udd, z[7], ydd]);
-        }
-        let (phid, phidd) = if self.rotation {
-            (z[3], (-self.k_rot * z[2] - self.cphi * z[3] + self.moment_load + self.s * self.w * ff) / self.i)
-        } else {
-            (0.0, 0.0)
-        };
-        Z::from_column_slice(&[z[1], xdd, phid, phidd, ud, udd, 0.0, 0.0])
-    }
-
-    /// The regime holds while the guard is negative.
-    fn guard(&self, regime: Regime, z: &Z) -> f64 {
-        match regime {
-            Regime::Stick => self.f_req(z).abs() - self.mu_s * self.normal(z),
-            Regime::Slower => self.slip_v(z),
-            Regime::Faster => -self.slip_v(z),
-        }
-    }
-
-    /// Rate of the guard along the motion (for crests inside a step).
-    fn guard_rate(&self, regime: Regime, z: &Z) -> f64 {
-        let zd = self.rhs(regime, z);
-        match regime {
-            Regime::Stick => self.f_req(z).signum() * self.f_req_rate(&zd) - self.mu_s * self.normal_rate(&zd),
-            _ => {
-                let vd = self.face_rate(&zd);
-                if regime == Regime::Slower {
-                    vd
-                } else {
-                    -vd
-                }
-            }
-        }
-    }
-
     /// The statistics' quantities: x, x', phi, phi', band velocity x_b' = V + u', band
     /// acceleration u''.
     fn quantities(&self, regime: Regime, z: &Z) -> [f64; 6] {
@@ -438,6 +371,85 @@ impl Phys {
             }
         }
     }
+}
+
+impl Hybrid<8> for Phys {
+    type Regime = Regime;
+    const NAME: &'static str = "model-2 reference";
+
+    fn rhs(&self, regime: Regime, z: &Z) -> Z {
+        let ff = self.friction(regime, z);
+        let (xdd, udd) = match regime {
+            Regime::Stick if self.face => {
+                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
+                let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
+                (xdd, udd)
+            }
+            Regime::Stick => {
+                if self.band {
+                    let a = (-self.kg * z[0] - self.cx * z[1] - self.kb * z[4] - self.cb * z[5]) / (self.m + self.mb);
+                    (a, a)
+                } else {
+                    (0.0, 0.0)
+                }
+            }
+            _ => {
+                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
+                let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
+                (xdd, udd)
+            }
+        };
+        let ud = if self.band { z[5] } else { 0.0 };
+        if self.floating {
+            let (q_phi, q_y) = self.float_forces(z, 1.0);
+            let (phidd, ydd) = self.float_acc(q_phi + self.s * self.w * ff, q_y);
+            return Z::from_column_slice(&[z[1], xdd, z[3], phidd, ud, udd, z[7], ydd]);
+        }
+        let (phid, phidd) = if self.rotation {
+            (z[3], (-self.k_rot * z[2] - self.cphi * z[3] + self.moment_load + self.s * self.w * ff) / self.i)
+        } else {
+            (0.0, 0.0)
+        };
+        Z::from_column_slice(&[z[1], xdd, phid, phidd, ud, udd, 0.0, 0.0])
+    }
+
+    /// The regime holds while the guard is negative.
+    fn guard(&self, regime: Regime, z: &Z) -> f64 {
+        match regime {
+            Regime::Stick => self.f_req(z).abs() - self.mu_s * self.normal(z),
+            Regime::Slower => self.slip_v(z),
+            Regime::Faster => -self.slip_v(z),
+        }
+    }
+
+    /// Rate of the guard along the motion (written analytically, for crests inside a step).
+    fn guard_rate(&self, regime: Regime, z: &Z) -> Option<f64> {
+        let zd = self.rhs(regime, z);
+        Some(match regime {
+            Regime::Stick => self.f_req(z).signum() * self.f_req_rate(&zd) - self.mu_s * self.normal_rate(&zd),
+            _ => {
+                let vd = self.face_rate(&zd);
+                if regime == Regime::Slower {
+                    vd
+                } else {
+                    -vd
+                }
+            }
+        })
+    }
+
+    /// A slip phase's guard arms once `v` has been beyond `ARM * V` (see the module doc).
+    fn armed(&self, regime: Regime, z: &Z) -> bool {
+        regime == Regime::Stick || self.guard(regime, z) < -ARM * self.v
+    }
+
+    fn transition(&self, regime: Regime, z: &mut Z) -> Regime {
+        let next = self.next_regime(regime, z);
+        if next == Regime::Stick {
+            self.project_stick(z);
+        }
+        next
+    }
 
     /// The fastest rate of the model [1/s]: natural frequencies, damping rates and the
     /// Stribeck slope's negative damping.
@@ -468,100 +480,14 @@ impl Phys {
     }
 }
 
-struct Rhs {
-    p: Phys,
-    regime: Regime,
-}
-
-impl System<f64, Z> for Rhs {
-    fn system(&self, _t: f64, z: &Z, dz: &mut Z) {
-        *dz = self.p.rhs(self.regime, z);
-    }
-}
-
-/// Step-end states of one DOP853 run in `regime` from (t0, z0) to t1.
-fn integrate(p: &Phys, regime: Regime, t0: f64, z0: Z, t1: f64, h_max: f64, tol: &Tolerances) -> Result<(Vec<f64>, Vec<Z>, u64), String> {
-    if t1 <= t0 {
-        return Ok((vec![t0], vec![z0], 0));
-    }
-    let mut solver = Dop853::from_param(
-        Rhs { p: *p, regime },
-        t0,
-        t1,
-        t1 - t0,
-        z0,
-        tol.rtol,
-        tol.atol,
-        0.9,
-        0.0,
-        0.333,
-        6.0,
-        h_max.min(t1 - t0),
-        0.0,
-        10_000_000,
-        1000,
-        OutputType::Sparse,
-    );
-    let stats = solver
-        .integrate()
-        .map_err(|e| format!("reference2 DOP853 failed from t = {t0} s in {regime:?}: {e:?}"))?;
-    let (ts, zs) = (solver.x_out().clone(), solver.y_out().clone());
-    if zs.iter().any(|z| !z.iter().all(|v| v.is_finite())) {
-        return Err(format!("reference2 DOP853 produced a non-finite state after t = {t0} s in {regime:?}"));
-    }
-    Ok((ts, zs, stats.accepted_steps as u64))
-}
-
-fn state_at(p: &Phys, regime: Regime, t0: f64, z0: Z, t: f64, h_max: f64, tol: &Tolerances) -> Result<Z, String> {
-    let (_, zs, _) = integrate(p, regime, t0, z0, t, h_max, tol)?;
-    Ok(*zs.last().expect("DOP853 output holds the start"))
-}
-
-/// Bisects for the time in (lo, hi] where `f(state)` first turns `>= 0` (false at lo, true at
-/// hi), re-integrating from (t_a, z_a) <= lo. Returns (time, state).
-#[allow(clippy::too_many_arguments)]
-fn bisect<F: Fn(&Z) -> bool>(
-    p: &Phys,
-    regime: Regime,
-    t_a: f64,
-    z_a: Z,
-    mut lo: f64,
-    mut hi: f64,
-    mut z_hi: Z,
-    h_max: f64,
-    tol: &Tolerances,
-    f: F,
-) -> Result<(f64, Z), String> {
-    while hi - lo > tol.t_tol {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
-            break;
-        }
-        let zm = state_at(p, regime, t_a, z_a, mid, h_max, tol)?;
-        if f(&zm) {
-            hi = mid;
-            z_hi = zm;
-        } else {
-            lo = mid;
-        }
-    }
-    Ok((hi, z_hi))
-}
-
 /// One transition: at `t` the regime changed from `from` to `to`; `state` is the state the new
 /// regime starts from (after the stick projection `v = 0` when `to` is stick).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Transition {
-    pub t: f64,
-    pub from: Regime,
-    pub to: Regime,
-    pub state: [f64; 8],
-}
+pub type Transition = driver::Transition<Regime, 8>;
 
 /// Window statistics of a run. Quantities are indexed [x, x', phi, phi', x_b', u''] (x_b' =
 /// V + u' the band's velocity, u'' its acceleration; V and 0 without the band).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Stats2 {
+pub struct Stats {
     pub min: [f64; 6],
     pub max: [f64; 6],
     /// Share of the window spent in stick.
@@ -573,7 +499,7 @@ pub struct Stats2 {
     pub slip_onsets: usize,
 }
 
-impl Stats2 {
+impl Stats {
     /// Peak-to-peak of quantity i.
     pub fn pp(&self, i: usize) -> f64 {
         self.max[i] - self.min[i]
@@ -598,7 +524,7 @@ impl Start {
 
 /// A reference run of model 2, part 1, from t = 0 to `duration`.
 #[derive(Clone, Debug)]
-pub struct Run2 {
+pub struct Run {
     /// The start state and regime (after normalisation: phi held without rotation, u = u' = 0
     /// without the band).
     pub start: Start,
@@ -614,28 +540,17 @@ pub struct Run2 {
     h_max: f64,
 }
 
-fn arr(z: &Z) -> [f64; 8] {
-    [z[0], z[1], z[2], z[3], z[4], z[5], z[6], z[7]]
-}
-
 /// Runs `scene` from the default initial state to `scene.duration` at the default (tight)
 /// tolerances (rtol 1e-12, atol 1e-16, transitions to 1e-13 s, steps up to 0.05 / the fastest
 /// rate).
-pub fn simulate(scene: &Scene) -> Result<Run2, String> {
+pub fn simulate(scene: &Scene) -> Result<Run, String> {
     simulate_from(scene, Start::default_of(scene), Tolerances::default())
 }
 
 /// Runs `scene` from `start` (at t = 0) to `scene.duration` with the given tolerances.
-pub fn simulate_from(scene: &Scene, start: Start, tol: Tolerances) -> Result<Run2, String> {
+pub fn simulate_from(scene: &Scene, start: Start, tol: Tolerances) -> Result<Run, String> {
     scene.validate().map_err(|e| format!("invalid scene: {e}"))?;
-    if !(tol.rtol > 0.0 && tol.atol > 0.0 && tol.t_tol > 0.0 && tol.h_max_factor > 0.0) {
-        return Err(format!("reference2: tolerances must be > 0: {tol:?}"));
-    }
-    if !start.state.iter().all(|v| v.is_finite()) {
-        return Err(format!("reference2: non-finite start state {:?}", start.state));
-    }
     let p = Phys::of(scene);
-    let h_max = tol.h_max_factor / p.fastest_rate();
     let mut z = Z::from_row_slice(&start.state);
     if !p.rotation {
         z[2] = p.phi0;
@@ -649,89 +564,25 @@ pub fn simulate_from(scene: &Scene, start: Start, tol: Tolerances) -> Result<Run
         z[6] = 0.0;
         z[7] = 0.0;
     }
-    let mut regime = start.regime;
-    if regime == Regime::Stick {
+    if start.regime == Regime::Stick {
         p.project_stick(&mut z);
     }
-    let start = Start { state: arr(&z), regime };
-    let t_end = scene.duration;
-    let chunk = CHUNK_STEPS * h_max;
-    let arm_level = -ARM * p.v;
-    let mut t = 0.0;
-    let mut armed = regime == Regime::Stick || p.guard(regime, &z) < arm_level;
-    let mut transitions = Vec::new();
-    let mut accepted = 0u64;
-    while t < t_end {
-        let stop = if t_end - t > 1.5 * chunk { t + chunk } else { t_end };
-        let (ts, zs, acc) = integrate(&p, regime, t, z, stop, h_max, &tol)?;
-        accepted += acc;
-        let mut event: Option<(f64, Z)> = None;
-        for k in 1..zs.len() {
-            if armed {
-                if p.guard(regime, &zs[k]) >= 0.0 {
-                    let ev = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], ts[k], zs[k], h_max, &tol, |y| {
-                        p.guard(regime, y) >= 0.0
-                    })?;
-                    event = Some(ev);
-                    break;
-                }
-                // a crest of the guard inside the step (negative at both ends)
-                if p.guard_rate(regime, &zs[k - 1]) > 0.0 && p.guard_rate(regime, &zs[k]) < 0.0 {
-                    let (tc, zc) = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], ts[k], zs[k], h_max, &tol, |y| {
-                        p.guard_rate(regime, y) <= 0.0
-                    })?;
-                    if p.guard(regime, &zc) >= 0.0 {
-                        let ev = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], tc, zc, h_max, &tol, |y| {
-                            p.guard(regime, y) >= 0.0
-                        })?;
-                        event = Some(ev);
-                        break;
-                    }
-                }
-            } else if p.guard(regime, &zs[k]) < arm_level {
-                armed = true;
-            }
-        }
-        match event {
-            None => {
-                let t_last = *ts.last().expect("DOP853 output holds the start");
-                if (t_last - stop).abs() > 1e-9 * stop.abs().max(1e-9) {
-                    return Err(format!("reference2: DOP853 stopped at t = {t_last} s before {stop} s"));
-                }
-                t = stop;
-                z = *zs.last().expect("DOP853 output holds the start");
-            }
-            Some((te, ze)) => {
-                let mut zn = ze;
-                let next = p.next_regime(regime, &ze);
-                if next == Regime::Stick {
-                    p.project_stick(&mut zn);
-                }
-                transitions.push(Transition { t: te, from: regime, to: next, state: arr(&zn) });
-                if transitions.len() > MAX_TRANSITIONS {
-                    return Err(format!("reference2: more than {MAX_TRANSITIONS} transitions by t = {te} s (chattering)"));
-                }
-                t = te;
-                z = zn;
-                regime = next;
-                armed = regime == Regime::Stick || p.guard(regime, &z) < arm_level;
-            }
-        }
-    }
-    Ok(Run2 {
-        start,
-        transitions,
-        final_state: arr(&z),
-        final_regime: regime,
-        duration: t_end,
-        accepted_steps: accepted,
+    let plan = Plan { stop_at: None, chunk_steps: Some(CHUNK_STEPS) };
+    let path = driver::run(&p, z, start.regime, scene.duration, plan, &tol, |_| Ok(()))?;
+    Ok(Run {
+        start: Start { state: path.start.0, regime: path.start.1 },
+        transitions: path.transitions,
+        final_state: arr(&path.final_state),
+        final_regime: path.final_regime,
+        duration: scene.duration,
+        accepted_steps: path.accepted_steps,
         p,
         tol,
-        h_max,
+        h_max: path.h_max,
     })
 }
 
-impl Run2 {
+impl Run {
     /// The regime segments: (start time, start state, regime, end time).
     fn segments(&self) -> Vec<(f64, Z, Regime, f64)> {
         let mut out = Vec::with_capacity(self.transitions.len() + 1);
@@ -763,13 +614,13 @@ impl Run2 {
             // to the window's start without output
             while t < from {
                 let stop = if from - t > 1.5 * chunk { t + chunk } else { from };
-                z = state_at(&self.p, regime, t, z, stop, self.h_max, &self.tol)?;
+                z = driver::state_at(&self.p, regime, t, z, stop, self.h_max, &self.tol)?;
                 t = stop;
             }
         }
         while t < t1 {
             let stop = if t1 - t > 1.5 * chunk { t + chunk } else { t1 };
-            let (ts, zs, _) = integrate(&self.p, regime, t, z, stop, self.h_max, &self.tol)?;
+            let (ts, zs, _) = driver::integrate(&self.p, regime, t, z, stop, self.h_max, &self.tol)?;
             f(&ts, &zs)?;
             t = stop;
             z = *zs.last().expect("DOP853 output holds the start");
@@ -781,9 +632,9 @@ impl Run2 {
     /// continuous motion (extrema inside a step are bisected on the sign of the quantity's rate;
     /// both one-sided values at a transition count), the stick fraction and the stick-slip
     /// frequency.
-    pub fn window_stats(&self, from: f64, to: f64) -> Result<Stats2, String> {
+    pub fn window_stats(&self, from: f64, to: f64) -> Result<Stats, String> {
         if !(from >= 0.0 && from < to && to <= self.duration) {
-            return Err(format!("reference2: window [{from}, {to}] s not inside [0, {}] s", self.duration));
+            return Err(format!("model-2 reference: window [{from}, {to}] s not inside [0, {}] s", self.duration));
         }
         let p = self.p;
         let mut lo = [f64::INFINITY; 6];
@@ -820,10 +671,11 @@ impl Run2 {
                     for c in 0..6 {
                         if ra[c] * rb[c] < 0.0 {
                             let up = ra[c] > 0.0;
-                            let (_, ze) = bisect(&p, regime, ts[k - 1], zs[k - 1], ts[k - 1], ts[k], zs[k], h_max, &tol, |y| {
+                            let step = Bracket { t_a: ts[k - 1], y_a: zs[k - 1], lo: ts[k - 1], hi: ts[k], y_hi: zs[k] };
+                            let found = driver::bisect(&p, regime, step, h_max, &tol, |y| {
                                 (p.quantity_rates(regime, y)[c] > 0.0) != up
                             })?;
-                            include(p.quantities(regime, &ze));
+                            include(p.quantities(regime, &found.state));
                         }
                     }
                 }
@@ -842,7 +694,7 @@ impl Run2 {
         } else {
             0.0
         };
-        Ok(Stats2 { min: lo, max: hi, stick_fraction: stick_time / (to - from), stick_slip_hz: hz, slip_onsets: onsets.len() })
+        Ok(Stats { min: lo, max: hi, stick_fraction: stick_time / (to - from), stick_slip_hz: hz, slip_onsets: onsets.len() })
     }
 
     /// The regime at time t (the regime a transition at exactly t enters).
@@ -856,7 +708,7 @@ impl Run2 {
     /// segment's start), at the run's tolerances.
     pub fn sample(&self, times: &[f64]) -> Result<Vec<[f64; 8]>, String> {
         if let Some(t) = times.iter().find(|t| !(**t >= 0.0 && **t <= self.duration)) {
-            return Err(format!("reference2: sample time {t} s not inside [0, {}] s", self.duration));
+            return Err(format!("model-2 reference: sample time {t} s not inside [0, {}] s", self.duration));
         }
         let mut order: Vec<usize> = (0..times.len()).collect();
         order.sort_by(|a, b| times[*a].total_cmp(&times[*b]));
@@ -881,7 +733,7 @@ impl Run2 {
     }
 
     /// Window statistics over the scene's window [stats_from, duration].
-    pub fn stats(&self, scene: &Scene) -> Result<Stats2, String> {
+    pub fn stats(&self, scene: &Scene) -> Result<Stats, String> {
         self.window_stats(scene.stats_from, self.duration)
     }
 }
