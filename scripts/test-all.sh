@@ -6,7 +6,8 @@
 #      rust-web-src + binutils-arm-none-eabi + qemu-system-arm, and flip-link (`cargo install`)
 #      as the linker (installed when missing, nothing else is installed)  scripts/cross.sh
 #   2. firmware/ for thumbv7em-none-eabihf, release, with each feature set (default,
-#      no-pressure, no-eos, neither); fails above 64 KiB of flash or 48 KiB of static RAM
+#      no-pressure, no-eos, neither, model2-band, model2-stribeck, model2); fails above 128 KiB
+#      of flash or 80 KiB of static RAM (48 KiB kept for the stack)
 #                                                                    scripts/build-firmware.sh
 #   3. tests/on-target for thumbv7em-none-eabihf: release (bins digest, count, rig, rig_count,
 #      records, count_model2, stack_overflow) and bin rig_count again with the firmware's code generation (profile `firmware`)
