@@ -657,7 +657,7 @@ pub fn run(opts: &Options) -> Result<Report> {
             .find(|r| r.scene == scene && r.method == "exact" && r.precision == prec && r.dt == Some(RIG_DT))
             .and_then(|r| r.error)
     };
-    let find_m2 = |scene: &str, prec: &str| {
+    let find_model2 = |scene: &str, prec: &str| {
         rows.iter()
             .find(|r| r.scene == scene && r.method == MODEL2_METHOD && r.precision == prec && r.dt == Some(RIG_DT))
             .and_then(|r| r.error)
@@ -666,8 +666,8 @@ pub fn run(opts: &Options) -> Result<Report> {
         check("oracle_1dof exact f64 error at 1/25600 s", find("oracle_1dof", "f64"), BOUND_ORACLE_F64, false),
         check("oracle_1dof exact f32 error at 1/25600 s", find("oracle_1dof", "f32"), BOUND_ORACLE_F32, false),
         check("pull_center speed-up of exact f64 over DOP853 at error <= 1e-6", speedup, BOUND_SPEEDUP, true),
-        check("oracle_stribeck model2 f64 error at 1/25600 s", find_m2("oracle_stribeck", "f64"), BOUND_STRIBECK_F64, false),
-        check("oracle_stribeck model2 f32 error at 1/25600 s", find_m2("oracle_stribeck", "f32"), BOUND_STRIBECK_F32, false),
+        check("oracle_stribeck model2 f64 error at 1/25600 s", find_model2("oracle_stribeck", "f64"), BOUND_STRIBECK_F64, false),
+        check("oracle_stribeck model2 f32 error at 1/25600 s", find_model2("oracle_stribeck", "f32"), BOUND_STRIBECK_F32, false),
     ];
     let exp_f32 = vec![exp_row::<ModelExp>(), exp_row::<LibmExp>(), exp_row::<MicromathExp>()];
     Ok(Report { rows, speedup_at_equal_error: speedup, reference_check, checks, exp_f32 })

@@ -326,13 +326,13 @@ fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, f
 }
 
 /// The model-2 run's observers: window statistics, cycle spread, transition log.
-struct Run2Observer {
+struct Model2RunObserver {
     stats: Stats2Observer,
     cycles: CycleObserver,
     log: EventLog,
 }
 
-impl<T: Real> Observer2<T> for Run2Observer {
+impl<T: Real> Observer2<T> for Model2RunObserver {
     fn segment(&mut self, seg: &Segment2<T>) {
         let finite = seg.z0.iter().chain(seg.z1.iter()).all(|v| v.is_finite());
         if finite {
@@ -370,7 +370,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
     }
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
     let window_start = window_start(scene);
-    let mut obs = Run2Observer {
+    let mut obs = Model2RunObserver {
         stats: if full { Stats2Observer::new(window_start, scene.v) } else { Stats2Observer::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
