@@ -82,6 +82,6 @@ for v in "${variants[@]}"; do
         "$v" "$text" "$data" "$bss" "$flash" "$ram" "$flash_bound" "$ram_bound" "$verdict"
 done
 if [ "$status" -ne 0 ]; then
-    echo "build-firmware: a build exceeds the flash bound (128 KiB) or the static RAM bound (80 KiB, which keeps 48 KiB for the stack)" >&2
+    echo "build-firmware: a build exceeds the flash bound ($((FLASH_BOUND / 1024)) KiB) or the static RAM bound ($((RAM_BOUND / 1024)) KiB, which keeps $(((131072 - RAM_BOUND) / 1024)) KiB of the 128 KiB for the stack)" >&2
 fi
 exit "$status"

@@ -1,11 +1,14 @@
 //! The independent reference simulations, the yardsticks of the tests and the adaptive baseline
 //! of `stickslip accuracy`: one event-driven DOP853 driver ([`driver`]) over a small trait for a
 //! hybrid system, and one right-hand side per model, each written from docs/model.md and
-//! sharing no code with `stickslip_model`'s steppers or with each other: the thesis model
-//! ([`thesis`]) and model 2, part 1 ([`model2`]).
+//! sharing no code with `stickslip_model`: the thesis model ([`thesis`]) and model 2
+//! ([`model2`]). The two share only what docs/model.md states once for both ([`common`]): the
+//! pad's constants, the transition table and the window statistics.
 
+pub mod common;
 pub mod driver;
 pub mod model2;
 pub mod thesis;
 
+pub use common::{Contact, WindowStats};
 pub use driver::Tolerances;

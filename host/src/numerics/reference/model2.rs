@@ -33,7 +33,8 @@
 
 use super::driver::{self, arr, Bracket, Hybrid, Plan, State};
 pub use super::driver::Tolerances;
-use stickslip_model::{Caliper, FrictionLaw, Scene};
+use super::common::{Pad, WindowStats};
+use stickslip_model::{FrictionLaw, Scene};
 
 /// [x, x', phi, phi', u, u', y, y'] (y: the floating pad's pivot normal to the band).
 type Z = State<8>;
@@ -45,32 +46,12 @@ const ARM: f64 = 1e-9;
 const CHUNK_STEPS: f64 = 400.0;
 
 /// The regime of the contact.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Regime {
-    Stick,
-    /// Slip with the pad slower than the band (`v < 0`, sigma = +1).
-    Slower,
-    /// Slip with the pad faster than the band (`v > 0`, sigma = -1).
-    Faster,
-}
+pub use super::common::Contact as Regime;
 
-/// Constants written out from docs/model.md (pivot at the supported edge).
+/// The pad's constants (docs/model.md) and model 2's.
 #[derive(Clone, Copy, Debug)]
 struct Phys {
-    m: f64,
-    i: f64,
-    kg: f64,
-    cx: f64,
-    cphi: f64,
-    k_rot: f64,
-    c_n: f64,
-    moment_load: f64,
-    s: f64,
-    w: f64,
-    v: f64,
-    mu_s: f64,
-    mu_k: f64,
-    rotation: bool,
+    pad: Pad,
     phi0: f64,
     stribeck: bool,
     v_s: f64,
@@ -94,28 +75,10 @@ struct Phys {
 
 impl Phys {
     fn of(sc: &Scene) -> Phys {
-        // lever arms: push d_L = l + l_cL, d_T = l - l_cT, a_N = beta, s = +1;
-        //             pull d_L = l - l_cL, d_T = l + l_cT, a_N = 2 l - beta, s = -1
-        let (d_l, d_t, a_n, s) = match sc.caliper {
-            Caliper::Push => (sc.l + sc.l_cl, sc.l - sc.l_ct, sc.beta, 1.0),
-            Caliper::Pull => (sc.l - sc.l_cl, sc.l + sc.l_ct, 2.0 * sc.l - sc.beta, -1.0),
-        };
-        let k_rot = sc.k_l * d_l * d_l + sc.k_t * d_t * d_t;
+        let pad = Pad::of(sc);
+        let (d_l, d_t, a_n, k_rot) = (pad.d_l, pad.d_t, pad.a_n, pad.k_rot);
         Phys {
-            m: sc.m,
-            i: sc.inertia,
-            kg: sc.k_g,
-            cx: sc.c_x,
-            cphi: sc.c_phi,
-            k_rot,
-            c_n: sc.k_l * d_l + sc.k_t * d_t,
-            moment_load: sc.f_n * a_n,
-            s,
-            w: sc.w,
-            v: sc.v,
-            mu_s: sc.mu_s,
-            mu_k: sc.mu_k,
-            rotation: sc.rotation,
+            pad,
             phi0: if sc.floating() {
                 let k_y = sc.k_l + sc.k_t + sc.k_pivot;
                 let c_n = sc.k_l * d_l + sc.k_t * d_t;
@@ -149,17 +112,17 @@ impl Phys {
 
     fn normal(&self, z: &Z) -> f64 {
         if self.floating {
-            return self.k_s * z[6] + self.c_n * z[2];
+            return self.k_s * z[6] + self.pad.c_n * z[2];
         }
-        self.c_n * if self.rotation { z[2] } else { self.phi0 }
+        self.pad.c_n * if self.pad.rotation { z[2] } else { self.phi0 }
     }
 
     /// Rate of N along the motion.
     fn normal_rate(&self, zd: &Z) -> f64 {
         if self.floating {
-            self.k_s * zd[6] + self.c_n * zd[2]
-        } else if self.rotation {
-            self.c_n * zd[2]
+            self.k_s * zd[6] + self.pad.c_n * zd[2]
+        } else if self.pad.rotation {
+            self.pad.c_n * zd[2]
         } else {
             0.0
         }
@@ -167,22 +130,22 @@ impl Phys {
 
     /// The floating pad's (phi, y) mass block: its determinant I m - (m l)^2.
     fn det_float(&self) -> f64 {
-        self.i * self.m - (self.m * self.l) * (self.m * self.l)
+        self.pad.i * self.pad.m - (self.pad.m * self.l) * (self.pad.m * self.l)
     }
 
     /// The floating pad: (phi'', y'') from the generalized forces on phi (with the friction's
     /// moment) and on y, by the inverse of [[I, m l], [m l, m]].
     fn float_acc(&self, q_phi: f64, q_y: f64) -> (f64, f64) {
         let det = self.det_float();
-        let ml = self.m * self.l;
-        ((self.m * q_phi - ml * q_y) / det, (self.i * q_y - ml * q_phi) / det)
+        let ml = self.pad.m * self.l;
+        ((self.pad.m * q_phi - ml * q_y) / det, (self.pad.i * q_y - ml * q_phi) / det)
     }
 
     /// The floating pad's generalized forces without friction on phi and y (`c = 0`: without
     /// the constant terms, for rates).
     fn float_forces(&self, z: &Z, c: f64) -> (f64, f64) {
-        let q_phi = c * self.moment_load - self.k_rot * z[2] - self.c_n * z[6] - self.cphi * z[3];
-        let q_y = c * self.f_n - (self.k_s + self.k_pivot) * z[6] - self.c_n * z[2] - self.c_y * z[7];
+        let q_phi = c * self.pad.moment_load - self.pad.k_rot * z[2] - self.pad.c_n * z[6] - self.pad.cphi * z[3];
+        let q_y = c * self.f_n - (self.k_s + self.k_pivot) * z[6] - self.pad.c_n * z[2] - self.c_y * z[7];
         (q_phi, q_y)
     }
 
@@ -190,37 +153,37 @@ impl Phys {
     /// motion, solved for F (linear in F).
     fn f_req_float(&self, z: &Z, affine: bool) -> f64 {
         let c = if affine { 1.0 } else { 0.0 };
-        let q_x = -self.kg * z[0] - self.cx * z[1];
+        let q_x = -self.pad.kg * z[0] - self.pad.cx * z[1];
         let (q_phi, q_y) = self.float_forces(z, c);
         let q_u = if self.band { -self.kb * z[4] - self.cb * z[5] } else { 0.0 };
-        let sw = self.s * self.w;
+        let sw = self.pad.s * self.pad.w;
         // constraint residual at F = 0 and its slope in F
         let (phi0, _) = self.float_acc(q_phi, q_y);
         let (phi1, _) = self.float_acc(sw, 0.0);
-        let r0 = q_x / self.m + sw * phi0 - if self.band { q_u / self.mb } else { 0.0 };
-        let r1 = 1.0 / self.m + sw * phi1 + if self.band { 1.0 / self.mb } else { 0.0 };
+        let r0 = q_x / self.pad.m + sw * phi0 - if self.band { q_u / self.mb } else { 0.0 };
+        let r1 = 1.0 / self.pad.m + sw * phi1 + if self.band { 1.0 / self.mb } else { 0.0 };
         -r0 / r1
     }
 
     /// Sliding velocity v = x' (+ s w phi') - V - u'.
     fn slip_v(&self, z: &Z) -> f64 {
-        self.face_rate(z) - self.v
+        self.face_rate(z) - self.pad.v
     }
 
     /// The face's velocity relative to the band's drive point, x' (+ s w phi') - u' (also the
     /// rate of v along the motion when given z').
     fn face_rate(&self, z: &Z) -> f64 {
-        z[1] + if self.face { self.s * self.w * z[3] } else { 0.0 } - if self.band { z[5] } else { 0.0 }
+        z[1] + if self.face { self.pad.s * self.pad.w * z[3] } else { 0.0 } - if self.band { z[5] } else { 0.0 }
     }
 
     /// 1/m + w^2/I (face) + 1/m_b (band): the sliding velocity's response to a friction impulse.
     fn inv_mass_v(&self) -> f64 {
         if self.floating {
-            let (phi1, _) = self.float_acc(self.s * self.w, 0.0);
-            return 1.0 / self.m + self.s * self.w * phi1 + if self.band { 1.0 / self.mb } else { 0.0 };
+            let (phi1, _) = self.float_acc(self.pad.s * self.pad.w, 0.0);
+            return 1.0 / self.pad.m + self.pad.s * self.pad.w * phi1 + if self.band { 1.0 / self.mb } else { 0.0 };
         }
-        1.0 / self.m
-            + if self.face { self.w * self.w / self.i } else { 0.0 }
+        1.0 / self.pad.m
+            + if self.face { self.pad.w * self.pad.w / self.pad.i } else { 0.0 }
             + if self.band { 1.0 / self.mb } else { 0.0 }
     }
 
@@ -228,19 +191,19 @@ impl Phys {
     /// equations of motion; `affine = false` drops the constant terms (for rates).
     fn f_req_face(&self, z: &Z, affine: bool) -> f64 {
         let c = if affine { 1.0 } else { 0.0 };
-        let px = -self.kg * z[0] - self.cx * z[1];
-        let pphi = -self.k_rot * z[2] - self.cphi * z[3] + c * self.moment_load;
+        let px = -self.pad.kg * z[0] - self.pad.cx * z[1];
+        let pphi = -self.pad.k_rot * z[2] - self.pad.cphi * z[3] + c * self.pad.moment_load;
         let pu = if self.band { -self.kb * z[4] - self.cb * z[5] } else { 0.0 };
         // (px + F)/m + s w (pphi + s w F)/I - (pu - F)/m_b = 0
-        let rhs = -px / self.m - self.s * self.w * pphi / self.i + if self.band { pu / self.mb } else { 0.0 };
+        let rhs = -px / self.pad.m - self.pad.s * self.pad.w * pphi / self.pad.i + if self.band { pu / self.mb } else { 0.0 };
         rhs / self.inv_mass_v()
     }
 
     fn mu(&self, speed: f64) -> f64 {
         if self.stribeck {
-            self.mu_k + (self.mu_s - self.mu_k) * (-(speed / self.v_s).powf(self.delta)).exp()
+            self.pad.mu_k + (self.pad.mu_s - self.pad.mu_k) * (-(speed / self.v_s).powf(self.delta)).exp()
         } else {
-            self.mu_k
+            self.pad.mu_k
         }
     }
 
@@ -250,7 +213,7 @@ impl Phys {
             return 0.0;
         }
         let r = speed.max(f64::MIN_POSITIVE) / self.v_s;
-        -(self.mu_s - self.mu_k) * (-r.powf(self.delta)).exp() * self.delta * r.powf(self.delta - 1.0) / self.v_s
+        -(self.pad.mu_s - self.pad.mu_k) * (-r.powf(self.delta)).exp() * self.delta * r.powf(self.delta - 1.0) / self.v_s
     }
 
     fn sigma(regime: Regime) -> f64 {
@@ -268,9 +231,9 @@ impl Phys {
         } else if self.face {
             self.f_req_face(z, true)
         } else if self.band {
-            (self.mb * (self.kg * z[0] + self.cx * z[1]) - self.m * (self.kb * z[4] + self.cb * z[5])) / (self.m + self.mb)
+            (self.mb * (self.pad.kg * z[0] + self.pad.cx * z[1]) - self.pad.m * (self.kb * z[4] + self.cb * z[5])) / (self.pad.m + self.mb)
         } else {
-            self.kg * z[0] + self.cx * self.v
+            self.pad.kg * z[0] + self.pad.cx * self.pad.v
         }
     }
 
@@ -281,9 +244,9 @@ impl Phys {
         } else if self.face {
             self.f_req_face(zd, false)
         } else if self.band {
-            (self.mb * (self.kg * zd[0] + self.cx * zd[1]) - self.m * (self.kb * zd[4] + self.cb * zd[5])) / (self.m + self.mb)
+            (self.mb * (self.pad.kg * zd[0] + self.pad.cx * zd[1]) - self.pad.m * (self.kb * zd[4] + self.cb * zd[5])) / (self.pad.m + self.mb)
         } else {
-            self.kg * zd[0]
+            self.pad.kg * zd[0]
         }
     }
 
@@ -298,7 +261,7 @@ impl Phys {
     /// acceleration u''.
     fn quantities(&self, regime: Regime, z: &Z) -> [f64; 6] {
         let zd = self.rhs(regime, z);
-        [z[0], z[1], z[2], z[3], self.v + if self.band { z[5] } else { 0.0 }, zd[5]]
+        [z[0], z[1], z[2], z[3], self.pad.v + if self.band { z[5] } else { 0.0 }, zd[5]]
     }
 
     /// Rates of [`Phys::quantities`].
@@ -309,7 +272,7 @@ impl Phys {
         } else if regime == Regime::Stick && self.face {
             (-self.kb * zd[4] - self.cb * zd[5] - self.f_req_rate(&zd)) / self.mb
         } else if regime == Regime::Stick {
-            (-self.kg * zd[0] - self.cx * zd[1] - self.kb * zd[4] - self.cb * zd[5]) / (self.m + self.mb)
+            (-self.pad.kg * zd[0] - self.pad.cx * zd[1] - self.kb * zd[4] - self.cb * zd[5]) / (self.pad.m + self.mb)
         } else {
             let sg = Self::sigma(regime);
             let speed = self.slip_v(z).abs();
@@ -326,8 +289,8 @@ impl Phys {
     fn project_stick(&self, z: &mut Z) {
         if self.floating {
             let p = -self.slip_v(z) / self.inv_mass_v();
-            let (dphi, dy) = self.float_acc(self.s * self.w * p, 0.0);
-            z[1] += p / self.m;
+            let (dphi, dy) = self.float_acc(self.pad.s * self.pad.w * p, 0.0);
+            z[1] += p / self.pad.m;
             z[3] += dphi;
             z[7] += dy;
             if self.band {
@@ -335,40 +298,17 @@ impl Phys {
             }
         } else if self.face {
             let p = -self.slip_v(z) / self.inv_mass_v();
-            z[1] += p / self.m;
-            z[3] += self.s * self.w * p / self.i;
+            z[1] += p / self.pad.m;
+            z[3] += self.pad.s * self.pad.w * p / self.pad.i;
             if self.band {
                 z[5] -= p / self.mb;
             }
         } else if self.band {
-            let common = (self.m * z[1] + self.mb * (self.v + z[5])) / (self.m + self.mb);
+            let common = (self.pad.m * z[1] + self.mb * (self.pad.v + z[5])) / (self.pad.m + self.mb);
             z[1] = common;
-            z[5] = common - self.v;
+            z[5] = common - self.pad.v;
         } else {
-            z[1] = self.v;
-        }
-    }
-
-    /// The regime after a guard fired in `regime` at z (the table of docs/model.md).
-    fn next_regime(&self, regime: Regime, z: &Z) -> Regime {
-        let f = self.f_req(z);
-        match regime {
-            Regime::Stick => {
-                if f > 0.0 {
-                    Regime::Slower
-                } else {
-                    Regime::Faster
-                }
-            }
-            _ => {
-                if f.abs() <= self.mu_s * self.normal(z) {
-                    Regime::Stick
-                } else if f > 0.0 {
-                    Regime::Slower
-                } else {
-                    Regime::Faster
-                }
-            }
+            z[1] = self.pad.v;
         }
     }
 }
@@ -381,20 +321,20 @@ impl Hybrid<8> for Phys {
         let ff = self.friction(regime, z);
         let (xdd, udd) = match regime {
             Regime::Stick if self.face => {
-                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
+                let xdd = (-self.pad.kg * z[0] - self.pad.cx * z[1] + ff) / self.pad.m;
                 let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
                 (xdd, udd)
             }
             Regime::Stick => {
                 if self.band {
-                    let a = (-self.kg * z[0] - self.cx * z[1] - self.kb * z[4] - self.cb * z[5]) / (self.m + self.mb);
+                    let a = (-self.pad.kg * z[0] - self.pad.cx * z[1] - self.kb * z[4] - self.cb * z[5]) / (self.pad.m + self.mb);
                     (a, a)
                 } else {
                     (0.0, 0.0)
                 }
             }
             _ => {
-                let xdd = (-self.kg * z[0] - self.cx * z[1] + ff) / self.m;
+                let xdd = (-self.pad.kg * z[0] - self.pad.cx * z[1] + ff) / self.pad.m;
                 let udd = if self.band { (-self.kb * z[4] - self.cb * z[5] - ff) / self.mb } else { 0.0 };
                 (xdd, udd)
             }
@@ -402,11 +342,11 @@ impl Hybrid<8> for Phys {
         let ud = if self.band { z[5] } else { 0.0 };
         if self.floating {
             let (q_phi, q_y) = self.float_forces(z, 1.0);
-            let (phidd, ydd) = self.float_acc(q_phi + self.s * self.w * ff, q_y);
+            let (phidd, ydd) = self.float_acc(q_phi + self.pad.s * self.pad.w * ff, q_y);
             return Z::from_column_slice(&[z[1], xdd, z[3], phidd, ud, udd, z[7], ydd]);
         }
-        let (phid, phidd) = if self.rotation {
-            (z[3], (-self.k_rot * z[2] - self.cphi * z[3] + self.moment_load + self.s * self.w * ff) / self.i)
+        let (phid, phidd) = if self.pad.rotation {
+            (z[3], (-self.pad.k_rot * z[2] - self.pad.cphi * z[3] + self.pad.moment_load + self.pad.s * self.pad.w * ff) / self.pad.i)
         } else {
             (0.0, 0.0)
         };
@@ -416,7 +356,7 @@ impl Hybrid<8> for Phys {
     /// The regime holds while the guard is negative.
     fn guard(&self, regime: Regime, z: &Z) -> f64 {
         match regime {
-            Regime::Stick => self.f_req(z).abs() - self.mu_s * self.normal(z),
+            Regime::Stick => self.f_req(z).abs() - self.pad.mu_s * self.normal(z),
             Regime::Slower => self.slip_v(z),
             Regime::Faster => -self.slip_v(z),
         }
@@ -426,7 +366,7 @@ impl Hybrid<8> for Phys {
     fn guard_rate(&self, regime: Regime, z: &Z) -> Option<f64> {
         let zd = self.rhs(regime, z);
         Some(match regime {
-            Regime::Stick => self.f_req(z).signum() * self.f_req_rate(&zd) - self.mu_s * self.normal_rate(&zd),
+            Regime::Stick => self.f_req(z).signum() * self.f_req_rate(&zd) - self.pad.mu_s * self.normal_rate(&zd),
             _ => {
                 let vd = self.face_rate(&zd);
                 if regime == Regime::Slower {
@@ -440,11 +380,11 @@ impl Hybrid<8> for Phys {
 
     /// A slip phase's guard arms once `v` has been beyond `ARM * V` (see the module doc).
     fn armed(&self, regime: Regime, z: &Z) -> bool {
-        regime == Regime::Stick || self.guard(regime, z) < -ARM * self.v
+        regime == Regime::Stick || self.guard(regime, z) < -ARM * self.pad.v
     }
 
     fn transition(&self, regime: Regime, z: &mut Z) -> Regime {
-        let next = self.next_regime(regime, z);
+        let next = regime.after(self.f_req(z), self.pad.mu_s * self.normal(z));
         if next == Regime::Stick {
             self.project_stick(z);
         }
@@ -454,27 +394,27 @@ impl Hybrid<8> for Phys {
     /// The fastest rate of the model [1/s]: natural frequencies, damping rates and the
     /// Stribeck slope's negative damping.
     fn fastest_rate(&self) -> f64 {
-        let mut r = (self.kg / self.m).sqrt().max(self.cx / self.m);
-        if self.rotation {
-            r = r.max(((self.k_rot + self.mu_s * self.w * self.c_n) / self.i).sqrt()).max(self.cphi / self.i);
+        let mut r = (self.pad.kg / self.pad.m).sqrt().max(self.pad.cx / self.pad.m);
+        if self.pad.rotation {
+            r = r.max(((self.pad.k_rot + self.pad.mu_s * self.pad.w * self.pad.c_n) / self.pad.i).sqrt()).max(self.pad.cphi / self.pad.i);
         }
         let inv_mass = self.inv_mass_v();
         if self.floating {
             // the (phi, y) block's stiffest direction over its lightest inertia
             let det = self.det_float();
             r = r
-                .max(((self.k_s + self.k_pivot) * self.i / det).sqrt())
-                .max(((self.k_rot + self.mu_s * self.w * self.c_n) * self.m / det).sqrt())
-                .max(self.c_y * self.i / det)
-                .max(self.cphi * self.m / det);
+                .max(((self.k_s + self.k_pivot) * self.pad.i / det).sqrt())
+                .max(((self.pad.k_rot + self.pad.mu_s * self.pad.w * self.pad.c_n) * self.pad.m / det).sqrt())
+                .max(self.c_y * self.pad.i / det)
+                .max(self.pad.cphi * self.pad.m / det);
         }
         if self.band {
             r = r.max((self.kb / self.mb).sqrt()).max(self.cb / self.mb);
         }
         if self.stribeck {
             // N |mu'| near v = 0 (capped for delta < 1, where it is unbounded); N taken as 2 N0
-            let slope = (self.mu_s - self.mu_k) * self.delta.max(1.0) / self.v_s;
-            r = r.max(2.0 * self.c_n * self.phi0 * slope * inv_mass);
+            let slope = (self.pad.mu_s - self.pad.mu_k) * self.delta.max(1.0) / self.v_s;
+            r = r.max(2.0 * self.pad.c_n * self.phi0 * slope * inv_mass);
         }
         r
     }
@@ -486,25 +426,7 @@ pub type Transition = driver::Transition<Regime, 8>;
 
 /// Window statistics of a run. Quantities are indexed [x, x', phi, phi', x_b', u''] (x_b' =
 /// V + u' the band's velocity, u'' its acceleration; V and 0 without the band).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Stats {
-    pub min: [f64; 6],
-    pub max: [f64; 6],
-    /// Share of the window spent in stick.
-    pub stick_fraction: f64,
-    /// 1 / (mean interval between stick -> slip transitions in the window); 0 with fewer than
-    /// two.
-    pub stick_slip_hz: f64,
-    /// Number of stick -> slip transitions in the window.
-    pub slip_onsets: usize,
-}
-
-impl Stats {
-    /// Peak-to-peak of quantity i.
-    pub fn pp(&self, i: usize) -> f64 {
-        self.max[i] - self.min[i]
-    }
-}
+pub type Stats = WindowStats<6>;
 
 /// Where a run starts: the state `[x, x', phi, phi', u, u', y, y']` at t = 0 and its regime.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -518,7 +440,7 @@ impl Start {
     /// phi' = 0, u = u' = 0 (the floating pad: (y, phi) static under the load, y' = 0).
     pub fn default_of(scene: &Scene) -> Start {
         let p = Phys::of(scene);
-        Start { state: [0.0, p.v, p.phi0, 0.0, 0.0, 0.0, p.y0, 0.0], regime: Regime::Stick }
+        Start { state: [0.0, p.pad.v, p.phi0, 0.0, 0.0, 0.0, p.y0, 0.0], regime: Regime::Stick }
     }
 }
 
@@ -552,7 +474,7 @@ pub fn simulate_from(scene: &Scene, start: Start, tol: Tolerances) -> Result<Run
     scene.validate().map_err(|e| format!("invalid scene: {e}"))?;
     let p = Phys::of(scene);
     let mut z = Z::from_row_slice(&start.state);
-    if !p.rotation {
+    if !p.pad.rotation {
         z[2] = p.phi0;
         z[3] = 0.0;
     }
@@ -689,12 +611,7 @@ impl Run {
             .filter(|tr| tr.from == Regime::Stick && tr.t >= from && tr.t <= to)
             .map(|tr| tr.t)
             .collect();
-        let hz = if onsets.len() >= 2 {
-            (onsets.len() - 1) as f64 / (onsets[onsets.len() - 1] - onsets[0])
-        } else {
-            0.0
-        };
-        Ok(Stats { min: lo, max: hi, stick_fraction: stick_time / (to - from), stick_slip_hz: hz, slip_onsets: onsets.len() })
+        Ok(Stats::of(lo, hi, stick_time, to - from, &onsets))
     }
 
     /// The regime at time t (the regime a transition at exactly t enters).

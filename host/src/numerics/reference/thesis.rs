@@ -12,74 +12,38 @@
 
 use super::driver::{self, Bracket, Hybrid, Plan, State};
 pub use super::driver::Tolerances;
-use stickslip_model::{Caliper, Scene};
+use super::common::{Pad, WindowStats};
+use stickslip_model::Scene;
 
 type Y = State<4>;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mode {
-    Stick,
-    Slower,
-    Faster,
-}
+/// The contact's regime.
+pub use super::common::Contact as Mode;
 
-/// Physical constants written out from docs/model.md (pivot at the supported edge).
+/// The pad's constants (docs/model.md) and its static rotation under the load.
 #[derive(Clone, Copy, Debug)]
 struct Phys {
-    m: f64,
-    i: f64,
-    kg: f64,
-    cx: f64,
-    cphi: f64,
-    k_rot: f64,
-    c_n: f64,
-    moment_load: f64,
-    s: f64,
-    w: f64,
-    v: f64,
-    mu_s: f64,
-    mu_k: f64,
-    rotation: bool,
+    pad: Pad,
     phi0: f64,
 }
 
 impl Phys {
     fn of(sc: &Scene) -> Phys {
-        let (dl, dt, arm, s) = match sc.caliper {
-            Caliper::Push => (sc.l + sc.l_cl, sc.l - sc.l_ct, sc.beta, 1.0),
-            Caliper::Pull => (sc.l - sc.l_cl, sc.l + sc.l_ct, 2.0 * sc.l - sc.beta, -1.0),
-        };
-        let k_rot = sc.k_l * dl * dl + sc.k_t * dt * dt;
-        Phys {
-            m: sc.m,
-            i: sc.inertia,
-            kg: sc.k_g,
-            cx: sc.c_x,
-            cphi: sc.c_phi,
-            k_rot,
-            c_n: sc.k_l * dl + sc.k_t * dt,
-            moment_load: sc.f_n * arm,
-            s,
-            w: sc.w,
-            v: sc.v,
-            mu_s: sc.mu_s,
-            mu_k: sc.mu_k,
-            rotation: sc.rotation,
-            phi0: sc.f_n * arm / k_rot,
-        }
+        let pad = Pad::of(sc);
+        Phys { pad, phi0: pad.moment_load / pad.k_rot }
     }
     fn normal(&self, y: &Y) -> f64 {
-        self.c_n * if self.rotation { y[2] } else { self.phi0 }
+        self.pad.c_n * if self.pad.rotation { y[2] } else { self.phi0 }
     }
     fn f_req(&self, y: &Y) -> f64 {
-        self.kg * y[0] + self.cx * self.v
+        self.pad.kg * y[0] + self.pad.cx * self.pad.v
     }
     /// Friction force on the pad in `mode`.
     fn friction(&self, mode: Mode, y: &Y) -> f64 {
         match mode {
             Mode::Stick => self.f_req(y),
-            Mode::Slower => self.mu_k * self.normal(y),
-            Mode::Faster => -self.mu_k * self.normal(y),
+            Mode::Slower => self.pad.mu_k * self.normal(y),
+            Mode::Faster => -self.pad.mu_k * self.normal(y),
         }
     }
 }
@@ -92,10 +56,10 @@ impl Hybrid<4> for Phys {
         let ff = self.friction(mode, y);
         let xdd = match mode {
             Mode::Stick => 0.0,
-            _ => (-self.kg * y[0] - self.cx * y[1] + ff) / self.m,
+            _ => (-self.pad.kg * y[0] - self.pad.cx * y[1] + ff) / self.pad.m,
         };
-        let (phid, phidd) = if self.rotation {
-            (y[3], (-self.k_rot * y[2] - self.cphi * y[3] + self.moment_load + self.s * self.w * ff) / self.i)
+        let (phid, phidd) = if self.pad.rotation {
+            (y[3], (-self.pad.k_rot * y[2] - self.pad.cphi * y[3] + self.pad.moment_load + self.pad.s * self.pad.w * ff) / self.pad.i)
         } else {
             (0.0, 0.0)
         };
@@ -104,64 +68,32 @@ impl Hybrid<4> for Phys {
     /// Guard value: the regime holds while negative.
     fn guard(&self, mode: Mode, y: &Y) -> f64 {
         match mode {
-            Mode::Stick => self.f_req(y).abs() - self.mu_s * self.normal(y),
-            Mode::Slower => y[1] - self.v,
-            Mode::Faster => self.v - y[1],
+            Mode::Stick => self.f_req(y).abs() - self.pad.mu_s * self.normal(y),
+            Mode::Slower => y[1] - self.pad.v,
+            Mode::Faster => self.pad.v - y[1],
         }
     }
     /// The table of docs/model.md; entering stick sets x' = V.
     fn transition(&self, mode: Mode, y: &mut Y) -> Mode {
-        let f = self.f_req(y);
-        let next = match mode {
-            Mode::Stick => {
-                if f > 0.0 {
-                    Mode::Slower
-                } else {
-                    Mode::Faster
-                }
-            }
-            _ => {
-                let lim = self.mu_s * self.normal(y);
-                if f.abs() <= lim {
-                    Mode::Stick
-                } else if f > 0.0 {
-                    Mode::Slower
-                } else {
-                    Mode::Faster
-                }
-            }
-        };
+        let next = mode.after(self.f_req(y), self.pad.mu_s * self.normal(y));
         if next == Mode::Stick {
-            y[1] = self.v;
+            y[1] = self.pad.v;
         }
         next
     }
     /// The fastest mode's angular frequency: it bounds the step so no guard or extremum is
     /// stepped over.
     fn fastest_rate(&self) -> f64 {
-        (self.kg / self.m).sqrt().max(if self.rotation {
-            ((self.k_rot + self.mu_s * self.w * self.c_n) / self.i).sqrt()
+        (self.pad.kg / self.pad.m).sqrt().max(if self.pad.rotation {
+            ((self.pad.k_rot + self.pad.mu_s * self.pad.w * self.pad.c_n) / self.pad.i).sqrt()
         } else {
             0.0
         })
     }
 }
 
-/// Statistics of the window, as in the product's contract.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct RefStats {
-    pub min: [f64; 4],
-    pub max: [f64; 4],
-    pub stick_fraction: f64,
-    pub stick_slip_hz: f64,
-    pub slip_onsets: usize,
-}
-
-impl RefStats {
-    pub fn pp(&self, i: usize) -> f64 {
-        self.max[i] - self.min[i]
-    }
-}
+/// Statistics of the window, as in the product's contract: [x, x', phi, phi'].
+pub type RefStats = WindowStats<4>;
 
 /// A reference run: the transitions (time, from, to), the window statistics (when asked for),
 /// the final state and the work done.
@@ -184,7 +116,7 @@ pub fn simulate(scene: &Scene) -> RefRun {
 /// (the window's extrema stay zero) for timing the trajectory alone.
 pub fn simulate_with(scene: &Scene, tol: Tolerances, with_stats: bool) -> Result<RefRun, String> {
     let p = Phys::of(scene);
-    let y0 = Y::new(0.0, p.v, p.phi0, 0.0);
+    let y0 = Y::new(0.0, p.pad.v, p.phi0, 0.0);
     let t_win = scene.stats_from;
     let t_end = scene.duration;
     let mut ext: Option<([f64; 4], [f64; 4])> = None;
@@ -239,22 +171,11 @@ pub fn simulate_with(scene: &Scene, tol: Tolerances, with_stats: bool) -> Result
         path.transitions.iter().filter(|tr| tr.to != tr.from).map(|tr| (tr.t, tr.from, tr.to)).collect();
     let onsets: Vec<f64> = transitions.iter().filter(|tr| tr.1 == Mode::Stick && tr.0 >= t_win).map(|tr| tr.0).collect();
     let (min, max) = ext.unwrap_or(([0.0; 4], [0.0; 4]));
-    let hz = if onsets.len() >= 2 {
-        (onsets.len() - 1) as f64 / (onsets[onsets.len() - 1] - onsets[0])
-    } else {
-        0.0
-    };
     let y = path.final_state;
     Ok(RefRun {
         final_state: [y[0], y[1], y[2], y[3]],
         accepted_steps: path.accepted_steps,
         transitions,
-        stats: RefStats {
-            min,
-            max,
-            stick_fraction: stick_time / (t_end - t_win),
-            stick_slip_hz: hz,
-            slip_onsets: onsets.len(),
-        },
+        stats: WindowStats::of(min, max, stick_time, t_end - t_win, &onsets),
     })
 }
