@@ -138,7 +138,9 @@ fn a_cost_profile_has_its_minimum_at_the_truth() {
     // the scene as the truth except mu_k (the profile sets mu_k at each point)
     let mut start = truth;
     start.mu_k = 0.4;
-    let req = request("mu_k", vec![format!("oracle_stribeck={}", path.display())], 1);
+    // the statistics' cost (the time-domain one would be the default for this 1-DOF scene):
+    // the weights below act on it
+    let req = FitRequest { cost: fit::CostKind::Statistics, ..request("mu_k", vec![format!("oracle_stribeck={}", path.display())], 1) };
     // 7 points log-spaced over 0.44 / 1.1 .. 0.44 x 1.1: the middle one is 0.44
     let p = fit::run_profile(named("oracle_stribeck", start), &req, "mu_k=0.4:0.484:7").expect("the profile runs");
     assert_eq!(p.points.len(), 7);
