@@ -449,7 +449,7 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         for (case, file, _) in &recs {
             if let Some(ci) = problem.cases.iter().position(|(c, _)| c == case) {
                 let coulomb = problem.cases[ci].1.friction == stickslip_model::FrictionLaw::Coulomb;
-                let tr = waveform::read_trace(case, ci, file, coulomb)?;
+                let tr = waveform::read_trace(case, ci, file, coulomb, &req.read)?;
                 if tr.resticks.is_empty() {
                     notes.push(format!("{file}: no re-stick found (no quiet run after a slip): its samples are compared with the run from the band's start as it is"));
                 }
@@ -812,6 +812,11 @@ pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Pro
             let mut u = vec![0.0; problem.free.len()];
             u[k] = (v / start).ln();
             match problem.residuals(&u) {
+                Ok(r) if problem.time_domain() => {
+                    // the time-domain cost: residuals are samples in units of the noise, not
+                    // log ratios of statistics (no RMS log ratio, no worst statistic)
+                    ProfilePoint { value: v, cost: Some(solve::cost_of(&r)), rms_log_ratio: None, worst: None, error: None }
+                }
                 Ok(r) => {
                     // every row has weight > 0 (setup keeps only those): r_j = sqrt(w_j) ln(model /
                     // measured); the RMS is of the log ratios themselves, as the fit's

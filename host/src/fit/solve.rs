@@ -421,12 +421,12 @@ fn levenberg_marquardt(p: &Problem, u0: &[f64], max_iters: u64) -> (Vec<f64>, f6
     (u, cost, report.termination.was_successful())
 }
 
-/// One start's local search: Nelder-Mead from a simplex 10 % wide, then Levenberg-Marquardt
+/// One start's local search: Nelder-Mead from a simplex `step` wide in ln(value) (10 % for a start), then Levenberg-Marquardt
 /// from its best point (the simplex finds the basin, the Gauss-Newton steps follow its valley
 /// to the bottom, where a simplex stalls when the parameters are correlated). Returns u, the
 /// cost and whether Levenberg-Marquardt converged.
-fn local_search(p: &Problem, u0: &[f64], max_iters: u64) -> Result<(Vec<f64>, f64, bool), String> {
-    let (mut u, mut cost, _) = nelder_mead(p, u0, SIMPLEX_STEP, max_iters)?;
+fn local_search(p: &Problem, u0: &[f64], step: f64, max_iters: u64) -> Result<(Vec<f64>, f64, bool), String> {
+    let (mut u, mut cost, _) = nelder_mead(p, u0, step, max_iters)?;
     let mut converged = false;
     if cost < OUTSIDE {
         let (lu, lc, conv) = levenberg_marquardt(p, &u, max_iters);
@@ -437,6 +437,53 @@ fn local_search(p: &Problem, u0: &[f64], max_iters: u64) -> Result<(Vec<f64>, f6
         converged = conv;
     }
     Ok((u, cost, converged))
+}
+
+/// Restarts of the local search from the best start's end ([`search`]): at most this many.
+const POLISH_RESTARTS: usize = 3;
+/// A restart that lowers the cost by more than this fraction is followed by another.
+const POLISH_GAIN: f64 = 0.01;
+/// The polish's simplex: 5 % in each ln(value) (the basin is found; the simplex only has to
+/// follow the valley).
+const POLISH_STEP: f64 = 0.05;
+
+/// The polish's screen around the best point: this many Halton points per free key.
+const NEIGHBOURHOOD_POINTS_PER_KEY: usize = 8;
+/// Its box in ln(value) is at most this wide either way along any direction.
+const NEIGHBOURHOOD_SPAN: f64 = 0.05;
+
+/// The lowest point of a Halton screen around `u` (cost `cost`), if lower: the screen's box
+/// lies along the singular vectors of the Jacobian at `u`, each side as far as the local
+/// quadratic model of the cost rises by `cost` (sqrt(2 cost) / s_i along singular value s_i,
+/// at most [`NEIGHBOURHOOD_SPAN`]): a lower valley beside the best point's dip, across a ridge
+/// no higher than the cost itself, is found where a box in the keys' own axes would miss a
+/// valley narrower than its points' spacing (correlated keys).
+fn neighbourhood_best(p: &Problem, u: &[f64], cost: f64) -> Option<Vec<f64>> {
+    let n = u.len();
+    let r0 = p.residuals(u).ok()?;
+    let svd = jacobian(p, u, &r0).svd(false, true);
+    let v_t = svd.v_t?;
+    let half: Vec<f64> = svd
+        .singular_values
+        .iter()
+        .map(|&s| if s > 0.0 { ((2.0 * cost).sqrt() / s).min(NEIGHBOURHOOD_SPAN) } else { NEIGHBOURHOOD_SPAN })
+        .collect();
+    let screen: Vec<Vec<f64>> = (1..=NEIGHBOURHOOD_POINTS_PER_KEY * n)
+        .map(|k| {
+            let z: Vec<f64> = (0..half.len()).map(|i| half[i] * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0)).collect();
+            (0..n).map(|j| u[j] + (0..z.len()).map(|i| v_t[(i, j)] * z[i]).sum::<f64>()).collect()
+        })
+        .collect();
+    let costs: Vec<f64> = screen
+        .par_iter()
+        .map(|x| {
+            let c = p.residuals(x).map_or(OUTSIDE, |r| cost_of(&r));
+            p.note(c);
+            c
+        })
+        .collect();
+    let best = (0..screen.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b]))?;
+    (costs[best] < cost).then(|| screen[best].clone())
 }
 
 /// The search's result at one horizon stage (see [`search`]).
@@ -471,12 +518,12 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
             let mut u = u0.clone();
             let mut chain = Vec::new();
             for (i, st) in stages.iter().enumerate() {
-                let (su, c, conv) = local_search(st, &u, max_iters)?;
+                let (su, c, conv) = local_search(st, &u, SIMPLEX_STEP, max_iters)?;
                 eprintln!("fit: start {} of {total}, horizon {}: cost {c:.6e}", k + 1, i + 1);
                 chain.push(StageResult { values: st.values(&su), cost: c, converged: conv });
                 u = su;
             }
-            let (u, cost, converged) = local_search(p, &u, max_iters)?;
+            let (u, cost, converged) = local_search(p, &u, SIMPLEX_STEP, max_iters)?;
             let values = p.values(&u);
             eprintln!(
                 "fit: start {} of {total}: cost {cost:.6e} ({}): {}",
@@ -497,9 +544,33 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
             best = Some((u, cost, converged, chain));
         }
     }
-    let (u, cost, converged, chain) = best.expect("at least one start");
+    let (mut u, mut cost, mut converged, chain) = best.expect("at least one start");
     if cost >= OUTSIDE {
         return Err("no start reached a valid scene inside the bounds: every evaluation was rejected".into());
+    }
+    // the polish: a simplex stalls early where the parameters are correlated and the cost is
+    // not smooth at the sample scale (statistics such as the first slip's time move in steps
+    // of a sample); restarted from its best point with a fresh, smaller simplex it goes on down
+    // the valley. Restarts while a restart lowers the cost by more than POLISH_GAIN.
+    for _ in 0..POLISH_RESTARTS {
+        // from the lowest of a small Halton screen around the best point (a dip a simplex
+        // cannot leave is left here) or from the best point itself
+        let from = neighbourhood_best(p, &u, cost).unwrap_or_else(|| u.clone());
+        let (pu, pc, pconv) = local_search(p, &from, POLISH_STEP, max_iters)?;
+        if pc < cost {
+            let gain = (cost - pc) / cost.max(f64::MIN_POSITIVE);
+            u = pu;
+            cost = pc;
+            converged = pconv;
+            eprintln!(
+                "fit: polish of the best start: cost {cost:.6e}: {}",
+                p.free.iter().zip(p.values(&u)).map(|(f, v)| format!("{} = {v:.6e}", f.key)).collect::<Vec<_>>().join(", ")
+            );
+            if gain > POLISH_GAIN {
+                continue;
+            }
+        }
+        break;
     }
     Ok((Solution { u, cost, converged, starts: reports }, chain))
 }

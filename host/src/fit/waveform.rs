@@ -50,7 +50,7 @@ use stickslip_model::coefficients::Coefficients;
 use stickslip_model::{FrictionLaw, Scene};
 
 use crate::error::{HostError, Result};
-use crate::recorded::csv_in::RowReader;
+use crate::recorded::{source, ReadOptions};
 
 /// The shift of the model's cycle on a segment's re-stick: at most this many samples.
 pub const SHIFT_SAMPLES: usize = 2;
@@ -63,6 +63,11 @@ const QUIET_SIGMA: f64 = 4.0;
 const LOUD_SIGMA: f64 = 8.0;
 /// A stick is a quiet run of at least this many samples.
 const QUIET_RUN: usize = 8;
+/// A quiet run whose trend's t statistic is above this is a slip's zero crossing, not a stick
+/// ([`Trace::trend_t`]).
+const TREND_T: f64 = 3.5;
+/// The trend is measured over at most this many samples of a quiet run.
+const TREND_SAMPLES: usize = 4096;
 /// A slip still going after this many periods of the pad on its spring counts as steady
 /// sliding (no cycle to place).
 const MAX_SLIP_PERIODS: f64 = 20.0;
@@ -111,10 +116,11 @@ fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-/// Reads pad_x of the recording at `path` and finds its cycles.
-pub fn read_trace(case: &str, case_index: usize, path: &str, coulomb: bool) -> Result<Trace> {
-    let file = std::fs::File::open(path).map_err(|e| HostError::Input(format!("{path}: cannot open the recording: {e}")))?;
-    let mut rows = RowReader::new(path, file)?;
+/// Reads pad_x of the recording at `path` (any format `analyze` reads, its channels mapped by
+/// `opts` as there) and finds its cycles. The samples must be evenly spaced (a gap or a jitter
+/// over 1 % of the interval is refused: the model is placed on the samples' times).
+pub fn read_trace(case: &str, case_index: usize, path: &str, coulomb: bool, opts: &ReadOptions) -> Result<Trace> {
+    let mut rows = source::Recording::open(path, &opts.channels)?;
     let (mut t, mut a) = (Vec::new(), Vec::new());
     while let Some(row) = rows.next_row()? {
         t.push(row.t);
@@ -124,6 +130,16 @@ pub fn read_trace(case: &str, case_index: usize, path: &str, coulomb: bool) -> R
         return Err(HostError::Input(format!("{path}: {} rows: too short for the time-domain cost", t.len())));
     }
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(HostError::Input(format!("{path}: the time axis does not increase: no sampling interval for the time-domain cost")));
+    }
+    if let Some(i) = (1..t.len()).find(|&i| ((t[i] - t[i - 1]) / dt - 1.0).abs() > 0.01) {
+        return Err(HostError::Input(format!(
+            "{path}: row {} of the samples: an interval of {:.6e} s where the mean is {dt:.6e} s: the time-domain cost needs evenly spaced samples (--cost statistics reads gaps)",
+            i + 1,
+            t[i] - t[i - 1]
+        )));
+    }
     let mut d2: Vec<f64> = a.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()).collect();
     let sigma0 = 1.4826 * median(&mut d2) / 6f64.sqrt();
     let mut tr = Trace {
@@ -163,6 +179,15 @@ impl Trace {
                 }
                 i += 1;
             } else if quiet[i] && i + QUIET_RUN <= n && quiet[i..i + QUIET_RUN].iter().all(|q| *q) {
+                // a quiet run: a stick (flat at 0) or the slip's acceleration passing through
+                // zero slowly (a slow cycle's slip can stay inside the quiet band for many
+                // samples); the crossing shows as a trend up to the next loud sample, the
+                // stick does not
+                let span = loud[i..].iter().take_while(|l| !**l).count();
+                if self.trend_t(i, span) > TREND_T {
+                    i += quiet[i..].iter().take_while(|q| **q).count();
+                    continue;
+                }
                 self.resticks.push(i);
                 in_slip = false;
                 i += QUIET_RUN;
@@ -183,6 +208,34 @@ impl Trace {
             for &b in &self.breakaways {
                 mask_at(b);
             }
+        }
+    }
+
+    /// The t statistic of a linear trend over the first three quarters of the `run` samples
+    /// from `i` up to the next loud one (at least [`QUIET_RUN`], at most [`TREND_SAMPLES`]):
+    /// the slope's least-squares estimate over its standard error sigma_0 sqrt(12 / (n (n^2 -
+    /// 1))). The last quarter is left out: a stick's end may hold the start of the next slip.
+    /// A zero crossing of slope s per sample from a quiet sample to the loud band (8 sigma_0)
+    /// spans L >= 4 sigma_0 / s samples and gives t of about 0.75 sqrt(L) or more (6 at
+    /// L = 64); a stick's noise gives |t| > 3.5 in one run of about 2000.
+    fn trend_t(&self, i: usize, run: usize) -> f64 {
+        let n = (3 * run / 4).clamp(QUIET_RUN.min(run), TREND_SAMPLES);
+        if n < 3 {
+            return 0.0;
+        }
+        let xm = 0.5 * (n - 1) as f64;
+        let am = self.a[i..i + n].iter().sum::<f64>() / n as f64;
+        let sxy: f64 = self.a[i..i + n].iter().enumerate().map(|(j, a)| (j as f64 - xm) * (a - am)).sum();
+        let nf = n as f64;
+        let sxx = nf * (nf * nf - 1.0) / 12.0;
+        let slope = sxy / sxx;
+        let se = self.sigma0 / sxx.sqrt();
+        if se > 0.0 {
+            (slope / se).abs()
+        } else if slope != 0.0 {
+            f64::INFINITY
+        } else {
+            0.0
         }
     }
 
