@@ -614,21 +614,41 @@ statistic); `--table thesis_table_3_1` is the thesis's Table 3.1 (24 peak-to-pea
 CASE is one of push_trail, push_center, push_lead, pull_trail, pull_center, pull_lead (SCENE
 with that case's caliper and beta, c_phi at SCENE's damping ratio) or SCENE's own name.
 
-The model of each case runs through the virtual rig's ideal sensor path (no noise, no ADC)
-into the same analysis, with the estimator's breakaway jump of SCENE (or --breakaway-jump) on
+Cost (--cost): with recordings alone of a 1-DOF scene (rotation = false, band = false), the
+default is the time-domain cost (waveform): the recorded pad_x sample by sample against the
+model's, by multiple shooting: the recording is cut at its re-sticks, and in each segment the
+model's cycle (the slip integrated from the breakaway state x_s = (mu_s N - c_x V) / k_g,
+x' = V, its re-stick located inside the step) is placed on the recorded re-stick, shifted by
+at most 2 samples to fit best; 3 samples either side of each re-stick are left out; one more
+residual holds the first re-stick's time from the band's start (the friction level). Residual
+= (recorded - model) / noise. A global stage fits the cycles' features first (first re-stick,
+period, extremes, mean square). Otherwise (statistics) the model of each case runs through the
+virtual rig's ideal sensor path (no noise, no ADC) into the same analysis, with the estimator's breakaway jump of SCENE (or --breakaway-jump) on
 both sides. Residual = sqrt(weight) ln(model / measured); default weight 1, peak_hz 0 (one
 Welch bin is too coarse). A recording's pp is fitted only with --weights pp=W: a sampled
 extreme depends on where the samples fall on the waveform's sharpest part (with falling
 friction, the last slip samples before a re-stick), not only on the parameters.
 Search: from each of --starts starts (in parallel) Nelder-Mead (argmin) on ln(value), then
-Levenberg-Marquardt from its best point; the lowest cost wins; bounds default to start / 10 ..
-start x 10. With recordings, each start is first fitted to the recordings' first stretch, from
+Levenberg-Marquardt from its best point; the lowest cost wins. Bounds default to a physical
+range per key (docs/fit.md: mu 0.05..1.5, v_s 1e-5..1 m/s, stiffnesses, masses, damping as
+ratios 1e-4..1 of critical; other keys start / 10 .. start x 10); --bounds overrides. The
+starts after SCENE's values are the best of a global screen of Halton points over the whole
+box of the bounds (256 per free key on the features of the time-domain cost, 24 per key on a
+table's statistics). With statistics of recordings, each start is first fitted to the recordings' first stretch, from
 t = 0 to the first slip onset + the first of --horizons stick-slip periods (each recording in
 its own periods; default 1.5, then 4.5: a horizon in mid-stick, not at an onset), from there
 to the next horizon, then to the whole record: a record's statistics jump wherever the kind of
 stick-slip cycle changes, its first cycles' do not (--horizons 0: none). The starts after
 SCENE's values are then the best of a screen of the first horizon (64 Halton points per free
-key over a factor 2 either way), not the +-30 % spread.
+key over a factor 2 either way).
+Goodness: chi^2 per degree of freedom against the noise: the recording's own (the RMS of its
+samples where the fitted model is in stick) for the time-domain cost; for statistics, each log
+ratio's spread over its recording's windows, or an assumed 0.25 in ln(value) where none is
+stated (a table's). Verdict: fits (chi^2 / dof within 1 + 3 sqrt(2 / dof) + 0.1), misfit (above,
+and two starts agree on the cost: the model family does not fit), not_converged (above, and no
+start confirms the best); converged is true only with fits. Intervals (time-domain cost): 95 %
+profile likelihood per free key (the others re-fitted along it; threshold Delta chi^2 = 3.84 x
+max(1, chi^2 / dof)); null on a side where the profile does not close inside the bounds.
 Standard errors: central-difference Jacobian at the optimum, scaled by the residual variance;
 a direction of the parameters known to no better than about +-35 % is reported as flat (not
 identifiable). Recordings add a bootstrap over 8 windows each (a linearised refit per
@@ -640,8 +660,10 @@ to see a basin's width, a flat direction or a jump where the stick-slip cycle ch
 \"rms_log_ratio\", \"worst\", \"worst_log_ratio\", \"error\"}], \"seconds\"}.
 
 --json prints {\"scene\", \"parameters\": {KEY: {\"value\", \"std\", \"std_bootstrap\", \"start\",
-\"lo\", \"hi\"}}, \"residuals\": [{\"case\", \"channel\", \"statistic\", \"measured\", \"model\",
-\"log_ratio\", \"weight\", \"source\"}], \"holdout\": [...], \"converged\", \"identifiable\",
+\"lo\", \"hi\", \"interval\": [lo|null, hi|null]}}, \"residuals\": [{\"case\", \"channel\",
+\"statistic\", \"measured\", \"model\", \"log_ratio\", \"weight\", \"source\"}], \"holdout\": [...],
+\"converged\", \"goodness\": {\"chi2_per_dof\", \"dof\", \"noise\", \"noise_source\", \"chi2_limit\",
+\"starts_agreeing\", \"verdict\"}, \"cost_kind\", \"identifiable\",
 \"flat_directions\", \"correlation\", \"cost\", \"residual_variance\", \"rms_log_ratio_fitted\",
 \"rms_log_ratio_holdout\", \"weights\", \"breakaway_jump_m_s2\", \"bootstrap_resamples\",
 \"evaluations\", \"seconds\", \"starts\", \"stages\": [{\"cycles\", \"horizons_s\", \"statistics\",
@@ -785,7 +807,7 @@ pub struct FitArgs {
     /// Cases to leave out of the fit and predict, comma-separated
     #[arg(long, value_name = "CASE[,CASE...]")]
     pub holdout: Vec<String>,
-    /// Bounds of a free key, KEY=LO:HI (default start / 10 .. start x 10)
+    /// Bounds of a free key, KEY=LO:HI (default: the key's physical range, docs/fit.md)
     #[arg(long, value_name = "KEY=LO:HI")]
     pub bounds: Vec<String>,
     /// Weights of the statistics, STAT=W (0 leaves it out; default 1, peak_hz 0)
@@ -803,6 +825,11 @@ pub struct FitArgs {
     /// to the first horizon, then to the next, then to the whole record (see below)
     #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS, allow_hyphen_values = true)]
     pub horizons: Vec<f64>,
+    /// What recordings are compared by: waveform (pad_x sample by sample, multiple shooting over
+    /// the cycles: 1-DOF scenes), statistics (the whole record's), or auto (waveform where it
+    /// applies: recordings alone, every case a 1-DOF scene)
+    #[arg(long, value_name = "auto|waveform|statistics", default_value = "auto")]
+    pub cost: String,
     /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its
     /// Levenberg-Marquardt run), 1 to 1000000
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_MAX_ITERS)]

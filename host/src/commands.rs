@@ -625,6 +625,9 @@ pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
         progress: stderr_is_terminal(),
         horizons: a.horizons.iter().copied().filter(|n| *n != 0.0).collect(),
         read: read_options(&a.input)?,
+        cost: fit::CostKind::parse(&a.cost).ok_or_else(|| {
+            HostError::Input(format!("--cost {}: give auto, waveform or statistics", a.cost))
+        })?,
     };
     if let Some(n) = a.horizons.iter().find(|n| !(n.is_finite() && **n >= 0.0)) {
         return Err(HostError::Input(format!("--horizons {n}: a horizon is a number of stick-slip periods, finite and >= 0 (0: none)")));

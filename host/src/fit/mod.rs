@@ -9,11 +9,14 @@
 //!   uncertainty;
 //! - [`output`]: Markdown, JSON, the figure and the fitted scene file.
 
+pub mod bounds;
+pub mod goodness;
 pub mod model;
 pub mod output;
 pub mod solve;
 pub mod stat;
 pub mod target;
+pub mod waveform;
 
 use std::time::Instant;
 
@@ -56,6 +59,33 @@ pub struct FitRequest {
     pub horizons: Vec<f64>,
     /// How the recordings are read (`--channel`, `--gaps`).
     pub read: crate::recorded::ReadOptions,
+    /// What a recording is compared by (`--cost`).
+    pub cost: CostKind,
+}
+
+/// What a fit to recordings compares (`--cost`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CostKind {
+    /// The time-domain cost where it applies (recordings only, every case a 1-DOF scene),
+    /// else the statistics.
+    #[default]
+    Auto,
+    /// The whole-record statistics (and their horizon stages).
+    Statistics,
+    /// The recorded pad_x sample by sample, by multiple shooting over the cycles
+    /// ([`waveform`]).
+    Waveform,
+}
+
+impl CostKind {
+    pub fn parse(s: &str) -> Option<CostKind> {
+        match s {
+            "auto" => Some(CostKind::Auto),
+            "statistics" => Some(CostKind::Statistics),
+            "waveform" => Some(CostKind::Waveform),
+            _ => None,
+        }
+    }
 }
 
 /// Default number of starts.
@@ -70,8 +100,6 @@ pub const DEFAULT_BOOTSTRAP: usize = 400;
 /// the horizon sits on a slip onset, which enters or leaves the stretch as the parameters
 /// move (1 and 4 periods left 2 of 12 known-truth starts in a wrong basin; docs/fit.md).
 pub const DEFAULT_HORIZONS: [f64; 2] = [1.5, 4.5];
-/// Default bounds: the start value times or divided by this.
-pub const DEFAULT_BOUND_FACTOR: f64 = 10.0;
 
 /// A statistic with the model's value beside the measured one.
 #[derive(Clone, Debug)]
@@ -123,6 +151,13 @@ pub struct FitReport {
     pub notes: Vec<String>,
     /// The horizon stages searched before the whole record, shortest first.
     pub stages: Vec<StageReport>,
+    /// chi^2 per degree of freedom against the noise, and the verdict.
+    pub goodness: goodness::Goodness,
+    /// Whether the cost was the time-domain one ([`waveform`]).
+    pub time_domain: bool,
+    /// Each free key's 95 % profile-likelihood interval (`None` on a side where the profile
+    /// does not close inside the bounds); empty where not computed.
+    pub intervals: Vec<(Option<f64>, Option<f64>)>,
 }
 
 /// One horizon stage: each recording's start fitted up to its horizon.
@@ -170,7 +205,7 @@ fn parse_weights(given: &[String]) -> Result<(Weights, Vec<Stat>)> {
     Ok((w, named))
 }
 
-fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String]) -> Result<Vec<FreeKey>> {
+fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String], notes: &mut Vec<String>) -> Result<Vec<FreeKey>> {
     let mut keys: Vec<FreeKey> = Vec::new();
     for item in free.iter().flat_map(|f| f.split(',')).map(str::trim).filter(|s| !s.is_empty()) {
         let bad = |m: String| HostError::Input(format!("--free {item}: {m}"));
@@ -192,7 +227,9 @@ fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String]) -> Result<V
                 scene.name
             )));
         }
-        keys.push(FreeKey { key: item.to_string(), start, lo: start / DEFAULT_BOUND_FACTOR, hi: start * DEFAULT_BOUND_FACTOR });
+        let (lo, hi, note) = bounds::default_bounds(&scene.scene, item, start);
+        notes.extend(note);
+        keys.push(FreeKey { key: item.to_string(), start, lo, hi });
     }
     if keys.is_empty() {
         return Err(HostError::Input("--free: give at least one scene key to fit, e.g. --free mu_s,mu_k,v_s".into()));
@@ -249,10 +286,10 @@ struct Stage {
 /// Reads the targets of `req`, checks the free keys and builds the problem on `base`.
 fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     let (weights, weights_given) = parse_weights(&req.weights)?;
-    let free = free_keys(base, &req.free, &req.bounds)?;
+    let mut notes = Vec::new();
+    let free = free_keys(base, &req.free, &req.bounds, &mut notes)?;
     let jump = sil::breakaway_jump(base, req.breakaway_jump_m_s2)?;
     let from = req.from_s.unwrap_or(base.scene.stats_from);
-    let mut notes = Vec::new();
     let weight_of = |s: Stat| weights.iter().find(|(k, _)| *k == s).map_or(0.0, |(_, w)| *w);
     if req.recordings.is_empty() && req.tables.is_empty() {
         return Err(HostError::Input("no target: give recordings as CASE=FILE and/or --table FILE".into()));
@@ -353,7 +390,10 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         .filter(|m| weight_of(m.key.stat) > 0.0)
         .filter_map(|m| case_names.iter().position(|c| *c == m.key.case).map(|i| row_of(m, i)))
         .collect();
-    if rows.len() <= free.len() {
+    // the time-domain cost fits the samples, not the statistics: their count does not limit it
+    let waveform_possible =
+        req.cost != CostKind::Statistics && req.tables.is_empty() && !req.recordings.is_empty() && waveform::applies(&base.scene);
+    if rows.len() <= free.len() && !waveform_possible {
         return Err(HostError::Input(format!(
             "{} weighted statistics for {} free keys: a fit needs more statistics than free keys",
             rows.len(),
@@ -366,6 +406,10 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         p
     });
     let mut problem = Problem::new(free.clone(), cases, rows, jump, req.segment, progress.clone());
+    problem.ratios = model::held_ratios(base, &free);
+    for (z, v) in &problem.ratios {
+        notes.push(format!("{z} = {} is held as given by the scene file: its coefficient follows the fitted stiffness and mass", crate::output::format::num(*v)));
+    }
     // the start must be a valid scene for every case
     let start_stats = problem.run_cases(&problem.cases, &problem.values(&vec![0.0; free.len()]));
     if let Some(Err(e)) = start_stats.iter().find(|s| s.is_err()) {
@@ -382,14 +426,50 @@ fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         skipped.push(Skipped { key: r.key, source: r.source, why: "the scene does not move this channel (0 in the model)".into() });
     }
     problem.rows = keep.into_iter().map(|(r, _)| r).collect();
-    if problem.rows.len() <= free.len() {
+    if problem.rows.len() <= free.len() && !waveform_possible {
         return Err(HostError::Input(format!(
             "{} statistics the scene can produce for {} free keys: a fit needs more statistics than free keys",
             problem.rows.len(),
             free.len()
         )));
     }
-    let stages = horizon_stages(&problem, &read, &req.horizons, &weight_of, &mut notes, progress.clone())?;
+    let one_dof = problem.cases.iter().all(|(_, s)| waveform::applies(s));
+    let waveform_fits = req.tables.is_empty() && !recs.is_empty() && one_dof;
+    let use_waveform = match req.cost {
+        CostKind::Auto => waveform_fits,
+        CostKind::Statistics => false,
+        CostKind::Waveform if waveform_fits => true,
+        CostKind::Waveform => {
+            return Err(HostError::Input(
+                "--cost waveform: the time-domain cost is written for recordings alone (no --table) of a 1-DOF scene (rotation = false, band = false)".into(),
+            ))
+        }
+    };
+    let stages = if use_waveform {
+        for (case, file, _) in &recs {
+            if let Some(ci) = problem.cases.iter().position(|(c, _)| c == case) {
+                let coulomb = problem.cases[ci].1.friction == stickslip_model::FrictionLaw::Coulomb;
+                let tr = waveform::read_trace(case, ci, file, coulomb, &req.read)?;
+                if tr.resticks.is_empty() {
+                    notes.push(format!("{file}: no re-stick found (no quiet run after a slip): its samples are compared with the run from the band's start as it is"));
+                }
+                problem.traces.push(tr);
+            }
+        }
+        // the global stage: the cycles' features, where every recording has two re-sticks
+        if problem.traces.iter().all(|t| t.features().is_some()) {
+            let mut p = Problem::new(problem.free.clone(), problem.cases.clone(), problem.rows.clone(), jump, req.segment, progress.clone());
+            p.traces = problem.traces.clone();
+            p.features = true;
+            p.ratios = problem.ratios.clone();
+            vec![Stage { problem: p, cycles: 0.0, horizons: Vec::new() }]
+        } else {
+            notes.push("a recording has fewer than two re-sticks: no global stage on the cycles' features; the starts are screened on the samples".into());
+            Vec::new()
+        }
+    } else {
+        horizon_stages(&problem, &read, &req.horizons, &weight_of, &mut notes, progress.clone())?
+    };
     Ok(Setup { problem, measured, skipped, notes, holdout_cases, weights, free, jump, progress, stages })
 }
 
@@ -446,7 +526,8 @@ fn horizon_stages(
             notes.push(format!("horizon of {n} cycles: {} statistics for {} free keys: stage left out", rows.len(), problem.free.len()));
             continue;
         }
-        let p = Problem::new(problem.free.clone(), cases, rows, problem.jump_m_s2, problem.segment, progress.clone());
+        let mut p = Problem::new(problem.free.clone(), cases, rows, problem.jump_m_s2, problem.segment, progress.clone());
+        p.ratios = problem.ratios.clone();
         out.push(Stage { problem: p, cycles: n, horizons: hz });
     }
     Ok(out)
@@ -467,15 +548,32 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         .collect();
     let stage_evals: usize = stage_problems.iter().map(|p| p.evals.load(std::sync::atomic::Ordering::Relaxed)).sum();
     let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
+    let (goodness, chi2_scale) = judge(&problem, &sol, &r, &mut notes).map_err(HostError::Input)?;
     let j = solve::jacobian(&problem, &sol.u, &r);
     let unc = solve::uncertainty(&j, &r);
+    let first_steps: Vec<f64> = (0..free.len()).map(|k| unc.cov_u[(k, k)].sqrt()).collect();
+    // intervals where the model fits: a misfit's profile would measure the model's error, not
+    // the data's (and not_converged has no one optimum to profile)
+    let intervals = if goodness.verdict == goodness::Verdict::Fits {
+        solve::profile_intervals(&problem, &sol.u, sol.cost, chi2_scale, goodness.chi2_per_dof, &first_steps, req.max_iters)
+    } else {
+        if problem.time_domain() {
+            notes.push(format!(
+                "no profile-likelihood intervals: the verdict is {} (a profile would measure the model's error, not the data's)",
+                goodness.verdict.name()
+            ));
+        }
+        Vec::new()
+    };
     let sources: Vec<String> = {
         let mut s: Vec<String> = problem.rows.iter().filter(|r| !r.windows.is_empty()).map(|r| r.source.clone()).collect();
         s.sort();
         s.dedup();
         s
     };
-    let std_boot_u = solve::bootstrap(&j, &problem.rows, &sources, req.bootstrap, req.seed);
+    // the bootstrap resamples the statistics' windows: not the time-domain cost's samples
+    let std_boot_u =
+        if problem.time_domain() { None } else { solve::bootstrap(&j, &problem.rows, &sources, req.bootstrap, req.seed) };
     let values = problem.values(&sol.u);
     let std: Vec<f64> = values.iter().enumerate().map(|(k, v)| v * unc.cov_u[(k, k)].sqrt()).collect();
     let std_bootstrap = std_boot_u.map(|s| s.iter().zip(&values).map(|(su, v)| v * su).collect());
@@ -518,7 +616,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
             !structural_zero
         })
         .collect();
-    let fitted_scene = model::with_values(&base.scene, &free, &values)
+    let fitted_scene = model::with_values_held(&base.scene, &free, &values, &problem.ratios)
         .map_err(|e| HostError::Input(format!("the fitted values in scene `{}`: {e}", base.name)))?;
     if let Some(p) = progress {
         p.finish_and_clear();
@@ -539,7 +637,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         holdout_cases,
         skipped,
         starts: sol.starts,
-        converged: sol.converged,
+        converged: goodness.verdict == goodness::Verdict::Fits,
         cost: sol.cost,
         evaluations,
         seconds: t0.elapsed().as_secs_f64(),
@@ -547,7 +645,79 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         weights,
         notes,
         stages: stage_reports,
+        time_domain: problem.time_domain(),
+        goodness,
+        intervals,
     })
+}
+
+/// The goodness of the fit at the optimum `sol` (residuals `r`), and the factor that turns
+/// the cost into chi^2 (see [`goodness`]).
+fn judge(problem: &Problem, sol: &solve::Solution, r: &[f64], notes: &mut Vec<String>) -> std::result::Result<(goodness::Goodness, f64), String> {
+    let n = problem.free.len();
+    if problem.time_domain() {
+        let values = problem.values(&sol.u);
+        let (mut chi2, mut count, mut shifts) = (0.0, 0usize, 0usize);
+        let mut noise2 = 0.0;
+        for tr in &problem.traces {
+            let scene = model::with_values_held(&problem.cases[tr.case_index].1, &problem.free, &values, &problem.ratios)?;
+            let mut m = Vec::new();
+            let res = waveform::residuals(tr, &scene, Some(&mut m))?;
+            let (sd, used) = waveform::stick_noise(tr, &m);
+            let f = tr.sigma0 / sd;
+            chi2 += res.iter().map(|x| (x * f).powi(2)).sum::<f64>();
+            count += tr.masked.iter().filter(|x| !**x).count() + 1;
+            shifts += tr.resticks.len();
+            noise2 += sd * sd;
+            notes.push(format!(
+                "{}: noise {} m/s^2 rms from {used} samples where the fitted model is in stick (before the fit: {} from the second differences); {} re-sticks found, {} samples left out around them",
+                tr.path,
+                crate::output::format::num(sd),
+                crate::output::format::num(tr.sigma0),
+                tr.resticks.len(),
+                tr.masked.iter().filter(|x| **x).count()
+            ));
+        }
+        let noise = (noise2 / problem.traces.len() as f64).sqrt();
+        let dof = count.saturating_sub(n + shifts).max(1);
+        let g = goodness::judge(chi2, dof, noise, "the recordings' stick phases (pad_x where the fitted model is in stick)".into(), &sol.starts, 2.0);
+        return Ok((g, 2.0));
+    }
+    // statistics: each log ratio over its standard error
+    let mut chi2 = 0.0;
+    let (mut assumed, mut from_windows) = (0usize, 0usize);
+    let mut s2 = 0.0;
+    for (row, x) in problem.rows.iter().zip(r) {
+        let lr = x / row.weight.sqrt();
+        let sd = if row.windows.len() >= 2 {
+            let l: Vec<f64> = row.windows.iter().map(|w| w.ln()).collect();
+            let mean = l.iter().sum::<f64>() / l.len() as f64;
+            let var = l.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (l.len() - 1) as f64;
+            from_windows += 1;
+            (var / l.len() as f64).sqrt().max(1e-6)
+        } else {
+            assumed += 1;
+            goodness::ASSUMED_SIGMA_LN
+        };
+        chi2 += (lr / sd).powi(2);
+        s2 += sd * sd;
+    }
+    let m = problem.rows.len();
+    let source = match (from_windows, assumed) {
+        (_, 0) => "the spread of each statistic over its recording's windows".to_string(),
+        (0, _) => format!("assumed: {} in ln(value) for every statistic (a table states no error)", goodness::ASSUMED_SIGMA_LN),
+        _ => format!("the windows' spread for {from_windows} statistics, assumed {} in ln(value) for {assumed}", goodness::ASSUMED_SIGMA_LN),
+    };
+    if assumed > 0 {
+        notes.push(format!(
+            "goodness: {assumed} statistics have no stated error: a standard error of {} in ln(value) (about +-28 %) is assumed for them",
+            goodness::ASSUMED_SIGMA_LN
+        ));
+    }
+    let cost = solve::cost_of(r);
+    let scale = if cost > 0.0 { chi2 / cost } else { 2.0 / goodness::ASSUMED_SIGMA_LN.powi(2) };
+    let g = goodness::judge(chi2, m.saturating_sub(n).max(1), (s2 / m.max(1) as f64).sqrt(), source, &sol.starts, scale);
+    Ok((g, scale))
 }
 
 /// One point of a cost profile.
@@ -642,6 +812,11 @@ pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Pro
             let mut u = vec![0.0; problem.free.len()];
             u[k] = (v / start).ln();
             match problem.residuals(&u) {
+                Ok(r) if problem.time_domain() => {
+                    // the time-domain cost: residuals are samples in units of the noise, not
+                    // log ratios of statistics (no RMS log ratio, no worst statistic)
+                    ProfilePoint { value: v, cost: Some(solve::cost_of(&r)), rms_log_ratio: None, worst: None, error: None }
+                }
                 Ok(r) => {
                     // every row has weight > 0 (setup keeps only those): r_j = sqrt(w_j) ln(model /
                     // measured); the RMS is of the log ratios themselves, as the fit's

@@ -65,9 +65,31 @@ pub const NOT_FREE: [&str; 4] = ["beta", "dt", "duration", "stats_from"];
 
 /// `scene` with the free keys at `values` (in the order of `free`), validated.
 pub fn with_values(scene: &Scene, free: &[FreeKey], values: &[f64]) -> Result<Scene, String> {
+    with_values_held(scene, free, values, &[])
+}
+
+/// The damping ratios a scene file gives (`zeta_x`, `zeta_phi`, `zeta_b`) and their values,
+/// for a scene loaded from a file (a built-in scene holds viscous coefficients): a fit holds
+/// them, so that the damping follows the stiffness and mass it frees (e.g. zeta_b = 0.05 with
+/// k_b and m_b free keeps 5 % of critical). A ratio whose coefficient is free is not held.
+pub fn held_ratios(base: &NamedScene, free: &[FreeKey]) -> Vec<(String, f64)> {
+    let Origin::File(_, text) = &base.origin else { return Vec::new() };
+    [("zeta_x", "c_x"), ("zeta_phi", "c_phi"), ("zeta_b", "c_b")]
+        .into_iter()
+        .filter(|(z, c)| scene_file::key_line(text, z).is_some() && !free.iter().any(|f| f.key == *c || f.key == *z))
+        .filter_map(|(z, _)| scene_file::get_numeric(&base.scene, z).map(|v| (z.to_string(), v)))
+        .collect()
+}
+
+/// `scene` with the free keys at `values`, then the held damping `ratios` re-applied on the
+/// new stiffness and mass (see [`held_ratios`]), validated.
+pub fn with_values_held(scene: &Scene, free: &[FreeKey], values: &[f64], ratios: &[(String, f64)]) -> Result<Scene, String> {
     let mut s = *scene;
     for (f, v) in free.iter().zip(values) {
         scene_file::set_numeric(&mut s, &f.key, *v)?;
+    }
+    for (z, v) in ratios {
+        scene_file::set_numeric(&mut s, z, *v)?;
     }
     s.validate().map_err(|e| format!("field `{}` = {}: {}", e.field, e.value, e.rule))?;
     Ok(s)

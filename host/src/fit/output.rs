@@ -33,6 +33,21 @@ pub struct ParameterJson {
     pub start: f64,
     pub lo: f64,
     pub hi: f64,
+    /// The 95 % profile-likelihood interval [lo, hi]; null on a side where the profile does not
+    /// close inside the bounds (not identifiable there); absent where not computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interval: Option<[Option<f64>; 2]>,
+}
+
+#[derive(Serialize)]
+pub struct GoodnessJson {
+    pub chi2_per_dof: f64,
+    pub dof: usize,
+    pub noise: f64,
+    pub noise_source: String,
+    pub chi2_limit: f64,
+    pub starts_agreeing: usize,
+    pub verdict: &'static str,
 }
 
 #[derive(Serialize)]
@@ -83,6 +98,9 @@ pub struct FitJson {
     pub residuals: Vec<ComparedJson>,
     pub holdout: Vec<ComparedJson>,
     pub converged: bool,
+    pub goodness: GoodnessJson,
+    /// "waveform" (the time-domain cost) or "statistics".
+    pub cost_kind: &'static str,
     pub identifiable: bool,
     pub flat_directions: Vec<FlatJson>,
     pub correlation: BTreeMap<String, BTreeMap<String, Option<f64>>>,
@@ -135,6 +153,7 @@ impl FitJson {
                         start: f.start,
                         lo: f.lo,
                         hi: f.hi,
+                        interval: r.intervals.get(k).map(|(a, b)| [*a, *b]),
                     },
                 )
             })
@@ -153,6 +172,16 @@ impl FitJson {
             residuals: r.fitted.iter().map(Into::into).collect(),
             holdout: r.holdout.iter().map(Into::into).collect(),
             converged: r.converged,
+            goodness: GoodnessJson {
+                chi2_per_dof: r.goodness.chi2_per_dof,
+                dof: r.goodness.dof,
+                noise: r.goodness.noise,
+                noise_source: r.goodness.noise_source.clone(),
+                chi2_limit: super::goodness::chi2_limit(r.goodness.dof),
+                starts_agreeing: r.goodness.starts_agreeing,
+                verdict: r.goodness.verdict.name(),
+            },
+            cost_kind: if r.time_domain { "waveform" } else { "statistics" },
             identifiable: r.identifiable(),
             flat_directions: r
                 .uncertainty
@@ -241,20 +270,38 @@ pub fn markdown(r: &FitReport) -> String {
         if r.free.len() == 1 { "" } else { "s" },
         r.evaluations,
         r.seconds,
-        if r.converged { "the search converged" } else { "**the search stopped at its iteration limit** (raise --max-iters)" }
+        match r.goodness.verdict {
+            super::goodness::Verdict::Fits => "verdict **fits**: the best cost is what the noise explains",
+            super::goodness::Verdict::Misfit => "verdict **misfit**: the starts agree on a cost the noise does not explain (the model family does not fit)",
+            super::goodness::Verdict::NotConverged => "verdict **not converged**: the starts end at different costs",
+        }
     ));
-    s.push_str("| key | start | fitted | std (Jacobian) | std (bootstrap) | bounds |\n|---|---:|---:|---:|---:|---|\n");
+    s.push_str(&format!(
+        "Goodness: chi^2 / dof = {:.4} over {} degrees of freedom (fits up to {:.4}); noise {} ({}); {} of {} starts at the best cost. Cost: {}.\n\n",
+        r.goodness.chi2_per_dof,
+        r.goodness.dof,
+        super::goodness::chi2_limit(r.goodness.dof),
+        num(r.goodness.noise),
+        r.goodness.noise_source,
+        r.goodness.starts_agreeing,
+        r.starts.len(),
+        if r.time_domain { "the recorded pad_x sample by sample (time domain, multiple shooting over the cycles)" } else { "the statistics' log ratios" }
+    ));
+    s.push_str("| key | start | fitted | std (Jacobian) | std (bootstrap) | 95 % interval (profile) | bounds |\n|---|---:|---:|---:|---:|---|---|\n");
     for (k, f) in r.free.iter().enumerate() {
         let rel = r.std[k] / r.values[k];
         let boot = r.std_bootstrap.as_ref().map_or("-".into(), |b| format!("{} ({})", num(b[k]), pct(b[k] / r.values[k])));
+        let side = |x: Option<f64>, open: &str| x.map_or(open.to_string(), num);
+        let interval = r.intervals.get(k).map_or("-".into(), |(a, b)| format!("[{}, {}]", side(*a, "not closed"), side(*b, "not closed")));
         s.push_str(&format!(
-            "| {} | {} | {} | {} ({}) | {} | [{}, {}] |\n",
+            "| {} | {} | {} | {} ({}) | {} | {} | [{}, {}] |\n",
             f.key,
             num(f.start),
             num(r.values[k]),
             num(r.std[k]),
             pct(rel),
             boot,
+            interval,
             num(f.lo),
             num(f.hi)
         ));
@@ -363,14 +410,73 @@ pub fn fitted_toml(r: &FitReport) -> String {
     scene_file::to_toml(&format!("{}_fit", r.scene.name), &desc, &r.fitted_scene)
 }
 
-/// The push caliper's colour in the figure.
-const PUSH: RGBColor = RGBColor(214, 39, 40);
-/// The pull caliper's colour in the figure.
-const PULL: RGBColor = RGBColor(31, 119, 180);
+/// The cases' colours in the figure (Okabe-Ito), in the order of [`super::model::case_names`],
+/// then the scene's own name.
+const CASE_COLOURS: [RGBColor; 7] = [
+    RGBColor(213, 94, 0),
+    RGBColor(230, 159, 0),
+    RGBColor(204, 121, 167),
+    RGBColor(0, 114, 178),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 158, 115),
+    RGBColor(0, 0, 0),
+];
 
-/// The figure: one panel per statistic, model against measured on log axes with the line
-/// model = measured; fitted cases filled, held-out cases open circles; each point labelled
-/// with its case and channel; the first panel carries the legend.
+/// The ticks of a log axis over [lo, hi] at 1, 2 and 5 of each decade.
+fn ticks_125(lo: f64, hi: f64) -> Vec<f64> {
+    let mut v = Vec::new();
+    let mut d = lo.log10().floor() as i32;
+    while 10f64.powi(d) <= hi * 1.000001 {
+        for m in [1.0, 2.0, 5.0] {
+            let x = m * 10f64.powi(d);
+            if x >= lo * 0.999999 && x <= hi * 1.000001 {
+                v.push(x);
+            }
+        }
+        d += 1;
+    }
+    v
+}
+
+/// A tick's label: the shortest decimal, or 1e-4 style outside 1e-3 .. 1e5.
+fn tick_label(x: f64) -> String {
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) {
+        let e = x.abs().log10().floor() as i32;
+        let m = x / 10f64.powi(e);
+        return if (m - 1.0).abs() < 1e-9 { format!("1e{e}") } else { format!("{}e{e}", m.round()) };
+    }
+    let s = format!("{x:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Draws a channel's marker at `at` on `area` in `colour` (filled: fitted; open: held out):
+/// disc_x a circle, pad_x a triangle, pad_trail a cross, pad_lead a square, a per-case
+/// statistic a diamond.
+fn draw_marker<DB: DrawingBackend, CT: plotters::coord::CoordTranslate>(
+    area: &DrawingArea<DB, CT>,
+    at: CT::From,
+    channel: Option<usize>,
+    colour: RGBColor,
+    filled: bool,
+) -> std::result::Result<(), DrawingAreaErrorKind<DB::ErrorType>>
+where
+    CT::From: Clone + 'static,
+{
+    let st = if filled { colour.filled() } else { colour.stroke_width(2) };
+    let e = EmptyElement::at(at);
+    match channel {
+        Some(0) => area.draw(&(e + Circle::new((0, 0), 4, st))),
+        Some(1) => area.draw(&(e + TriangleMarker::new((0, 0), 5, st))),
+        Some(2) => area.draw(&(e + Cross::new((0, 0), 4, colour.stroke_width(2)))),
+        Some(_) => area.draw(&(e + Rectangle::new([(-4, -4), (4, 4)], st))),
+        None => area.draw(&(e + Polygon::new(vec![(0, -5), (5, 0), (0, 5), (-5, 0)], st))),
+    }
+}
+
+/// The figure: one panel per statistic, model against measured on log axes (ticks at 1, 2, 5)
+/// with the line model = measured; channels by marker shape, cases by colour (a legend at the
+/// right), fitted filled, held out open; only the points furthest off the diagonal labelled
+/// (|ln ratio| above twice the panel's RMS and above 0.5, at most 4 a panel).
 pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
     let stats: Vec<Stat> = Stat::ALL
         .into_iter()
@@ -379,13 +485,22 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
     if stats.is_empty() {
         return Err(HostError::Output(format!("{}: no statistic has a model value to plot", path.display())));
     }
+    let mut cases: Vec<String> = super::model::case_names();
+    for c in r.fitted.iter().chain(&r.holdout) {
+        if !cases.contains(&c.key.case) {
+            cases.push(c.key.case.clone());
+        }
+    }
+    let colour_of = |case: &str| CASE_COLOURS[cases.iter().position(|c| c == case).unwrap_or(0).min(CASE_COLOURS.len() - 1)];
     let cols = stats.len().min(3);
     let rows = stats.len().div_ceil(cols);
-    let root = SVGBackend::new(path, (460 * cols as u32, 420 * rows as u32)).into_drawing_area();
+    let legend_w = 190u32;
+    let (w, h) = (440 * cols as u32 + legend_w, (420 * rows as u32).max(330));
+    let root = SVGBackend::new(path, (w, h)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
-    let panels = root.split_evenly((rows, cols));
-    for (k, (stat, area)) in stats.iter().zip(panels.iter()).enumerate() {
-        let first_panel = k == 0;
+    let (plots, legend) = root.split_horizontally(w - legend_w);
+    let panels = plots.split_evenly((rows, cols));
+    for (stat, area) in stats.iter().zip(panels.iter()) {
         let pts: Vec<(&Compared, bool)> = r
             .fitted
             .iter()
@@ -396,53 +511,79 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
         let vals = pts.iter().flat_map(|(c, _)| [c.measured, c.model.unwrap_or(c.measured)]);
         let (lo, hi) = vals.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
         let (lo, hi) = (lo / 1.5, hi * 1.5);
+        let mut ticks = ticks_125(lo, hi);
+        if ticks.len() > 9 {
+            ticks.retain(|x| (x / 10f64.powf(x.log10().floor()) - 1.0).abs() < 1e-9);
+        }
         let mut chart = ChartBuilder::on(area)
             .caption(format!("{} [{}]", stat.name(), stat.unit()), (style::FONT, 16))
             .margin(10)
             .x_label_area_size(36)
             .y_label_area_size(56)
-            .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())
+            .build_cartesian_2d((lo..hi).log_scale().with_key_points(ticks.clone()), (lo..hi).log_scale().with_key_points(ticks))
             .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
             .x_desc("measured")
             .y_desc("model")
             .label_style((style::FONT, 11))
+            .x_label_formatter(&|x| tick_label(*x))
+            .y_label_formatter(&|x| tick_label(*x))
             .light_line_style(WHITE.mix(0.0))
+            .bold_line_style(BLACK.mix(0.08))
             .draw()
             .map_err(|e| style::draw_err(path, e))?;
-        let diagonal = chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| style::draw_err(path, e))?;
-        if first_panel {
-            // the legend, once: the diagonal, the calipers' colours, filled fitted, open held out
-            diagonal.label("model = measured").legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.mix(0.4)));
-            for (name, color) in [("push caliper", PUSH), ("pull caliper", PULL)] {
-                chart
-                    .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(|e| style::draw_err(path, e))?
-                    .label(name)
-                    .legend(move |(x, y)| Circle::new((x + 8, y), 4, color.filled()));
-            }
-            if pts.iter().any(|(_, held)| *held) {
-                chart
-                    .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(|e| style::draw_err(path, e))?
-                    .label("held out (open)")
-                    .legend(|(x, y)| Circle::new((x + 8, y), 4, BLACK.mix(0.7).stroke_width(2)));
-            }
-            style::legend(&mut chart, SeriesLabelPosition::UpperLeft, 11, style::LEGEND_LINE)
-                .map_err(|e| style::draw_err(path, e))?;
-        }
-        for (c, held) in pts {
+        chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| style::draw_err(path, e))?;
+        let lrs: Vec<f64> = pts.iter().filter_map(|(c, _)| c.log_ratio()).collect();
+        let rms = (lrs.iter().map(|x| x * x).sum::<f64>() / lrs.len().max(1) as f64).sqrt();
+        let mut off: Vec<(f64, usize)> = pts.iter().enumerate().filter_map(|(i, (c, _))| c.log_ratio().map(|l| (l.abs(), i))).collect();
+        off.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let labelled: Vec<usize> = off.iter().filter(|(l, _)| *l > (2.0 * rms).max(0.5)).take(4).map(|(_, i)| *i).collect();
+        for (i, (c, held)) in pts.iter().enumerate() {
             let m = c.model.expect("filtered");
-            let color = if c.key.case.starts_with("push") { PUSH } else { PULL };
-            let marker = if held { color.stroke_width(2) } else { color.filled() };
-            chart.draw_series(std::iter::once(Circle::new((c.measured, m), 4, marker))).map_err(|e| style::draw_err(path, e))?;
-            let label = if c.key.channel.is_some() { format!("{} {}", c.key.case, c.key.channel_name()) } else { c.key.case.clone() };
-            chart
-                .draw_series(std::iter::once(Text::new(label, (c.measured, m), (style::FONT, 9).into_font().color(&BLACK.mix(0.7)))))
+            draw_marker(chart.plotting_area(), (c.measured, m), c.key.channel, colour_of(&c.key.case), !held)
                 .map_err(|e| style::draw_err(path, e))?;
+            if labelled.contains(&i) {
+                let label = if c.key.channel.is_some() { format!("{} {}", c.key.case, c.key.channel_name()) } else { c.key.case.clone() };
+                chart
+                    .draw_series(std::iter::once(
+                        EmptyElement::at((c.measured, m)) + Text::new(label, (6, -12), (style::FONT, 10).into_font().color(&BLACK.mix(0.8))),
+                    ))
+                    .map_err(|e| style::draw_err(path, e))?;
+            }
         }
     }
+    // the legend: cases by colour, channels by shape, fitted / held out
+    let font = (style::FONT, 12).into_font();
+    let mut y = 24;
+    legend.draw(&Text::new("case (colour)", (10, y), font.clone())).map_err(|e| style::draw_err(path, e))?;
+    let used: Vec<&String> = cases.iter().filter(|c| r.fitted.iter().chain(&r.holdout).any(|x| &x.key.case == *c)).collect();
+    for c in used {
+        y += 18;
+        draw_marker(&legend, (18, y + 6), Some(0), colour_of(c), true).map_err(|e| style::draw_err(path, e))?;
+        legend.draw(&Text::new(c.clone(), (32, y), font.clone())).map_err(|e| style::draw_err(path, e))?;
+    }
+    y += 30;
+    legend.draw(&Text::new("channel (shape)", (10, y), font.clone())).map_err(|e| style::draw_err(path, e))?;
+    let names = stickslip_model::rig::ACCEL_NAMES;
+    let mut shapes: Vec<(Option<usize>, String)> = (0..names.len()).map(|i| (Some(i), names[i].to_string())).collect();
+    shapes.push((None, "per case".into()));
+    for (ch, name) in shapes {
+        y += 18;
+        draw_marker(&legend, (18, y + 6), ch, BLACK, true).map_err(|e| style::draw_err(path, e))?;
+        legend.draw(&Text::new(name, (32, y), font.clone())).map_err(|e| style::draw_err(path, e))?;
+    }
+    y += 30;
+    draw_marker(&legend, (18, y + 6), Some(0), BLACK, true).map_err(|e| style::draw_err(path, e))?;
+    legend.draw(&Text::new("fitted", (32, y), font.clone())).map_err(|e| style::draw_err(path, e))?;
+    if !r.holdout.is_empty() {
+        y += 18;
+        draw_marker(&legend, (18, y + 6), Some(0), BLACK, false).map_err(|e| style::draw_err(path, e))?;
+        legend.draw(&Text::new("held out", (32, y), font.clone())).map_err(|e| style::draw_err(path, e))?;
+    }
+    y += 18;
+    legend.draw(&PathElement::new(vec![(10, y + 6), (26, y + 6)], BLACK.mix(0.4))).map_err(|e| style::draw_err(path, e))?;
+    legend.draw(&Text::new("model = measured", (32, y), font)).map_err(|e| style::draw_err(path, e))?;
     root.present().map_err(|e| style::draw_err(path, e))
 }
 

@@ -83,6 +83,14 @@ pub struct Problem {
     pub evals: AtomicUsize,
     best: Mutex<f64>,
     progress: Option<ProgressBar>,
+    /// The recordings' pad_x series when the cost is the time-domain one
+    /// ([`super::waveform`]); empty: the statistics' log ratios of `rows`.
+    pub traces: Vec<super::waveform::Trace>,
+    /// With `traces`: the global stage's cost, the recordings' cycle features
+    /// ([`super::waveform::feature_residuals`]), instead of their samples.
+    pub features: bool,
+    /// Damping ratios held while the free keys move ([`model::held_ratios`]).
+    pub ratios: Vec<(String, f64)>,
 }
 
 impl Problem {
@@ -105,7 +113,45 @@ impl Problem {
             evals: AtomicUsize::new(0),
             best: Mutex::new(f64::INFINITY),
             progress,
+            traces: Vec::new(),
+            features: false,
+            ratios: Vec::new(),
         }
+    }
+
+    /// The number of residuals: one per statistic, or per sample (and timing) of the traces.
+    pub fn residual_count(&self) -> usize {
+        if self.traces.is_empty() {
+            self.rows.len()
+        } else {
+            self.traces.iter().map(|t| t.residual_count(self.features)).sum()
+        }
+    }
+
+    /// Whether the cost is the time-domain one.
+    pub fn time_domain(&self) -> bool {
+        !self.traces.is_empty()
+    }
+
+    /// The time-domain residuals of every trace at parameters `values`.
+    fn trace_residuals(&self, values: &[f64]) -> Result<Vec<f64>, String> {
+        let parts: Vec<Result<Vec<f64>, String>> = self
+            .traces
+            .par_iter()
+            .map(|tr| {
+                let scene = model::with_values_held(&self.cases[tr.case_index].1, &self.free, values, &self.ratios)?;
+                if self.features {
+                    super::waveform::feature_residuals(tr, &scene)
+                } else {
+                    super::waveform::residuals(tr, &scene, None)
+                }
+            })
+            .collect();
+        let mut out = Vec::with_capacity(self.residual_count());
+        for p in parts {
+            out.extend(p?);
+        }
+        Ok(out)
     }
 
     /// The parameters at u.
@@ -118,7 +164,7 @@ impl Problem {
         cases
             .par_iter()
             .map(|(name, s)| {
-                let scene = model::with_values(s, &self.free, values)?;
+                let scene = model::with_values_held(s, &self.free, values, &self.ratios)?;
                 model::statistics(name, &scene, self.jump_m_s2, self.segment, self.spectra)
             })
             .collect()
@@ -148,6 +194,9 @@ impl Problem {
             if !(*v >= f.lo && *v <= f.hi) {
                 return Err(format!("{} = {v} outside [{}, {}]", f.key, f.lo, f.hi));
             }
+        }
+        if self.time_domain() {
+            return self.trace_residuals(&values);
         }
         let stats = self.run_cases(&self.cases, &values);
         if let Some(Err(e)) = stats.iter().find(|s| s.is_err()) {
@@ -219,57 +268,68 @@ fn halton(mut k: u32, b: u32) -> f64 {
     x
 }
 
-/// Point `k` (k >= 1) of the Halton sequence over +-`span` in u = ln(p / p_start) of each free
-/// key (key i in base [`HALTON_BASES`][i]), clamped to the bounds.
-fn halton_point(p: &Problem, k: usize, span: f64) -> Vec<f64> {
-    p.free
-        .iter()
-        .enumerate()
-        .map(|(i, f)| {
-            let u = span * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0);
-            u.clamp((f.lo / f.start).ln(), (f.hi / f.start).ln())
-        })
-        .collect()
-}
-
-/// The starting points: the given values (u = 0), then points spread over +-30 % of each
-/// parameter by a Halton sequence (bases 2, 3, 5, ...: no two starts alike, every parameter
-/// above and below its start), inside the bounds.
-pub fn start_points(p: &Problem, starts: usize) -> Vec<Vec<f64>> {
-    let span = 0.3f64.ln_1p();
-    (0..starts.max(1)).map(|k| if k == 0 { vec![0.0; p.free.len()] } else { halton_point(p, k, span) }).collect()
-}
-
 /// Screen of the first horizon stage: this many points per free key, spread over
 /// start / [`SCREEN_FACTOR`] .. start x [`SCREEN_FACTOR`] by a Halton sequence.
 pub const SCREEN_POINTS_PER_KEY: usize = 64;
 /// Half-width of the screen, as a factor on each start value.
 pub const SCREEN_FACTOR: f64 = 2.0;
 
-/// The starts of a search with horizon stages: the scene's values (u = 0) and the
-/// `starts - 1` lowest-cost points of a screen of the first stage ([`SCREEN_POINTS_PER_KEY`]
-/// points per free key over a factor [`SCREEN_FACTOR`] either way of each start, inside the
-/// bounds; the first stage's short runs make it cheap; no screen for a single start). A local search from 30 % off can end
-/// in a wrong basin even on the first horizon; the screen looks wider first.
-pub fn screened_starts(first: &Problem, starts: usize) -> Vec<Vec<f64>> {
+/// Global stage over the whole box of the bounds: this many Halton points per free key on
+/// the time-domain cost (cheap: one slip per evaluation).
+pub const GLOBAL_POINTS_PER_KEY: usize = 256;
+/// Global stage on a table's statistics (each point runs every case).
+pub const TABLE_POINTS_PER_KEY: usize = 24;
+/// Two starts taken from a screen differ by at least this in some ln p.
+pub const START_SEPARATION: f64 = 0.05;
+
+/// The starts of a search: the scene's values (u = 0) and the `starts - 1` lowest-cost points
+/// of a Halton screen of `first` (`per_key` points per free key), at least
+/// [`START_SEPARATION`] apart. The screen spans the whole box of the bounds (`span` `None`: the
+/// global stage) or a factor e^span either way of each start, inside the bounds (the horizon
+/// stages' screen). No screen for a single start.
+pub fn screened_starts(first: &Problem, starts: usize, span: Option<f64>, per_key: usize) -> Vec<Vec<f64>> {
     let n = first.free.len();
     if starts <= 1 {
         return vec![vec![0.0; n]];
     }
     let t0 = std::time::Instant::now();
-    let span = SCREEN_FACTOR.ln();
-    let screen: Vec<Vec<f64>> = (1..=SCREEN_POINTS_PER_KEY * n).map(|k| halton_point(first, k, span)).collect();
+    let point = |k: usize| -> Vec<f64> {
+        first
+            .free
+            .iter()
+            .enumerate()
+            .map(|(i, f)| {
+                let (mut a, mut b) = ((f.lo / f.start).ln(), (f.hi / f.start).ln());
+                if let Some(sp) = span {
+                    a = a.max(-sp);
+                    b = b.min(sp);
+                }
+                a + (b - a) * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()])
+            })
+            .collect()
+    };
+    let screen: Vec<Vec<f64>> = (1..=per_key * n).map(point).collect();
     let costs: Vec<f64> = screen.par_iter().map(|u| first.residuals(u).map_or(OUTSIDE, |r| cost_of(&r))).collect();
     let mut order: Vec<usize> = (0..screen.len()).filter(|&i| costs[i] < OUTSIDE).collect();
     order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
     eprintln!(
-        "fit: screen of the first horizon: {} points in {:.1} s, lowest cost {:.4e}",
+        "fit: {} of {} points in {:.1} s ({} valid), lowest cost {:.4e}",
+        if span.is_none() { "global screen over the bounds" } else { "screen of the first horizon" },
         screen.len(),
         t0.elapsed().as_secs_f64(),
+        order.len(),
         order.first().map_or(f64::NAN, |&i| costs[i])
     );
     let mut out = vec![vec![0.0; n]];
-    out.extend(order.into_iter().take(starts - 1).map(|i| screen[i].clone()));
+    for i in order {
+        if out.len() >= starts {
+            break;
+        }
+        let far = out[1..].iter().all(|o| o.iter().zip(&screen[i]).any(|(a, b)| (a - b).abs() >= START_SEPARATION));
+        if far {
+            out.push(screen[i].clone());
+        }
+    }
     out
 }
 
@@ -312,7 +372,7 @@ impl LmProblem<'_> {
         let u: Vec<f64> = self.u.iter().copied().collect();
         let r = match self.p.residuals(&u) {
             Ok(r) => r,
-            Err(_) => vec![REJECTED_RESIDUAL; self.p.rows.len()],
+            Err(_) => vec![REJECTED_RESIDUAL; self.p.residual_count()],
         };
         self.p.note(cost_of(&r));
         *self.r.borrow_mut() = Some(r.clone());
@@ -361,12 +421,12 @@ fn levenberg_marquardt(p: &Problem, u0: &[f64], max_iters: u64) -> (Vec<f64>, f6
     (u, cost, report.termination.was_successful())
 }
 
-/// One start's local search: Nelder-Mead from a simplex 10 % wide, then Levenberg-Marquardt
+/// One start's local search: Nelder-Mead from a simplex `step` wide in ln(value) (10 % for a start), then Levenberg-Marquardt
 /// from its best point (the simplex finds the basin, the Gauss-Newton steps follow its valley
 /// to the bottom, where a simplex stalls when the parameters are correlated). Returns u, the
 /// cost and whether Levenberg-Marquardt converged.
-fn local_search(p: &Problem, u0: &[f64], max_iters: u64) -> Result<(Vec<f64>, f64, bool), String> {
-    let (mut u, mut cost, _) = nelder_mead(p, u0, SIMPLEX_STEP, max_iters)?;
+fn local_search(p: &Problem, u0: &[f64], step: f64, max_iters: u64) -> Result<(Vec<f64>, f64, bool), String> {
+    let (mut u, mut cost, _) = nelder_mead(p, u0, step, max_iters)?;
     let mut converged = false;
     if cost < OUTSIDE {
         let (lu, lc, conv) = levenberg_marquardt(p, &u, max_iters);
@@ -377,6 +437,53 @@ fn local_search(p: &Problem, u0: &[f64], max_iters: u64) -> Result<(Vec<f64>, f6
         converged = conv;
     }
     Ok((u, cost, converged))
+}
+
+/// Restarts of the local search from the best start's end ([`search`]): at most this many.
+const POLISH_RESTARTS: usize = 3;
+/// A restart that lowers the cost by more than this fraction is followed by another.
+const POLISH_GAIN: f64 = 0.01;
+/// The polish's simplex: 5 % in each ln(value) (the basin is found; the simplex only has to
+/// follow the valley).
+const POLISH_STEP: f64 = 0.05;
+
+/// The polish's screen around the best point: this many Halton points per free key.
+const NEIGHBOURHOOD_POINTS_PER_KEY: usize = 8;
+/// Its box in ln(value) is at most this wide either way along any direction.
+const NEIGHBOURHOOD_SPAN: f64 = 0.05;
+
+/// The lowest point of a Halton screen around `u` (cost `cost`), if lower: the screen's box
+/// lies along the singular vectors of the Jacobian at `u`, each side as far as the local
+/// quadratic model of the cost rises by `cost` (sqrt(2 cost) / s_i along singular value s_i,
+/// at most [`NEIGHBOURHOOD_SPAN`]): a lower valley beside the best point's dip, across a ridge
+/// no higher than the cost itself, is found where a box in the keys' own axes would miss a
+/// valley narrower than its points' spacing (correlated keys).
+fn neighbourhood_best(p: &Problem, u: &[f64], cost: f64) -> Option<Vec<f64>> {
+    let n = u.len();
+    let r0 = p.residuals(u).ok()?;
+    let svd = jacobian(p, u, &r0).svd(false, true);
+    let v_t = svd.v_t?;
+    let half: Vec<f64> = svd
+        .singular_values
+        .iter()
+        .map(|&s| if s > 0.0 { ((2.0 * cost).sqrt() / s).min(NEIGHBOURHOOD_SPAN) } else { NEIGHBOURHOOD_SPAN })
+        .collect();
+    let screen: Vec<Vec<f64>> = (1..=NEIGHBOURHOOD_POINTS_PER_KEY * n)
+        .map(|k| {
+            let z: Vec<f64> = (0..half.len()).map(|i| half[i] * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0)).collect();
+            (0..n).map(|j| u[j] + (0..z.len()).map(|i| v_t[(i, j)] * z[i]).sum::<f64>()).collect()
+        })
+        .collect();
+    let costs: Vec<f64> = screen
+        .par_iter()
+        .map(|x| {
+            let c = p.residuals(x).map_or(OUTSIDE, |r| cost_of(&r));
+            p.note(c);
+            c
+        })
+        .collect();
+    let best = (0..screen.len()).min_by(|&a, &b| costs[a].total_cmp(&costs[b]))?;
+    (costs[best] < cost).then(|| screen[best].clone())
 }
 
 /// The search's result at one horizon stage (see [`search`]).
@@ -397,8 +504,10 @@ pub struct StageResult {
 /// returned.
 pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -> Result<(Solution, Vec<StageResult>), String> {
     let points = match stages.first() {
-        Some(first) => screened_starts(first, starts),
-        None => start_points(p, starts),
+        Some(first) if first.features => screened_starts(first, starts, None, GLOBAL_POINTS_PER_KEY),
+        Some(first) => screened_starts(first, starts, Some(SCREEN_FACTOR.ln()), SCREEN_POINTS_PER_KEY),
+        None if p.time_domain() => screened_starts(p, starts, None, GLOBAL_POINTS_PER_KEY),
+        None => screened_starts(p, starts, None, TABLE_POINTS_PER_KEY),
     };
     let total = points.len();
     type Run = (Vec<f64>, f64, bool, StartReport, Vec<StageResult>);
@@ -409,12 +518,12 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
             let mut u = u0.clone();
             let mut chain = Vec::new();
             for (i, st) in stages.iter().enumerate() {
-                let (su, c, conv) = local_search(st, &u, max_iters)?;
+                let (su, c, conv) = local_search(st, &u, SIMPLEX_STEP, max_iters)?;
                 eprintln!("fit: start {} of {total}, horizon {}: cost {c:.6e}", k + 1, i + 1);
                 chain.push(StageResult { values: st.values(&su), cost: c, converged: conv });
                 u = su;
             }
-            let (u, cost, converged) = local_search(p, &u, max_iters)?;
+            let (u, cost, converged) = local_search(p, &u, SIMPLEX_STEP, max_iters)?;
             let values = p.values(&u);
             eprintln!(
                 "fit: start {} of {total}: cost {cost:.6e} ({}): {}",
@@ -435,9 +544,33 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
             best = Some((u, cost, converged, chain));
         }
     }
-    let (u, cost, converged, chain) = best.expect("at least one start");
+    let (mut u, mut cost, mut converged, chain) = best.expect("at least one start");
     if cost >= OUTSIDE {
         return Err("no start reached a valid scene inside the bounds: every evaluation was rejected".into());
+    }
+    // the polish: a simplex stalls early where the parameters are correlated and the cost is
+    // not smooth at the sample scale (statistics such as the first slip's time move in steps
+    // of a sample); restarted from its best point with a fresh, smaller simplex it goes on down
+    // the valley. Restarts while a restart lowers the cost by more than POLISH_GAIN.
+    for _ in 0..POLISH_RESTARTS {
+        // from the lowest of a small Halton screen around the best point (a dip a simplex
+        // cannot leave is left here) or from the best point itself
+        let from = neighbourhood_best(p, &u, cost).unwrap_or_else(|| u.clone());
+        let (pu, pc, pconv) = local_search(p, &from, POLISH_STEP, max_iters)?;
+        if pc < cost {
+            let gain = (cost - pc) / cost.max(f64::MIN_POSITIVE);
+            u = pu;
+            cost = pc;
+            converged = pconv;
+            eprintln!(
+                "fit: polish of the best start: cost {cost:.6e}: {}",
+                p.free.iter().zip(p.values(&u)).map(|(f, v)| format!("{} = {v:.6e}", f.key)).collect::<Vec<_>>().join(", ")
+            );
+            if gain > POLISH_GAIN {
+                continue;
+            }
+        }
+        break;
     }
     Ok((Solution { u, cost, converged, starts: reports }, chain))
 }
@@ -564,4 +697,161 @@ pub fn bootstrap(j: &DMatrix<f64>, rows: &[Row], sources: &[String], resamples: 
             })
             .collect(),
     )
+}
+
+/// The problem with free key `fixed` held at `u_fixed`, the others searched by
+/// Levenberg-Marquardt (a point of a profile).
+struct ProfileLm<'a> {
+    p: &'a Problem,
+    fixed: usize,
+    u_fixed: f64,
+    /// The other keys' u.
+    w: DVector<f64>,
+    r: std::cell::RefCell<Option<Vec<f64>>>,
+}
+
+impl ProfileLm<'_> {
+    fn full(&self, w: &DVector<f64>) -> Vec<f64> {
+        let mut u = Vec::with_capacity(w.len() + 1);
+        let mut it = w.iter();
+        for k in 0..=w.len() {
+            u.push(if k == self.fixed { self.u_fixed } else { *it.next().expect("one per other key") });
+        }
+        u
+    }
+
+    fn r(&self) -> Vec<f64> {
+        if let Some(r) = self.r.borrow().as_ref() {
+            return r.clone();
+        }
+        let r = self.p.residuals(&self.full(&self.w)).unwrap_or_else(|_| vec![REJECTED_RESIDUAL; self.p.residual_count()]);
+        self.p.note(cost_of(&r));
+        *self.r.borrow_mut() = Some(r.clone());
+        r
+    }
+}
+
+impl LeastSquaresProblem<f64, Dyn, Dyn> for ProfileLm<'_> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, w: &DVector<f64>) {
+        self.w.copy_from(w);
+        *self.r.borrow_mut() = None;
+    }
+
+    fn params(&self) -> DVector<f64> {
+        self.w.clone()
+    }
+
+    fn residuals(&self) -> Option<DVector<f64>> {
+        Some(DVector::from_vec(self.r()))
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        let u = self.full(&self.w);
+        let r0 = self.r();
+        let j = jacobian(self.p, &u, &r0);
+        let cols: Vec<usize> = (0..u.len()).filter(|k| *k != self.fixed).collect();
+        Some(j.select_columns(cols.iter()))
+    }
+}
+
+/// The profile's cost at u_k = `uk` of key `k`, the other keys searched from `w0` (their u);
+/// `None` where the point is rejected. Returns the cost and the others' u.
+fn profile_point(p: &Problem, k: usize, uk: f64, w0: &[f64], max_iters: u64) -> Option<(f64, Vec<f64>)> {
+    let f = &p.free[k];
+    if !(uk >= (f.lo / f.start).ln() - 1e-12 && uk <= (f.hi / f.start).ln() + 1e-12) {
+        return None;
+    }
+    if w0.is_empty() {
+        let r = p.residuals(&[uk]).ok()?;
+        return Some((cost_of(&r), Vec::new()));
+    }
+    let lm = LevenbergMarquardt::new().with_ftol(1e-7).with_xtol(1e-7).with_patience(((max_iters as usize) / 30).max(4));
+    let start = ProfileLm { p, fixed: k, u_fixed: uk, w: DVector::from_column_slice(w0), r: std::cell::RefCell::new(None) };
+    let (done, _) = lm.minimize(start);
+    let r = done.r();
+    let c = cost_of(&r);
+    (c < 0.5 * REJECTED_RESIDUAL * REJECTED_RESIDUAL).then(|| (c, done.w.iter().copied().collect()))
+}
+
+/// Delta chi^2 of a 95 % interval of one parameter (chi-square, 1 degree of freedom).
+pub const PROFILE_DCHI2_95: f64 = 3.841;
+/// Largest first step of a profile in ln p (the first step is the Jacobian's standard error
+/// below this); it doubles until the threshold is crossed.
+const PROFILE_STEP: f64 = 0.005;
+/// Bisections of the crossing.
+const PROFILE_BISECTIONS: usize = 5;
+
+/// The 95 % profile-likelihood interval of every free key (Raue et al. 2009): from the
+/// optimum `u` (cost `cost`), along each key in both directions, the other keys re-fitted at
+/// each point, to where chi^2 has risen by [`PROFILE_DCHI2_95`] x max(1, chi^2 / dof) (the
+/// threshold widened by a misfit, as the residual variance widens the Jacobian's errors);
+/// `chi2_scale` turns a cost into chi^2. A side where the profile stays below the threshold up
+/// to the bound (or to a scene rule) is `None`: not identifiable on that side. Only for the
+/// time-domain cost (its evaluations are cheap); empty otherwise.
+pub fn profile_intervals(
+    p: &Problem,
+    u: &[f64],
+    cost: f64,
+    chi2_scale: f64,
+    chi2_per_dof: f64,
+    first_steps: &[f64],
+    max_iters: u64,
+) -> Vec<(Option<f64>, Option<f64>)> {
+    if !p.time_domain() {
+        return Vec::new();
+    }
+    let t0 = std::time::Instant::now();
+    let target = PROFILE_DCHI2_95 * chi2_per_dof.max(1.0) / chi2_scale;
+    let n = u.len();
+    let out: Vec<(Option<f64>, Option<f64>)> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let others = |uu: &[f64]| -> Vec<f64> { (0..n).filter(|j| *j != k).map(|j| uu[j]).collect() };
+            let side = |dir: f64| -> Option<f64> {
+                let f = &p.free[k];
+                let limit = if dir > 0.0 { (f.hi / f.start).ln() } else { (f.lo / f.start).ln() };
+                let (mut inside, mut w) = (u[k], others(u));
+                // the first step: the Jacobian's standard error of ln p (the threshold lies near
+                // twice it where the cost is quadratic)
+                let sd = first_steps.get(k).copied().unwrap_or(PROFILE_STEP);
+                let mut h = if sd.is_finite() && sd > 0.0 { sd.clamp(1e-7, PROFILE_STEP) } else { PROFILE_STEP };
+                loop {
+                    let mut uk = u[k] + dir * h;
+                    let at_bound = (uk - limit) * dir >= 0.0;
+                    if at_bound {
+                        uk = limit;
+                    }
+                    let (c, w1) = profile_point(p, k, uk, &w, max_iters)?;
+                    if c - cost >= target {
+                        // bisect between the last point inside and this one
+                        let (mut a, mut b) = (inside, uk);
+                        for _ in 0..PROFILE_BISECTIONS {
+                            let mid = 0.5 * (a + b);
+                            match profile_point(p, k, mid, &w, max_iters) {
+                                Some((cm, wm)) if cm - cost < target => {
+                                    a = mid;
+                                    w = wm;
+                                }
+                                _ => b = mid,
+                            }
+                        }
+                        return Some(f.start * (0.5 * (a + b)).exp());
+                    }
+                    if at_bound {
+                        return None;
+                    }
+                    inside = uk;
+                    w = w1;
+                    h *= 2.0;
+                }
+            };
+            (side(-1.0), side(1.0))
+        })
+        .collect();
+    eprintln!("fit: profile-likelihood intervals of {n} keys in {:.1} s", t0.elapsed().as_secs_f64());
+    out
 }
