@@ -1,5 +1,5 @@
 //! `stickslip fit` with the time-domain cost on 1-DOF Stribeck truths: recordings written by the
-//! project's independent event-driven reference (`numerics::reference2`: its own right-hand
+//! project's independent event-driven reference (`numerics::reference::model2`: its own right-hand
 //! side, DOP853, events bisected to 1e-13 s; not the model crate's stepper, which the fit's
 //! model side does not use either: it integrates one slip itself), with noise, fitted from a
 //! scene 30 % off on every free key.
@@ -10,7 +10,7 @@ use std::io::Write;
 
 use recorded_common::*;
 use stickslip::fit::{self, goodness::Verdict, FitRequest};
-use stickslip::numerics::reference2::{self, Regime};
+use stickslip::numerics::reference::model2::{self as model2_reference, Regime};
 use stickslip::scenes::scene_source::{NamedScene, Origin};
 use stickslip_model::coefficients::Coefficients;
 use stickslip_model::rig::prng::XorShift32;
@@ -51,7 +51,7 @@ fn one_dof(mu_s: f64, mu_k: f64, v_s: f64, c_x: f64, k_g: f64, v: f64, n: f64) -
 /// pad_x of the reference run of `truth` at t = i / RATE_HZ, with Gaussian noise of `NOISE`
 /// (seed `seed`), written as a recording (`t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2`).
 fn record_reference(truth: &Scene, seed: u32, path: &std::path::Path) {
-    let run = reference2::simulate(truth).expect("the reference runs");
+    let run = model2_reference::simulate(truth).expect("the reference runs");
     let n = (DURATION_S * RATE_HZ).round() as usize;
     let times: Vec<f64> = (0..n).map(|i| i as f64 / RATE_HZ).collect();
     let states = run.sample(&times).expect("sampled");
