@@ -29,10 +29,12 @@ use super::contact::{ContactEstimator, ContactEventKind, ContactSample, ContactT
 use super::lockstep::{LockstepModel, ModelSample};
 use super::noise_floor::{FloorReport, NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
 use super::pneumatics::RIG_PISTON_AREA_M2;
-use super::sensor_model::SensorGeometry;
+use super::geometry::SensorGeometry;
 use super::window::{SampleStats, WindowAccumulator, WindowReport, DEFAULT_WINDOW_SAMPLES};
-use super::{check, ConfigError, ACCEL_CHANNELS, DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X, SAMPLE_RATE_HZ};
-use crate::scene::{Scene, SceneError, DEFAULT_SCENE};
+use super::{check, ConfigError, ACCEL_CHANNELS, DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X};
+use crate::design::SAMPLE_RATE_HZ;
+use crate::catalogue::DEFAULT_SCENE;
+use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
 
 /// Largest accepted sum of |value| over the six calibrated values of a frame (m/s^2 and bar

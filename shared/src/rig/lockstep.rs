@@ -61,11 +61,11 @@ pub type RigStepper = Model2Stepper<f32, crate::model2::StribeckBand>;
 pub fn default_template() -> Scene {
     #[cfg(not(any(feature = "lockstep-band", feature = "lockstep-stribeck", feature = "lockstep-stribeck-band")))]
     {
-        crate::scene::DEFAULT_SCENE
+        crate::catalogue::DEFAULT_SCENE
     }
     #[cfg(any(feature = "lockstep-band", feature = "lockstep-stribeck", feature = "lockstep-stribeck-band"))]
     {
-        let mut s = crate::rig_set::rig_scene(crate::scene::Caliper::Push, 0.040);
+        let mut s = crate::catalogue::rig_set::rig_scene(crate::scene::Caliper::Push, 0.040);
         if !<<RigStepper as LockstepStepper>::Composition as Composition>::STRIBECK {
             s.friction = crate::scene::FrictionLaw::Coulomb;
         }

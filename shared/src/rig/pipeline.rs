@@ -3,7 +3,7 @@
 //! estimator and sequencer, with what a rig does around them: the lockstep model per record,
 //! the pressures per window, the noise floor of the clamped phase. The firmware runs it (through
 //! the opt-level-3 shim `firmware/rig-core`), and so do the replay digests
-//! ([`super::replay`]), the host == Cortex-M4F cross-checks and the log session of
+//! ([`crate::harness::replay`]), the host == Cortex-M4F cross-checks and the log session of
 //! `tests/cases`. A recording (`analyze`, and the virtual rig `sil`, whose frames are
 //! calibrated by the same [`Calibrator`]) is played back through the same type: its rows,
 //! already calibrated, go through [`Rig::play`], steps 2 and 3 below, of a rig made by
@@ -87,7 +87,7 @@ impl Timing {
     /// (`SequencerConfig::RIG`: clamp and drive within 2 s, record 1 s, vent 0.5 s), a 3 s
     /// stroke timeout, and 0.5 s / 0.3 s timed fills.
     pub const RIG: Timing = Timing {
-        window_s: super::WINDOW_S,
+        window_s: crate::design::WINDOW_S,
         clamp_timeout_s: 2.0,
         drive_timeout_s: 2.0,
         record_s: 1.0,
