@@ -427,6 +427,25 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         C::FLOAT
     }
 
+    /// Back to the initial state, the tables kept: `z0` is the state the stepper was built in
+    /// ([`Self::state`] right after [`Self::new`] or [`Self::init_in`]), in stick, at step 0,
+    /// no halt, no transitions: every field a step changes, as the set-up leaves it (the rig's
+    /// lockstep model restarts this way at each record's start, writing these few words instead
+    /// of copying a stepper).
+    pub fn restart(&mut self, z0: [T; NS]) {
+        self.z = z0;
+        self.regime = Regime::Stick;
+        self.head = None;
+        self.step = 0;
+        self.halted = None;
+        self.transitions = 0;
+        self.anchor_x = self.face_position(&z0);
+        self.anchor_sub = 0;
+        self.anchor_unit = T::zero();
+        self.subs_done = 0;
+        self.armed = false;
+    }
+
     /// Replaces the state and regime (e.g. to start from steady sliding). In stick the sliding
     /// velocity is set to zero as on entry to stick. Without the band, u and u' are set to 0.
     pub fn set_state(&mut self, z: [T; NS], regime: Regime) {
