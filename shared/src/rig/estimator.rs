@@ -285,7 +285,7 @@ impl<M: ModelSlot> Estimator<M> {
             groan_state: [CascadeState::<GROAN_SECTIONS>::ZERO; ACCEL_CHANNELS],
             last_groan: [0.0; ACCEL_CHANNELS],
             window: WindowAccumulator::new(cfg.window_samples, cfg.fs_hz),
-            model: M::STOPPED,
+            model: M::stopped(),
             model_halt_seen: false,
             floor: None,
             sample: 0,

@@ -195,14 +195,19 @@ pub struct ModelSample {
 /// in f32, and the optimiser decides whether `Option::insert` builds it in place; with the
 /// `model2` stepper, `Estimator::start_model`'s frame is 16.5 KB, `arm-none-eabi-objdump -d` of
 /// bin `rig` of `tests/on-target` built `--features model2`.)
+///
+/// (`repr(C)`: the halt first and the stepper after it, where the compiler put them before the
+/// restart's fields came, and those last: the per-sample step keeps its field offsets, and its
+/// instruction count, `scripts/count-instructions.sh`.)
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub struct LockstepModel<S: LockstepStepper = RigStepper> {
+    halt: Option<Halt>,
     stepper: Option<S>,
-    /// The stepper's initial state (with `stepper`).
-    start: Option<S::Start>,
     /// The model steps (a stopped model keeps its stepper for a restart).
     running: bool,
-    halt: Option<Halt>,
+    /// The stepper's initial state (with `stepper`).
+    start: Option<S::Start>,
 }
 
 impl<S: LockstepStepper> Default for LockstepModel<S> {
@@ -214,7 +219,7 @@ impl<S: LockstepStepper> Default for LockstepModel<S> {
 impl<S: LockstepStepper> LockstepModel<S> {
     /// No model.
     pub const fn stopped() -> Self {
-        LockstepModel { stepper: None, start: None, running: false, halt: None }
+        LockstepModel { halt: None, stepper: None, running: false, start: None }
     }
 
     /// The scene the model runs: `template` with F_N = `actuator_bar` x `piston_area_m2`, band
@@ -292,12 +297,20 @@ impl<S: LockstepStepper> LockstepModel<S> {
         self.halt
     }
 
-    /// One step; compares the model's x'' with the measured `pad_x_m_s2`. None when stopped.
-    #[inline]
+    /// One step; compares the model's x'' with the measured `pad_x_m_s2`. None when stopped
+    /// (the caller checks [`Self::is_running`] first: the estimator does, outside the step).
+    #[inline(always)]
     pub fn step(&mut self, pad_x_m_s2: f32) -> Option<ModelSample> {
         if !self.running {
             return None;
         }
+        self.step_running(pad_x_m_s2)
+    }
+
+    /// [`Self::step`] of a running model (the check of `running` stays with the caller, where
+    /// it folds with the estimator's own: this body is the step as it was before the restart).
+    #[inline]
+    fn step_running(&mut self, pad_x_m_s2: f32) -> Option<ModelSample> {
         let stepper = self.stepper.as_mut()?;
         let mut slip_onset = false;
         if self.halt.is_none() {
@@ -319,8 +332,9 @@ impl<S: LockstepStepper> LockstepModel<S> {
 /// fresh estimator a record starts from, which needs none: the running estimator restarts its
 /// own model, [`super::pipeline`]).
 pub trait ModelSlot: Copy + core::fmt::Debug {
-    /// No model running.
-    const STOPPED: Self;
+    /// No model running. (A function, not an associated `const`: a constant of a model type is
+    /// its whole size in flash, copied in, where this writes a few words.)
+    fn stopped() -> Self;
     fn is_running(&self) -> bool;
     fn halt(&self) -> Option<Halt>;
     /// One step (None when stopped): [`LockstepModel::step`].
@@ -328,7 +342,10 @@ pub trait ModelSlot: Copy + core::fmt::Debug {
 }
 
 impl<S: LockstepStepper + Copy + core::fmt::Debug> ModelSlot for LockstepModel<S> {
-    const STOPPED: Self = Self::stopped();
+    #[inline(always)]
+    fn stopped() -> Self {
+        LockstepModel::stopped()
+    }
     #[inline(always)]
     fn is_running(&self) -> bool {
         LockstepModel::is_running(self)
@@ -348,7 +365,10 @@ impl<S: LockstepStepper + Copy + core::fmt::Debug> ModelSlot for LockstepModel<S
 pub struct NoModel;
 
 impl ModelSlot for NoModel {
-    const STOPPED: Self = NoModel;
+    #[inline(always)]
+    fn stopped() -> Self {
+        NoModel
+    }
     #[inline(always)]
     fn is_running(&self) -> bool {
         false

@@ -313,17 +313,17 @@ pub struct SampleOut {
 }
 
 /// The per-sample logic (see the module documentation).
+///
+/// (`repr(C)`: the fields in this order, the per-sample ones first, the fresh estimator a
+/// record starts from last: the per-sample path's offsets as small as they were when the
+/// compiler laid out two whole estimators; `scripts/count-instructions.sh`, path B.)
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub struct Rig {
     calibrator: Calibrator,
     /// The running estimator. Its lockstep model (the one set of tables, built once by
     /// [`Self::init`]) runs in the records and is restarted at each record's start.
     estimator: Estimator,
-    /// A fresh estimator without a model: copied in at each record's start
-    /// ([`Estimator::restart_from`]).
-    armed: Estimator<NoModel>,
-    /// The lockstep model's normal force at its start [N] (0 without a model).
-    model_normal_force: f32,
     sequencer: Sequencer,
     has_pressure: bool,
     has_end_of_stroke: bool,
@@ -345,6 +345,11 @@ pub struct Rig {
     floor: Option<(FloorReport, ContactThresholds)>,
     /// `floor` is new and [`Rig::take_floor`] has not given it out yet.
     floor_unread: bool,
+    /// A fresh estimator without a model: copied in at each record's start
+    /// ([`Estimator::restart_from`]).
+    armed: Estimator<NoModel>,
+    /// The lockstep model's normal force at its start [N] (0 without a model).
+    model_normal_force: f32,
 }
 
 impl Rig {
