@@ -12,13 +12,13 @@ use stickslip_model::rig::CHANNELS;
 pub const SYSCLK_HZ: u32 = 168_000_000;
 
 /// Sampling rate per channel [Hz], the model crate's design value
-/// (`stickslip_model::rig::SAMPLE_RATE_HZ`): one frame of all channels per [`OVERSAMPLE`] TIM3 updates.
+/// (`stickslip_model::design::SAMPLE_RATE_HZ`): one frame of all channels per [`OVERSAMPLE`] TIM3 updates.
 /// TIM3 counts the 84 MHz APB1 timer clock and triggers one scan per update, so the scan period
 /// is the nearest whole number of clocks: 102 400 Hz asks for 820.3 clocks and gets 820, i.e.
 /// a frame rate of 25 609.76 Hz (+381 ppm). The firmware runs the estimator and the lockstep
 /// model at the rate it really gets (logged at boot); the HSI oscillator's own tolerance (1 %)
 /// is larger than that rounding.
-pub const SAMPLE_RATE_HZ: u32 = stickslip_model::rig::SAMPLE_RATE_HZ as u32;
+pub const SAMPLE_RATE_HZ: u32 = stickslip_model::design::SAMPLE_RATE_HZ as u32;
 
 /// Scans per frame (the calibration's `adc.oversample`): each channel is converted this many
 /// times per frame and the frame's count is their sum (`Rig::frame`, shared/src/rig/pipeline.rs: a boxcar of 4 at

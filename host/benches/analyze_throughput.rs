@@ -17,7 +17,7 @@ use std::io::{BufWriter, Write};
 use std::process::Command;
 use std::time::Instant;
 
-const FS: f64 = stickslip_model::rig::SAMPLE_RATE_HZ;
+const FS: f64 = stickslip_model::design::SAMPLE_RATE_HZ;
 
 /// Appends `v` (an integer number of 10^-`decimals` units) as a decimal with a comma.
 fn put_fixed(out: &mut Vec<u8>, v: i64, decimals: u32) {

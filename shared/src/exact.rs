@@ -192,6 +192,24 @@ impl<T: Real> ExactStepper<T> {
         })
     }
 
+    /// Back to the initial state, the tables kept: `z0` is the state the stepper was built in
+    /// ([`Self::state`] right after [`Self::new`]), in stick, at step 0, no halt, nothing
+    /// reported: every field a step changes, as [`Self::new`] leaves it (the rig's lockstep
+    /// model restarts this way at each record's start instead of copying a stepper).
+    pub fn restart(&mut self, z0: [T; 4]) {
+        let empty = Transition { t: 0.0, from: Regime::Stick, to: Regime::Stick, state: State::default() };
+        self.z = z0;
+        self.regime = Regime::Stick;
+        self.step = 0;
+        self.anchor_x = T::zero();
+        self.anchor_e0 = self.h_sub_t;
+        self.anchor_subs = 0;
+        self.reported = [empty; TRANSITIONS_PER_STEP];
+        self.n_reported = 0;
+        self.dropped = 0;
+        self.halted = None;
+    }
+
     /// c . A^2 for every guard of every regime, in f64, rounded to T.
     fn curvatures(scene: &Scene, co: &Coefficients) -> [[[T; 5]; 2]; 3] {
         let g64 = Guards::<f64>::new(scene, co);

@@ -4,7 +4,10 @@
 //! `no_std`, no allocation, no panics on a validated scene: the same code runs on the rig's
 //! Cortex-M4F and in the desktop tool.
 //!
-//! - [`scene`]: parameters, defaults, validation.
+//! - [`design`]: the rig's design constants (sample rate, window, range): a leaf every layer reads.
+//! - [`scene`]: parameters (plain data) and their validation.
+//! - [`catalogue`]: the built-in scenes: the default pad, the six cases, the oracle, model 2's
+//!   rig set ([`rig_set`]).
 //! - [`coefficients`]: lever arms, rotational stiffness, normal-force gain.
 //! - [`friction`]: the Coulomb law.
 //! - [`stickslip`]: the regimes and their transitions (the state machine).
@@ -12,7 +15,8 @@
 //! - [`exact`]: the fixed-step exact stepper.
 //! - [`expf`]: the f32 exponential of Stribeck slip (small and exact on the Cortex-M4F).
 //! - [`model2`]: model 2 (Stribeck friction, the band, damping), stepper per composition.
-//! - [`rig_set`]: model 2's rig set of scenes.
+//! - [`rig`]: the per-sample chain the firmware runs (calibration, estimator, sequencer).
+//! - [`harness`]: the rig's simulation harness (sensor model, replay digests, random numbers).
 //! - [`stats`]: run statistics with exact extremes (peak-to-peak, stick fraction, frequency).
 #![no_std]
 #![forbid(unsafe_code)]
@@ -21,19 +25,21 @@
 // Units are written in brackets in doc comments (`[kg]`, `[N/m]`), not links.
 #![allow(rustdoc::broken_intra_doc_links)]
 
+pub mod catalogue;
 pub mod coefficients;
+pub mod design;
 pub mod digest;
 pub mod exact;
 pub mod expf;
 pub mod friction;
 pub mod halt;
+pub mod harness;
 pub mod linalg;
 pub mod methods;
 pub mod model2;
 pub mod propagator;
 pub mod real;
 pub mod rig;
-pub mod rig_set;
 pub mod scene;
 pub mod stats;
 pub mod stickslip;
@@ -41,5 +47,6 @@ pub mod stickslip;
 pub use coefficients::Coefficients;
 pub use exact::{ExactStepper, Halt, Observer, Segment, State, Transition};
 pub use real::Real;
-pub use scene::{Caliper, FrictionLaw, Scene, SceneError, DEFAULT_SCENE};
+pub use catalogue::{rig_set, DEFAULT_SCENE};
+pub use scene::{Caliper, FrictionLaw, Scene, SceneError};
 pub use stickslip::Regime;

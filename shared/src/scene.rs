@@ -3,6 +3,9 @@
 //! All values are SI (kg, m, N, s, rad). A scene is plain data in `f64`; the steppers round the
 //! derived coefficients to their own precision. [`Scene::validate`] names the offending field
 //! and the rule it breaks, so a user's edited scene file gets a precise message.
+//!
+//! Scenes as data only: the built-in scenes (the default pad, the six cases, the oracles,
+//! model 2's rig set) are in [`crate::catalogue`], beside this module.
 
 /// Where the pad's frictional guide (and so the rotation pivot) sits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -117,50 +120,6 @@ pub struct Scene {
     pub stats_from: f64,
 }
 
-/// The thesis-sized pad of docs/model.md (80 mm pad, 5 bar actuator, slow band).
-pub const DEFAULT_SCENE: Scene = Scene {
-    caliper: Caliper::Push,
-    m: 0.3,
-    inertia: 6.8e-4,
-    l: 0.04,
-    w: 0.01,
-    l_cl: 0.03,
-    l_ct: 0.025,
-    k_l: 1e6,
-    k_t: 1e6,
-    k_g: 2e5,
-    f_n: 150.0,
-    beta: 0.040,
-    v: 0.005,
-    mu_s: 0.45,
-    mu_k: 0.35,
-    c_x: 0.0,
-    c_phi: 0.0,
-    rotation: true,
-    friction: FrictionLaw::Coulomb,
-    v_s: 0.005,
-    stribeck_exponent: 1.0,
-    band: false,
-    m_b: 2.0,
-    k_b: 1e6,
-    c_b: 0.0,
-    face: false,
-    k_pivot: f64::INFINITY,
-    c_y: 0.0,
-    dt: 1.0 / crate::rig::SAMPLE_RATE_HZ,
-    duration: 1.0,
-    stats_from: 0.5,
-};
-
-/// Load positions of the six cases [m from the trailing edge]: trailing, centre, leading.
-pub const CASE_BETAS: [(&str, f64); 3] = [("trail", 0.025), ("center", 0.040), ("lead", 0.055)];
-
-impl Default for Scene {
-    fn default() -> Self {
-        DEFAULT_SCENE
-    }
-}
-
 /// A scene value that breaks a rule: which field, which rule, what value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneError {
@@ -194,36 +153,6 @@ impl Scene {
     /// Whether the pad is not hinged: a finite pivot stiffness k_pivot (the floating pad).
     pub const fn floating(&self) -> bool {
         self.k_pivot.is_finite()
-    }
-
-    /// One of the six cases: the default pad with the given caliper and load position.
-    pub const fn case(caliper: Caliper, beta: f64) -> Scene {
-        let mut s = DEFAULT_SCENE;
-        s.caliper = caliper;
-        s.beta = beta;
-        s
-    }
-
-    /// Normal force of [`Scene::oracle_1dof`], N0 = c_N F_N a_N / K [N].
-    pub const ORACLE_N0: f64 = 10.0;
-
-    /// The closed-form check of docs/model.md: the 1-DOF mass on a moving belt (rotation held,
-    /// so N is constant): m = 1 kg, k_g = 100 N/m, V = 0.05 m/s, mu_s = 0.6, mu_k = 0.4, and F_N
-    /// chosen so that N0 = 10 N; a 6 s run (first breakaway at 1.2 s, then four cycles), the
-    /// statistics over [1.3, 6] s.
-    pub fn oracle_1dof() -> Scene {
-        let mut s = Scene::case(Caliper::Push, 0.040);
-        s.rotation = false;
-        s.m = 1.0;
-        s.k_g = 100.0;
-        s.v = 0.05;
-        s.mu_s = 0.6;
-        s.mu_k = 0.4;
-        s.duration = 6.0;
-        s.stats_from = 1.3;
-        let co = crate::coefficients::Coefficients::of(&s);
-        s.f_n = Self::ORACLE_N0 * co.k_rot / (co.c_n * co.a_n);
-        s
     }
 
     /// Checks every field; the first violation is returned. A scene that passes can be

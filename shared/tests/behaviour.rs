@@ -3,7 +3,7 @@
 //! (sprag, contact loss) that stop a run instead of producing NaN.
 
 use stickslip_model::stats::{RunStats, StatsObserver};
-use stickslip_model::{scene::CASE_BETAS, Caliper, ExactStepper, Halt, Real, Regime, Scene, State};
+use stickslip_model::{catalogue::CASE_BETAS, Caliper, ExactStepper, Halt, Real, Regime, Scene, State};
 
 fn stats<T: Real>(scene: &Scene) -> RunStats {
     let mut st = ExactStepper::<T>::new(scene).unwrap();

@@ -365,7 +365,7 @@ fn assert_real_crest(scene: Scene, t_transition: f64, from: Regime, to: Regime) 
 fn the_thesis_set_crests_found_since_are_real() {
     // push_lead at 1 ms: the breakaway at 0.4707663 s (found at 1/25600 s too), which the
     // end-of-substep test saw only 2.0 ms later, at 0.4727659 s
-    let mut s = Scene::case(stickslip_model::Caliper::Push, stickslip_model::scene::CASE_BETAS[2].1);
+    let mut s = Scene::case(stickslip_model::Caliper::Push, stickslip_model::catalogue::CASE_BETAS[2].1);
     s.dt = 1e-3;
     assert_real_crest(s, 0.4707662509329, Regime::Stick, Regime::SlipSlower);
     // thesis-mu (mu_k = mu_s) at 1/25600 s: the slip that touches V_r = 0 at 0.2022945 s (re-stick

@@ -10,7 +10,7 @@
 use stickslip_model::rig::bandpass::{BandPass, GROAN_BAND_HZ, GROAN_SECTIONS};
 use stickslip_model::rig::calibration::Calibrated;
 use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
-use stickslip_model::rig::SAMPLE_RATE_HZ;
+use stickslip_model::design::SAMPLE_RATE_HZ;
 
 const FS: f64 = SAMPLE_RATE_HZ;
 const FREQS: [f64; 5] = [50.0, 100.0, 300.0, 500.0, 2000.0];

@@ -11,11 +11,11 @@
 use stickslip_model::rig::calibration::{Calibrated, Calibrator, RIG_CALIBRATION};
 use stickslip_model::rig::contact::{ContactEventKind, ContactThresholds};
 use stickslip_model::rig::estimator::{Estimator, EstimatorConfig};
-use stickslip_model::rig::prng::UNIT_NOISE_BOUND;
-use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
+use stickslip_model::harness::prng::UNIT_NOISE_BOUND;
+use stickslip_model::harness::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::rig::window::WindowReport;
 use stickslip_model::rig::{ACCEL_NAMES, PAD_X};
-use stickslip_model::{scene::CASE_BETAS, Caliper, Regime, Scene};
+use stickslip_model::{catalogue::CASE_BETAS, Caliper, Regime, Scene};
 
 const FS: f64 = 25_600.0;
 const SAMPLES: usize = 25_600;

@@ -5,10 +5,10 @@
 //! ratio of the noise-free peak-to-peak values over the statistics window lies in [0.5, 2],
 //! and on the hinged rig set it does not.
 
-use stickslip_model::rig::sensor_model::{Model2Motion, SensorModel, SensorModelConfig};
+use stickslip_model::harness::sensor_model::{Model2Motion, SensorModel, SensorModelConfig};
 use stickslip_model::rig::{PAD_LEAD, PAD_TRAIL};
 use stickslip_model::rig_set::{rig_float_scene, rig_scene};
-use stickslip_model::scene::CASE_BETAS;
+use stickslip_model::catalogue::CASE_BETAS;
 use stickslip_model::{Caliper, Scene};
 
 /// pad_trail pp / pad_lead pp of the noise-free accelerations over [stats_from, duration].

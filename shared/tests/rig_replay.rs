@@ -6,10 +6,11 @@
 use stickslip_model::digest::Fnv1a64;
 use stickslip_model::rig::calibration::{Calibrator, Frame, RIG_CALIBRATION};
 use stickslip_model::rig::pipeline::{DigitalInputs, Rig, RigError, Timing};
-use stickslip_model::rig::replay::{digest_sample, replay_config, run_frames_digest, run_frames_digest_with, Script};
-use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
+use stickslip_model::harness::replay::{digest_sample, replay_config, run_frames_digest, run_frames_digest_with, Script};
+use stickslip_model::harness::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::rig::sequencer::{Command, FaultCause, PhaseEnd, RecordEnd, SeqState, Valves};
-use stickslip_model::rig::{estimator::Estimator, pipeline::RigConfig, SAMPLE_RATE_HZ};
+use stickslip_model::design::SAMPLE_RATE_HZ;
+use stickslip_model::rig::{estimator::Estimator, pipeline::RigConfig};
 use stickslip_model::{Caliper, Regime, Scene};
 
 const NOISE: Noise = Noise { accel_rms_m_s2: 0.5, pressure_rms_bar: 0.005, seed: 2024, adc_rms_counts: 0.0 };

@@ -3,10 +3,10 @@
 //! clipping at the sensor's range.
 
 use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
-use stickslip_model::rig::prng::UNIT_NOISE_BOUND;
-use stickslip_model::rig::sensor_model::{Noise, SensorGeometry, SensorModel, SensorModelConfig};
+use stickslip_model::harness::prng::UNIT_NOISE_BOUND;
+use stickslip_model::harness::sensor_model::{Noise, SensorGeometry, SensorModel, SensorModelConfig};
 use stickslip_model::rig::{DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X};
-use stickslip_model::{scene::CASE_BETAS, Caliper, Regime, Scene};
+use stickslip_model::{catalogue::CASE_BETAS, Caliper, Regime, Scene};
 
 /// Counts per m/s^2 by hand: 0.1 V/g x 0.2 / 9.80665 per (3.3 / 4096 V per count).
 const COUNTS_PER_M_S2: f64 = 0.1 * 0.2 / 9.80665 / (3.3 / 4096.0);

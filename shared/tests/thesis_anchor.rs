@@ -18,7 +18,7 @@
 //! Every other run, f32 and f64, is bit-identical to af3be34.
 
 use stickslip_model::digest::{DigestBits, Fnv1a64};
-use stickslip_model::scene::CASE_BETAS;
+use stickslip_model::catalogue::CASE_BETAS;
 use stickslip_model::{Caliper, ExactStepper, Real, Scene, DEFAULT_SCENE};
 
 fn thesis_set() -> Vec<(String, Scene)> {

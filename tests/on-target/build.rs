@@ -11,7 +11,7 @@ use std::env;
 use std::fs;
 use std::path::PathBuf;
 
-use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
+use stickslip_model::harness::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::{Caliper, Scene};
 
 const RIG_COUNT_FRAMES: usize = 2_600;

@@ -3,7 +3,7 @@
 
 use stickslip::numerics::reference::thesis::{self, Mode};
 use stickslip_model::stats::StatsObserver;
-use stickslip_model::{scene::CASE_BETAS, Caliper, ExactStepper, Observer, Regime, Scene, Transition};
+use stickslip_model::{catalogue::CASE_BETAS, Caliper, ExactStepper, Observer, Regime, Scene, Transition};
 
 struct Collect {
     stats: StatsObserver<f64>,

@@ -7,7 +7,7 @@
 //!   (`tests/cases/src/scenes.rs`);
 //! - bin `rig`: frames from the sensor model through calibration, estimator (window statistics,
 //!   lockstep model) and sequencer: the one rig, `stickslip_model::rig::pipeline::Rig`, which
-//!   the firmware runs, digested by `stickslip_model::rig::replay` (`tests/cases/src/rig_scenes.rs`).
+//!   the firmware runs, digested by `stickslip_model::harness::replay` (`tests/cases/src/rig_scenes.rs`).
 //!
 //! Ignored by default: they need qemu-system-arm and the cross-built ELFs. `scripts/test-all.sh`
 //! builds both and runs

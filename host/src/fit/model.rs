@@ -4,7 +4,7 @@
 //! cost is smooth in the parameters instead of a staircase of ADC counts).
 
 use stickslip_model::coefficients::Coefficients;
-use stickslip_model::scene::CASE_BETAS;
+use stickslip_model::catalogue::CASE_BETAS;
 use stickslip_model::{Caliper, Scene};
 
 use crate::recorded::analysis::Analysis;

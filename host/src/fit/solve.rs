@@ -37,7 +37,7 @@ use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::storage::Owned;
 use nalgebra::{DMatrix, DVector, Dyn};
 use rayon::prelude::*;
-use stickslip_model::rig::prng::XorShift32;
+use stickslip_model::harness::prng::XorShift32;
 use stickslip_model::Scene;
 
 use super::model::{self, FreeKey};

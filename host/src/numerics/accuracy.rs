@@ -42,7 +42,7 @@ use crate::numerics::reference::{model2 as model2_reference, thesis, Tolerances}
 use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
 
 /// The rig's sample period [s].
-pub const RIG_DT: f64 = 1.0 / stickslip_model::rig::SAMPLE_RATE_HZ;
+pub const RIG_DT: f64 = 1.0 / stickslip_model::design::SAMPLE_RATE_HZ;
 
 /// Step sizes of the full report [s].
 pub const FULL_DTS: [f64; 6] = [1e-6, 1e-5, RIG_DT, 1e-4, 2.5e-4, 1e-3];

@@ -3,7 +3,7 @@
 //!
 //! Per sample i (t = (i + 1) dt, one exact step of the scene per sample, so the virtual rig
 //! samples at 1 / dt: 25.6 kHz for the default dt):
-//! 1. `shared::rig::sensor_model::SensorModel` steps the model and makes the rig's ADC frame:
+//! 1. `shared::harness::sensor_model::SensorModel` steps the model and makes the rig's ADC frame:
 //!    `disc_x` the band's acceleration (0: the model's band runs at constant V), `pad_x` = x'',
 //!    `pad_trail` and `pad_lead` = r phi'' at the sensors' lever arms about the pivot (5 mm in
 //!    from each edge of the pad; plus y'' where the pad floats), plus seeded white noise, clipped at the sensors' +-700 m/s^2,
@@ -27,8 +27,8 @@ use std::path::Path;
 use stickslip_model::rig::calibration::{Calibrator, RIG_CALIBRATION};
 use stickslip_model::stats::{Extremes, OnsetRate};
 use stickslip_model::rig::contact::ContactThresholds;
-use stickslip_model::rig::prng::XorShift32;
-use stickslip_model::rig::sensor_model::{
+use stickslip_model::harness::prng::XorShift32;
+use stickslip_model::harness::sensor_model::{
     Model2Motion, Motion, Noise, SensorGeometry, SensorModel, SensorModelConfig, SensorModelError,
 };
 use stickslip_model::{Real, Regime};
@@ -474,7 +474,7 @@ fn sample_run<T: Real, M: Motion<T>>(
         saturated_frames,
         pp_bound_m_s2: match opts.sensor {
             SensorPath::Rig => pp_error_bound(&calibration, opts.noise_m_s2, opts.adc_noise_counts),
-            SensorPath::Ideal => [2.0 * stickslip_model::rig::prng::UNIT_NOISE_BOUND * opts.noise_m_s2; CH],
+            SensorPath::Ideal => [2.0 * stickslip_model::harness::prng::UNIT_NOISE_BOUND * opts.noise_m_s2; CH],
         },
         truth,
         measured,
@@ -487,6 +487,6 @@ fn sample_run<T: Real, M: Motion<T>>(
 /// `2 UNIT_NOISE_BOUND` times the sensor noise and the converter's noise (in counts, each
 /// extreme moved by at most their bounds). Valid while no sample clips.
 pub fn pp_error_bound(cal: &stickslip_model::rig::calibration::Calibration, noise_m_s2: f64, adc_noise_counts: f64) -> [f64; CH] {
-    let b = stickslip_model::rig::prng::UNIT_NOISE_BOUND;
+    let b = stickslip_model::harness::prng::UNIT_NOISE_BOUND;
     std::array::from_fn(|c| (1.0 + 2.0 * b * adc_noise_counts) / cal.accel[c].counts_per_m_s2(&cal.adc) + 2.0 * b * noise_m_s2)
 }

@@ -2,7 +2,7 @@
 //! positions), the thesis's own friction law (`thesis-mu`) and the closed-form check
 //! (`oracle_1dof`). All of them start from the default pad of the model crate.
 
-use stickslip_model::scene::CASE_BETAS;
+use stickslip_model::catalogue::CASE_BETAS;
 use stickslip_model::{Caliper, FrictionLaw, Scene, DEFAULT_SCENE};
 
 /// A built-in scene.

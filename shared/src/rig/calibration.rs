@@ -170,7 +170,7 @@ impl AccelChannel {
     /// A Type 4508-class accelerometer on the rig's front end: 100 mV/g, +-700 m/s^2, gain 0.2,
     /// zero at mid-scale (the ADC then spans about +-809 m/s^2, 0.395 m/s^2 per count).
     pub const RIG: AccelChannel =
-        AccelChannel { sensitivity_mv_per_g: 100.0, front_end_gain: 0.2, offset_counts: 2048.0, range_m_s2: super::ACCEL_RANGE_M_S2 };
+        AccelChannel { sensitivity_mv_per_g: 100.0, front_end_gain: 0.2, offset_counts: 2048.0, range_m_s2: crate::design::ACCEL_RANGE_M_S2 };
 
     /// Sensitivity S [V per m/s^2].
     pub fn sensitivity_v_per_m_s2(&self) -> f64 {

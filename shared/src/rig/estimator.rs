@@ -26,13 +26,15 @@
 use super::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use super::calibration::Calibrated;
 use super::contact::{ContactEstimator, ContactEventKind, ContactSample, ContactThresholds};
-use super::lockstep::{LockstepModel, ModelSample};
+use super::lockstep::{LockstepModel, ModelSample, ModelSlot, NoModel};
 use super::noise_floor::{FloorReport, NoiseFloor, A_REL, MIN_FLOOR_SAMPLES};
 use super::pneumatics::RIG_PISTON_AREA_M2;
-use super::sensor_model::SensorGeometry;
+use super::geometry::SensorGeometry;
 use super::window::{SampleStats, WindowAccumulator, WindowReport, DEFAULT_WINDOW_SAMPLES};
-use super::{check, ConfigError, ACCEL_CHANNELS, DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X, SAMPLE_RATE_HZ};
-use crate::scene::{Scene, SceneError, DEFAULT_SCENE};
+use super::{check, ConfigError, ACCEL_CHANNELS, DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X};
+use crate::design::SAMPLE_RATE_HZ;
+use crate::catalogue::DEFAULT_SCENE;
+use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
 
 /// Largest accepted sum of |value| over the six calibrated values of a frame (m/s^2 and bar
@@ -175,9 +177,11 @@ pub struct EstimatorSample {
     pub window_ready: bool,
 }
 
-/// The per-sample analysis (see the module documentation).
+/// The per-sample analysis (see the module documentation). `M`: where its lockstep model is
+/// kept, a [`LockstepModel`] (the default), or [`NoModel`] for the rig's fresh estimator that a
+/// record starts from ([`Estimator::restart_from`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Estimator {
+pub struct Estimator<M: ModelSlot = LockstepModel> {
     cfg: EstimatorConfig,
     contact: ContactEstimator,
     last_contact: ContactSample,
@@ -185,7 +189,7 @@ pub struct Estimator {
     groan_state: [CascadeState<GROAN_SECTIONS>; ACCEL_CHANNELS],
     last_groan: [f32; ACCEL_CHANNELS],
     window: WindowAccumulator,
-    model: LockstepModel,
+    model: M,
     model_halt_seen: bool,
     /// The noise floor being measured (between [`Estimator::start_floor`] and
     /// [`Estimator::finish_floor`]).
@@ -211,6 +215,64 @@ impl Estimator {
         BandPass::butterworth(cfg.groan_band_hz.0, cfg.groan_band_hz.1, cfg.fs_hz)
     }
 
+    /// The lockstep model, while it runs.
+    pub fn model(&self) -> Option<&LockstepModel> {
+        if self.model.is_running() {
+            Some(&self.model)
+        } else {
+            None
+        }
+    }
+
+    /// Starts (or restarts) the lockstep model from the measured actuator pressure [bar]:
+    /// `template` with F_N = p A and the configured band speed. Set-up work in f64 (the exact
+    /// flows): call it between samples, not inside a tight sample deadline.
+    pub fn start_model(&mut self, template: &Scene, actuator_bar: f64) -> Result<(), SceneError> {
+        self.model_halt_seen = false;
+        self.window.set_model_halt(None);
+        self.model.start(template, actuator_bar, self.cfg.piston_area_m2, self.cfg.band_speed_m_s, self.cfg.fs_hz)
+    }
+
+    /// Stops the lockstep model (its stepper is kept: [`LockstepModel::restart`]).
+    pub fn stop_model(&mut self) {
+        self.model.stop();
+    }
+
+    /// A record's start: every part of `fresh` (the rig's fresh estimator, which carries no
+    /// model) copied in, and this estimator's own lockstep model restarted from its initial
+    /// state with its tables kept ([`LockstepModel::restart`]): a few words of the model
+    /// written, no stepper copied. The same estimator as a copy of a fresh one whose model was
+    /// just started for the same scene.
+    #[inline(always)]
+    pub(crate) fn restart_from(&mut self, fresh: &Estimator<NoModel>) {
+        let Estimator {
+            cfg,
+            contact,
+            last_contact,
+            groan,
+            groan_state,
+            last_groan,
+            window,
+            model: NoModel,
+            model_halt_seen,
+            floor,
+            sample,
+        } = fresh;
+        self.cfg = *cfg;
+        self.contact = *contact;
+        self.last_contact = *last_contact;
+        self.groan = *groan;
+        self.groan_state = *groan_state;
+        self.last_groan = *last_groan;
+        self.window = *window;
+        self.model_halt_seen = *model_halt_seen;
+        self.floor = *floor;
+        self.sample = *sample;
+        self.model.restart();
+    }
+}
+
+impl<M: ModelSlot> Estimator<M> {
     /// A new estimator for `cfg` (validated) with its groan filter: written where it is used
     /// (inlined into [`Self::new`], [`Self::new_in`] and `Rig::init`).
     #[inline(always)]
@@ -223,7 +285,7 @@ impl Estimator {
             groan_state: [CascadeState::<GROAN_SECTIONS>::ZERO; ACCEL_CHANNELS],
             last_groan: [0.0; ACCEL_CHANNELS],
             window: WindowAccumulator::new(cfg.window_samples, cfg.fs_hz),
-            model: LockstepModel::stopped(),
+            model: M::stopped(),
             model_halt_seen: false,
             floor: None,
             sample: 0,
@@ -244,24 +306,6 @@ impl Estimator {
     pub fn contact(&self) -> &ContactEstimator {
         &self.contact
     }
-    /// The lockstep model, while it runs.
-    pub fn model(&self) -> Option<&LockstepModel> {
-        if self.model.is_running() {
-            Some(&self.model)
-        } else {
-            None
-        }
-    }
-
-    /// Starts (or restarts) the lockstep model from the measured actuator pressure [bar]:
-    /// `template` with F_N = p A and the configured band speed. Set-up work in f64 (the exact
-    /// flows): call it between samples, not inside a tight sample deadline.
-    pub fn start_model(&mut self, template: &Scene, actuator_bar: f64) -> Result<(), SceneError> {
-        self.model_halt_seen = false;
-        self.window.set_model_halt(None);
-        self.model.start(template, actuator_bar, self.cfg.piston_area_m2, self.cfg.band_speed_m_s, self.cfg.fs_hz)
-    }
-
     /// Starts measuring the noise floor (the clamped, band-still phase): every valid sample
     /// until [`Self::finish_floor`] adds to it. Restarts a floor already under way.
     pub fn start_floor(&mut self) {
@@ -296,11 +340,6 @@ impl Estimator {
     /// Drops the floor under way, if any (the clamped phase ended without the band starting).
     pub fn cancel_floor(&mut self) {
         self.floor = None;
-    }
-
-    /// Stops the lockstep model.
-    pub fn stop_model(&mut self) {
-        self.model.stop();
     }
 
     /// The report of the last closed window, once. Takes the window's divisions and square

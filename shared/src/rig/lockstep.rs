@@ -61,11 +61,11 @@ pub type RigStepper = Model2Stepper<f32, crate::model2::StribeckBand>;
 pub fn default_template() -> Scene {
     #[cfg(not(any(feature = "lockstep-band", feature = "lockstep-stribeck", feature = "lockstep-stribeck-band")))]
     {
-        crate::scene::DEFAULT_SCENE
+        crate::catalogue::DEFAULT_SCENE
     }
     #[cfg(any(feature = "lockstep-band", feature = "lockstep-stribeck", feature = "lockstep-stribeck-band"))]
     {
-        let mut s = crate::rig_set::rig_scene(crate::scene::Caliper::Push, 0.040);
+        let mut s = crate::catalogue::rig_set::rig_scene(crate::scene::Caliper::Push, 0.040);
         if !<<RigStepper as LockstepStepper>::Composition as Composition>::STRIBECK {
             s.friction = crate::scene::FrictionLaw::Coulomb;
         }
@@ -78,8 +78,16 @@ pub fn default_template() -> Scene {
 pub trait LockstepStepper: Sized {
     /// The model-2 composition ([`crate::model2::Coulomb`] for the thesis stepper).
     type Composition: Composition;
+    /// What a restart returns to: the stepper's initial state, taken when it is built
+    /// ([`Self::start_point`]): a few words, not the tables.
+    type Start: Copy + core::fmt::Debug;
     /// Builds the stepper for `scene` in `slot` (in place: see [`LockstepModel`]).
     fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError>;
+    /// The state a freshly built stepper is in.
+    fn start_point(&self) -> Self::Start;
+    /// Back to `start` (its [`Self::start_point`]), the tables kept: the same state a fresh
+    /// build leaves, bit for bit.
+    fn restart(&mut self, start: &Self::Start);
     /// One step; whether a stick-to-slip transition happened in it.
     fn advance(&mut self) -> Result<bool, Halt>;
     fn current_regime(&self) -> Regime;
@@ -91,9 +99,16 @@ pub trait LockstepStepper: Sized {
 
 impl LockstepStepper for ExactStepper<f32> {
     type Composition = crate::model2::Coulomb;
+    type Start = [f32; 4];
     fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError> {
         *slot = Some(ExactStepper::new(scene)?);
         Ok(())
+    }
+    fn start_point(&self) -> [f32; 4] {
+        self.state().to_array()
+    }
+    fn restart(&mut self, start: &[f32; 4]) {
+        ExactStepper::restart(self, *start);
     }
     #[inline(always)]
     fn advance(&mut self) -> Result<bool, Halt> {
@@ -129,8 +144,15 @@ impl Observer2<f32> for SlipOnset {
 
 impl<C: Composition> LockstepStepper for Model2Stepper<f32, C> {
     type Composition = C;
+    type Start = [f32; crate::model2::NS];
     fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError> {
         Model2Stepper::init_in(slot, scene).map(|_| ())
+    }
+    fn start_point(&self) -> [f32; crate::model2::NS] {
+        self.state()
+    }
+    fn restart(&mut self, start: &[f32; crate::model2::NS]) {
+        Model2Stepper::restart(self, *start);
     }
     #[inline(always)]
     fn advance(&mut self) -> Result<bool, Halt> {
@@ -167,14 +189,25 @@ pub struct ModelSample {
 
 /// The stepper in lockstep with the samples ([`RigStepper`] unless named), or no model
 /// (stopped). The stepper is built in its slot ([`LockstepStepper::build_in`]) and never
-/// moved. (Its value may still be assembled on the stack first: a model-2 stepper is 15 to 26 KB
+/// moved. Stopping keeps it (its tables: kilobytes, built in f64 once): [`Self::restart`] puts
+/// it back at its initial state, a few words written, no tables copied (the rig's record start,
+/// [`super::pipeline`]). (Its value may still be assembled on the stack first: a model-2 stepper is 15 to 26 KB
 /// in f32, and the optimiser decides whether `Option::insert` builds it in place; with the
 /// `model2` stepper, `Estimator::start_model`'s frame is 16.5 KB, `arm-none-eabi-objdump -d` of
 /// bin `rig` of `tests/on-target` built `--features model2`.)
+///
+/// (`repr(C)`: the halt first and the stepper after it, where the compiler put them before the
+/// restart's fields came, and those last: the per-sample step keeps its field offsets, and its
+/// instruction count, `scripts/count-instructions.sh`.)
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub struct LockstepModel<S: LockstepStepper = RigStepper> {
-    stepper: Option<S>,
     halt: Option<Halt>,
+    stepper: Option<S>,
+    /// The model steps (a stopped model keeps its stepper for a restart).
+    running: bool,
+    /// The stepper's initial state (with `stepper`).
+    start: Option<S::Start>,
 }
 
 impl<S: LockstepStepper> Default for LockstepModel<S> {
@@ -186,7 +219,7 @@ impl<S: LockstepStepper> Default for LockstepModel<S> {
 impl<S: LockstepStepper> LockstepModel<S> {
     /// No model.
     pub const fn stopped() -> Self {
-        LockstepModel { stepper: None, halt: None }
+        LockstepModel { halt: None, stepper: None, running: false, start: None }
     }
 
     /// The scene the model runs: `template` with F_N = `actuator_bar` x `piston_area_m2`, band
@@ -218,34 +251,66 @@ impl<S: LockstepStepper> LockstepModel<S> {
     ) -> Result<(), SceneError> {
         let scene = Self::scene(template, actuator_bar, piston_area_m2, band_speed_m_s, fs_hz);
         self.stepper = None;
+        self.start = None;
+        self.running = false;
         self.halt = None;
-        S::build_in(&mut self.stepper, &scene)
+        S::build_in(&mut self.stepper, &scene)?;
+        self.start = self.stepper.as_ref().map(|s| s.start_point());
+        self.running = self.stepper.is_some();
+        Ok(())
     }
 
-    /// Stops the model.
+    /// Stops the model; its stepper is kept for [`Self::restart`].
     pub fn stop(&mut self) {
-        self.stepper = None;
+        self.running = false;
+        self.halt = None;
+    }
+
+    /// Runs the model again from its initial state (the state [`Self::start`] built it in),
+    /// its tables kept: a few words written, nothing rebuilt. Nothing happens without a
+    /// stepper (never started, or its scene refused).
+    #[inline]
+    pub fn restart(&mut self) {
+        if let (Some(stepper), Some(start)) = (self.stepper.as_mut(), self.start.as_ref()) {
+            stepper.restart(start);
+            self.running = true;
+        }
         self.halt = None;
     }
 
     pub fn is_running(&self) -> bool {
-        self.stepper.is_some()
+        self.running
     }
     /// The stepper, while the model runs.
     pub fn stepper(&self) -> Option<&S> {
-        self.stepper.as_ref()
+        if self.running {
+            self.stepper.as_ref()
+        } else {
+            None
+        }
     }
     /// The model's normal force now [N] (0 when stopped).
     pub fn normal_force(&self) -> f32 {
-        self.stepper.as_ref().map_or(0.0, |s| s.current_normal_force())
+        self.stepper().map_or(0.0, |s| s.current_normal_force())
     }
     pub fn halt(&self) -> Option<Halt> {
         self.halt
     }
 
-    /// One step; compares the model's x'' with the measured `pad_x_m_s2`. None when stopped.
-    #[inline]
+    /// One step; compares the model's x'' with the measured `pad_x_m_s2`. None when stopped
+    /// (the caller checks [`Self::is_running`] first: the estimator does, outside the step).
+    #[inline(always)]
     pub fn step(&mut self, pad_x_m_s2: f32) -> Option<ModelSample> {
+        if !self.running {
+            return None;
+        }
+        self.step_running(pad_x_m_s2)
+    }
+
+    /// [`Self::step`] of a running model (the check of `running` stays with the caller, where
+    /// it folds with the estimator's own: this body is the step as it was before the restart).
+    #[inline]
+    fn step_running(&mut self, pad_x_m_s2: f32) -> Option<ModelSample> {
         let stepper = self.stepper.as_mut()?;
         let mut slip_onset = false;
         if self.halt.is_none() {
@@ -260,5 +325,60 @@ impl<S: LockstepStepper> LockstepModel<S> {
         }
         let xdd = stepper.pad_acceleration();
         Some(ModelSample { xdd_m_s2: xdd, residual_m_s2: pad_x_m_s2 - xdd, regime, slip_onset, halted: false })
+    }
+}
+
+/// Where an estimator keeps its lockstep model: a [`LockstepModel`], or [`NoModel`] (the rig's
+/// fresh estimator a record starts from, which needs none: the running estimator restarts its
+/// own model, [`super::pipeline`]).
+pub trait ModelSlot: Copy + core::fmt::Debug {
+    /// No model running. (A function, not an associated `const`: a constant of a model type is
+    /// its whole size in flash, copied in, where this writes a few words.)
+    fn stopped() -> Self;
+    fn is_running(&self) -> bool;
+    fn halt(&self) -> Option<Halt>;
+    /// One step (None when stopped): [`LockstepModel::step`].
+    fn step(&mut self, pad_x_m_s2: f32) -> Option<ModelSample>;
+}
+
+impl<S: LockstepStepper + Copy + core::fmt::Debug> ModelSlot for LockstepModel<S> {
+    #[inline(always)]
+    fn stopped() -> Self {
+        LockstepModel::stopped()
+    }
+    #[inline(always)]
+    fn is_running(&self) -> bool {
+        LockstepModel::is_running(self)
+    }
+    #[inline(always)]
+    fn halt(&self) -> Option<Halt> {
+        LockstepModel::halt(self)
+    }
+    #[inline(always)]
+    fn step(&mut self, pad_x_m_s2: f32) -> Option<ModelSample> {
+        LockstepModel::step(self, pad_x_m_s2)
+    }
+}
+
+/// No lockstep model: no bytes, never running.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NoModel;
+
+impl ModelSlot for NoModel {
+    #[inline(always)]
+    fn stopped() -> Self {
+        NoModel
+    }
+    #[inline(always)]
+    fn is_running(&self) -> bool {
+        false
+    }
+    #[inline(always)]
+    fn halt(&self) -> Option<Halt> {
+        None
+    }
+    #[inline(always)]
+    fn step(&mut self, _pad_x_m_s2: f32) -> Option<ModelSample> {
+        None
     }
 }

@@ -15,8 +15,9 @@
 //! [`pipeline::Rig`] strings the three together with what the rig does around them (the armed
 //! lockstep model per record, timed phases without pressure transducers, per-window pressures,
 //! the noise floor): the one per-sample chain, run by the firmware, the replay digests and the
-//! host == Cortex-M4F cross-checks. [`sensor_model::SensorModel`] runs the other way (model
-//! motion to counts) for tests and the virtual rig; [`replay`] digests a whole synthetic run
+//! host == Cortex-M4F cross-checks. The simulation harness, in its own folder
+//! ([`crate::harness`]): `sensor_model::SensorModel` runs the other way (model
+//! motion to counts) for tests and the virtual rig; `replay` digests a whole synthetic run
 //! through the rig for the bit-identity test on the Cortex-M4F. The recorded-data tools (`sil`,
 //! `analyze`) play their calibrated rows back through the same type
 //! ([`pipeline::Rig::for_recording`], [`pipeline::Rig::play`]: the chain after the calibration,
@@ -29,8 +30,7 @@
 //! Modules:
 //! - [`calibration`]: counts to SI, saturation flags; the inverse used by the sensor model.
 //! - [`pneumatics`]: actuator pressure to normal load.
-//! - [`prng`]: a seeded xorshift generator for deterministic noise.
-//! - [`sensor_model`]: model motion to frames (accelerometer geometry, noise, clipping, ADC).
+//! - [`geometry`]: where the pad's y accelerometers sit and which way they read.
 //! - [`bandpass`]: Butterworth band-pass as a biquad cascade (bilinear transform).
 //! - [`contact`]: stick/slip decision and relative velocity from the accelerations.
 //! - [`lockstep`]: the model stepped alongside the measurement, its residual.
@@ -40,32 +40,24 @@
 //! - [`estimator`]: the per-sample analysis (contact, band-pass, lockstep, window).
 //! - [`sequencer`]: the valve sequencer and its faults.
 //! - [`pipeline`]: the rig, calibration + estimator + sequencer in one call per sample.
-//! - [`replay`]: a synthetic run digested with FNV-1a, for bit-identity checks.
 
 pub mod bandpass;
 pub mod calibration;
 pub mod contact;
 pub mod estimator;
+pub mod geometry;
 pub mod health;
 pub mod lockstep;
 pub mod noise_floor;
 pub mod pipeline;
 pub mod pneumatics;
-pub mod prng;
-pub mod replay;
-pub mod sensor_model;
 pub mod sequencer;
 pub mod window;
 
-/// The rig's sampling rate per channel [Hz]: the one design value that the firmware (its ADC
-/// trigger), the model's default step (`DEFAULT_SCENE.dt`) and the desktop tool read.
-pub const SAMPLE_RATE_HZ: f64 = 25_600.0;
-/// The window of the rig's statistics [s]: the firmware's `window` records, the estimator's
-/// default (`window::DEFAULT_WINDOW_SAMPLES` at [`SAMPLE_RATE_HZ`]) and `analyze`'s windows.
-pub const WINDOW_S: f64 = 0.1;
-/// The accelerometers' measuring range, +- [m/s^2] (a Type 4508: 700): the calibration's
-/// default and the recorded-data analysis's saturation mark.
-pub const ACCEL_RANGE_M_S2: f64 = 700.0;
+/// The design constants (sample rate, window, accelerometer range) live in the leaf module
+/// [`crate::design`]; re-exported here under their old paths for the rig's users.
+pub use crate::design::{ACCEL_RANGE_M_S2, SAMPLE_RATE_HZ, WINDOW_S};
+
 /// Accelerometer channels per frame.
 pub const ACCEL_CHANNELS: usize = 4;
 /// Pressure channels per frame.

@@ -3,7 +3,7 @@
 //! estimator and sequencer, with what a rig does around them: the lockstep model per record,
 //! the pressures per window, the noise floor of the clamped phase. The firmware runs it (through
 //! the opt-level-3 shim `firmware/rig-core`), and so do the replay digests
-//! ([`super::replay`]), the host == Cortex-M4F cross-checks and the log session of
+//! ([`crate::harness::replay`]), the host == Cortex-M4F cross-checks and the log session of
 //! `tests/cases`. A recording (`analyze`, and the virtual rig `sil`, whose frames are
 //! calibrated by the same [`Calibrator`]) is played back through the same type: its rows,
 //! already calibrated, go through [`Rig::play`], steps 2 and 3 below, of a rig made by
@@ -19,15 +19,18 @@
 //!    ([`super::sequencer::PhaseEnd::Timed`]) and the pressure channels read 0 bar;
 //! 5. the state's change: Clamp starts the noise floor; Clamp into Drive designs the contact
 //!    thresholds from it ([`Rig::take_floor`]); Record starts with a fresh estimator whose model
-//!    is already running ("armed", below); leaving Record stops the model.
+//!    is already built ("armed", below) and restarts from its initial state; leaving Record
+//!    stops the model.
 //!
 //! **The lockstep model and the sample deadline.** Building a lockstep model is the f64 set-up
 //! of [`super::lockstep`] (the exact flows: some 13 million instructions of soft double
 //! precision on the Cortex-M4F, about 0.1 s), far more than one sample's time. [`Rig::init`]
-//! therefore builds, once, a second estimator whose model is already started ("armed") from
-//! the clamp setpoint pressure; when the sequencer enters Record, the running estimator is
-//! replaced by a copy of the armed one (one `memcpy` of the estimator, that one sample: the
-//! `b_record_start` class of `scripts/count-instructions.sh` counts it). So each record starts with a fresh estimator: contact estimate in stick
+//! therefore builds the model once ("armed"), from the clamp setpoint pressure, in the running
+//! estimator, where it stays (one set of tables in the rig), and keeps a fresh estimator
+//! without a model beside it; when the sequencer enters Record, the fresh estimator's parts are
+//! copied into the running one and its model is restarted from its initial state (a few words
+//! of state written, no tables copied; that one sample: the `b_record_start` class of
+//! `scripts/count-instructions.sh` counts it). So each record starts with a fresh estimator: contact estimate in stick
 //! (with the thresholds the last clamp designed), filters at rest, window statistics from the
 //! record's first sample and the model from its initial state (stick, at rest under the load).
 //! The model's load is the clamp setpoint's (F_N = p_set A): the sequencer only leaves a
@@ -40,7 +43,7 @@ use super::calibration::{Calibrated, Calibration, Calibrator, Frame, PressureCha
 use super::contact::ContactThresholds;
 use super::estimator::{Estimator, EstimatorConfig, EstimatorSample};
 use super::health::{ChannelHealth, HealthReport};
-use super::lockstep::LockstepModel;
+use super::lockstep::{LockstepModel, NoModel};
 use super::noise_floor::{FloorReport, A_REL};
 use super::sequencer::{
     Command, PhaseEnd, RecordEnd, SeqState, Sequencer, SequencerConfig, SequencerInputs, SequencerOutput,
@@ -87,7 +90,7 @@ impl Timing {
     /// (`SequencerConfig::RIG`: clamp and drive within 2 s, record 1 s, vent 0.5 s), a 3 s
     /// stroke timeout, and 0.5 s / 0.3 s timed fills.
     pub const RIG: Timing = Timing {
-        window_s: super::WINDOW_S,
+        window_s: crate::design::WINDOW_S,
         clamp_timeout_s: 2.0,
         drive_timeout_s: 2.0,
         record_s: 1.0,
@@ -310,12 +313,17 @@ pub struct SampleOut {
 }
 
 /// The per-sample logic (see the module documentation).
+///
+/// (`repr(C)`: the fields in this order, the per-sample ones first, the fresh estimator a
+/// record starts from last: the per-sample path's offsets as small as they were when the
+/// compiler laid out two whole estimators; `scripts/count-instructions.sh`, path B.)
 #[derive(Clone, Debug)]
+#[repr(C)]
 pub struct Rig {
     calibrator: Calibrator,
+    /// The running estimator. Its lockstep model (the one set of tables, built once by
+    /// [`Self::init`]) runs in the records and is restarted at each record's start.
     estimator: Estimator,
-    /// A fresh estimator with the lockstep model started: copied in at each record's start.
-    armed: Estimator,
     sequencer: Sequencer,
     has_pressure: bool,
     has_end_of_stroke: bool,
@@ -337,6 +345,11 @@ pub struct Rig {
     floor: Option<(FloorReport, ContactThresholds)>,
     /// `floor` is new and [`Rig::take_floor`] has not given it out yet.
     floor_unread: bool,
+    /// A fresh estimator without a model: copied in at each record's start
+    /// ([`Estimator::restart_from`]).
+    armed: Estimator<NoModel>,
+    /// The lockstep model's normal force at its start [N] (0 without a model).
+    model_normal_force: f32,
 }
 
 impl Rig {
@@ -344,20 +357,19 @@ impl Rig {
     /// `slot`, and returns it.
     ///
     /// In place, because of the stack: the model's set-up ([`super::lockstep`]) already moves
-    /// its tables by value through several frames of its own, and a `Rig` (about 16 KB, two
-    /// estimators) built by value and moved into a static would add several copies of itself
+    /// its tables by value through several frames of its own, and a `Rig` (two estimators, one
+    /// with the model) built by value and moved into a static would add several copies of itself
     /// on top (measured on the emulated Cortex-M4F, bin `rig` of `tests/on-target`, which
     /// prints the stack this takes). The small parts are built first, then one struct literal
-    /// is written into the slot, the two estimators built in it; the armed one's model is
-    /// started there. On an error the slot may be left written (a `Rig` owns nothing that would
-    /// need dropping).
+    /// is written into the slot, the two estimators built in it; the model is started there, in
+    /// the running estimator, and stopped until a record restarts it. On an error the slot may
+    /// be left written (a `Rig` owns nothing that would need dropping).
     #[inline(never)]
     pub fn init<'a>(slot: &'a mut MaybeUninit<Rig>, cfg: &RigConfig) -> Result<&'a mut Rig, RigError> {
         Self::build(slot, cfg, true)
     }
 
-    /// Everything, in `slot` (see [`Self::init`]); the armed estimator's model only if
-    /// `armed_model`.
+    /// Everything, in `slot` (see [`Self::init`]); the lockstep model only if `armed_model`.
     #[inline(always)]
     fn build<'a>(slot: &'a mut MaybeUninit<Rig>, cfg: &RigConfig, armed_model: bool) -> Result<&'a mut Rig, RigError> {
         cfg.validate()?;
@@ -380,6 +392,7 @@ impl Rig {
             calibrator,
             estimator: Estimator::fresh(ecfg, groan),
             armed: Estimator::fresh(ecfg, groan),
+            model_normal_force: 0.0,
             sequencer,
             has_pressure: cfg.has_pressure,
             has_end_of_stroke: cfg.has_end_of_stroke,
@@ -394,7 +407,10 @@ impl Rig {
             floor_unread: false,
         });
         if armed_model {
-            rig.armed.start_model(&cfg.model_template, setpoint).map_err(RigError::Model)?;
+            // built once, where it stays: stopped until a record restarts it
+            rig.estimator.start_model(&cfg.model_template, setpoint).map_err(RigError::Model)?;
+            rig.model_normal_force = rig.estimator.model().map_or(0.0, |m| m.normal_force());
+            rig.estimator.stop_model();
         }
         Ok(rig)
     }
@@ -443,7 +459,7 @@ impl Rig {
     }
     /// The lockstep model's normal force at its start [N].
     pub fn model_normal_force(&self) -> f32 {
-        self.armed.model().map_or(0.0, |m| m.normal_force())
+        self.model_normal_force
     }
 
     /// One frame from the ADC words of one frame: `oversample` scans of `adc_channels()` words
@@ -549,16 +565,18 @@ impl Rig {
         }))
     }
 
-    /// The running estimator gives way to a copy of the armed one; a window it closed and
-    /// nobody took yet is kept for [`Self::take_window`].
+    /// The running estimator restarts from the fresh one, its model from its initial state
+    /// ([`Estimator::restart_from`]); a window it closed and nobody took yet is kept for
+    /// [`Self::take_window`].
     #[inline(never)]
     fn start_record(&mut self) {
         if let Some(report) = self.estimator.take_window() {
             self.pending = Some(ClosedWindow { record: self.record, report, pressure: self.closed_pressure });
         }
-        // One `memcpy` of plain data (`Estimator` is `Copy`: numbers, arrays, enums and options
-        // of them), not a field-by-field clone through a temporary.
-        self.estimator = self.armed;
+        // The fresh estimator's parts copied in (plain data, no model: about 1 KB) and the
+        // running estimator's own model restarted from its initial state: its tables stay
+        // where they are, no stepper is copied.
+        self.estimator.restart_from(&self.armed);
         if let Some((r, th)) = &self.floor {
             self.estimator.set_contact(*th, r.mean_m_s2[A_REL]);
         }

@@ -27,9 +27,9 @@ use super::ACCEL_CHANNELS;
 use crate::exact::Halt;
 use crate::stats::{Extremes, OnsetRate};
 
-/// The default window: [`super::WINDOW_S`] (100 ms) at [`super::SAMPLE_RATE_HZ`] (25.6 kHz),
+/// The default window: [`crate::design::WINDOW_S`] (100 ms) at [`crate::design::SAMPLE_RATE_HZ`] (25.6 kHz),
 /// 2 560 samples.
-pub const DEFAULT_WINDOW_SAMPLES: u32 = (super::WINDOW_S * super::SAMPLE_RATE_HZ + 0.5) as u32;
+pub const DEFAULT_WINDOW_SAMPLES: u32 = (crate::design::WINDOW_S * crate::design::SAMPLE_RATE_HZ + 0.5) as u32;
 /// Squares are summed in f32 blocks of this many samples.
 const BLOCK: u32 = 256;
 /// Sum-of-squares slots: 4 raw channels, 4 band-passed channels, the model residual.

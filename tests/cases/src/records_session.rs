@@ -34,7 +34,7 @@
 
 use stickslip_model::rig::pipeline::DigitalInputs;
 use stickslip_model::rig::CHANNELS;
-use stickslip_model::rig::sensor_model::{Noise, SensorModel, SensorModelConfig};
+use stickslip_model::harness::sensor_model::{Noise, SensorModel, SensorModelConfig};
 use stickslip_model::{Caliper, Scene};
 
 use crate::logbook::{Boot, Logbook, Record, RecordSink, ResetCause};

@@ -1,7 +1,7 @@
 //! The rig cases of the on-target cross-check: frames from the model through the sensor model
 //! and the one rig, `stickslip_model::rig::pipeline::Rig` (calibration, estimator with the
 //! groan band-pass, window statistics and the armed lockstep model, sequencer), digested by
-//! `stickslip_model::rig::replay` (its layout: every output of every frame).
+//! `stickslip_model::harness::replay` (its layout: every output of every frame).
 //!
 //! Run by the Cortex-M4F program `tests/on-target/src/bin/rig.rs` and by the host-side test
 //! `tests/tests/on_target.rs` (this crate's library, built for the host), so both compute the
@@ -16,8 +16,8 @@
 use core::fmt;
 
 use stickslip_model::rig::pipeline::RigConfig;
-use stickslip_model::rig::replay::{run_frames_digest, run_frames_digest_with, ReplaySummary, Script};
-use stickslip_model::rig::sensor_model::{Noise, SensorModelConfig};
+use stickslip_model::harness::replay::{run_frames_digest, run_frames_digest_with, ReplaySummary, Script};
+use stickslip_model::harness::sensor_model::{Noise, SensorModelConfig};
 use stickslip_model::{Caliper, Scene};
 
 /// Frames per case: 0.5 s at 25.6 kHz, five 100 ms windows.

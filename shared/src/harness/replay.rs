@@ -35,13 +35,13 @@
 
 use core::mem::MaybeUninit;
 
-use super::contact::{ContactEventKind, ContactThresholds};
-use super::noise_floor::FloorReport;
-use super::pipeline::{ClosedWindow, DigitalInputs, Rig, RigConfig, RigError, SampleOut, Timing};
+use crate::rig::contact::{ContactEventKind, ContactThresholds};
+use crate::rig::noise_floor::FloorReport;
+use crate::rig::pipeline::{ClosedWindow, DigitalInputs, Rig, RigConfig, RigError, SampleOut, Timing};
 use super::sensor_model::{Noise, SensorModel, SensorModelConfig, SensorModelError};
-use super::sequencer::{button_command, RecordEnd, SeqState};
-use super::window::WindowReport;
-use super::SAMPLE_RATE_HZ;
+use crate::rig::sequencer::{button_command, RecordEnd, SeqState};
+use crate::rig::window::WindowReport;
+use crate::design::SAMPLE_RATE_HZ;
 use crate::digest::Fnv1a64;
 use crate::exact::Halt;
 use crate::scene::Scene;

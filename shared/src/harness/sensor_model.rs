@@ -22,17 +22,18 @@
 //! The model is open loop: its band moves from the first frame and its pressures do not follow
 //! the valves.
 
-use super::calibration::{Calibration, Frame};
-use super::pneumatics::{actuator_bar_for, RIG_PISTON_AREA_M2};
+use crate::rig::calibration::{Calibration, Frame};
+use crate::rig::pneumatics::{actuator_bar_for, RIG_PISTON_AREA_M2};
 use super::prng::XorShift32;
-use super::{
+pub use crate::rig::geometry::SensorGeometry;
+use crate::rig::{
     check, ConfigError, ACCEL_CHANNELS, ACTUATOR, BAND, CHANNELS, DISC_X, PAD_LEAD, PAD_TRAIL, PAD_X, PRESSURE_CHANNELS,
 };
 use crate::coefficients::Coefficients;
 use crate::exact::{ExactStepper, Halt};
 use crate::methods::plant::Plant;
 use crate::real::Real;
-use crate::scene::{Caliper, Scene, SceneError};
+use crate::scene::{Scene, SceneError};
 use crate::model2::{AnyModel2Stepper, Observer2, Transition2};
 use crate::stickslip::Regime;
 
@@ -159,67 +160,6 @@ impl<T: Real> Motion<T> for Model2Motion<T> {
     }
 }
 
-/// Where the two y accelerometers sit on the pad, and which way they read.
-///
-/// Geometry (docs/model.md): the pad, length 2l, rotates by phi about the pivot at its supported
-/// edge, at mid-thickness: the trailing edge for a push caliper, the leading edge for a pull
-/// caliper. Positive phi compresses the contact springs, i.e. moves every point of the pad
-/// toward the band by (distance from the pivot) * phi. A sensor at distance `u` from the
-/// trailing edge (toward the leading edge) is at the lever arm
-///
-/// ```text
-/// r = u        (push: pivot at the trailing edge)
-/// r = 2 l - u  (pull: pivot at the leading edge)
-/// ```
-///
-/// and, with y positive toward the band (the sense of the normal load), reads y'' = r phi''
-/// (plus the pivot's own y'' for a pad that is not hinged, [`Motion::normal_acceleration`])
-/// (the centripetal term r phi'^2 along the pad is neglected, and not sensed in y). So the sign
-/// is the same for both calipers; what the caliper changes is which edge is the pivot: the
-/// sensor near the pivot sees a small signal. An accelerometer mounted with its base on the
-/// backing plate reads positive *away* from the band: set `y_polarity` to -1 for it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SensorGeometry {
-    /// Position of the `pad_trail` accelerometer, from the trailing edge [m], in [0, 2 l].
-    pub trail_from_trailing_edge_m: f64,
-    /// Position of the `pad_lead` accelerometer, from the trailing edge [m], in [0, 2 l].
-    pub lead_from_trailing_edge_m: f64,
-    /// +1: the y accelerometers read positive toward the band; -1: away from it.
-    pub y_polarity: f64,
-}
-
-impl SensorGeometry {
-    /// 5 mm in from each edge of the 80 mm pad, reading positive toward the band.
-    pub const RIG: SensorGeometry =
-        SensorGeometry { trail_from_trailing_edge_m: 0.005, lead_from_trailing_edge_m: 0.075, y_polarity: 1.0 };
-
-    /// Lever arms about the pivot of the trailing and leading sensors [m] for `scene`, times the
-    /// polarity.
-    pub fn arms(&self, scene: &Scene) -> Result<(f64, f64), ConfigError> {
-        let two_l = 2.0 * scene.l;
-        for (field, u) in [
-            ("geometry.trail_from_trailing_edge_m", self.trail_from_trailing_edge_m),
-            ("geometry.lead_from_trailing_edge_m", self.lead_from_trailing_edge_m),
-        ] {
-            check(u.is_finite() && u >= 0.0 && u <= two_l, field, "sensor must sit on the pad: 0 <= u <= 2 l", u)?;
-        }
-        check(
-            self.y_polarity == 1.0 || self.y_polarity == -1.0,
-            "geometry.y_polarity",
-            "must be +1 or -1",
-            self.y_polarity,
-        )?;
-        let arm = |u: f64| match scene.caliper {
-            Caliper::Push => u,
-            Caliper::Pull => two_l - u,
-        };
-        Ok((
-            self.y_polarity * arm(self.trail_from_trailing_edge_m),
-            self.y_polarity * arm(self.lead_from_trailing_edge_m),
-        ))
-    }
-}
-
 /// Noise added to the physical signals before clipping and quantisation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Noise {
@@ -256,7 +196,7 @@ pub struct SensorModelConfig {
 impl SensorModelConfig {
     /// The rig's nominal set-up, noise-free, band line at 0.65 bar.
     pub const RIG: SensorModelConfig = SensorModelConfig {
-        calibration: super::calibration::RIG_CALIBRATION,
+        calibration: crate::rig::calibration::RIG_CALIBRATION,
         geometry: SensorGeometry::RIG,
         piston_area_m2: RIG_PISTON_AREA_M2,
         band_line_bar: 0.65,

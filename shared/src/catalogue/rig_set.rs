@@ -58,7 +58,7 @@ pub fn pre_fit(s: Scene) -> Scene {
 }
 
 /// The rig set before its fit: kinetic friction coefficient [-] (the default pad's).
-pub const PRE_FIT_MU_K: f64 = crate::scene::DEFAULT_SCENE.mu_k;
+pub const PRE_FIT_MU_K: f64 = super::DEFAULT_SCENE.mu_k;
 /// The rig set before its fit: Stribeck velocity [m/s] (a guess: a falling curve over a few
 /// mm/s, the band's speed scale).
 pub const PRE_FIT_V_S: f64 = 0.002;
@@ -123,7 +123,7 @@ pub fn rig_quiet_scene(caliper: Caliper, beta: f64) -> Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::CASE_BETAS;
+    use crate::catalogue::CASE_BETAS;
 
     /// The fitted sets differ from the pre-fit one in mu_k, v_s, k_b and c_b only, and
     /// `pre_fit` takes either back to it: every other key is the same value.
