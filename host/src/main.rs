@@ -39,7 +39,7 @@ fn main() -> ExitCode {
     };
     let command = cli.command.unwrap_or_else(|| {
         Command::Simulate(SimulateArgs {
-            scene: "push_center".into(),
+            scene: stickslip::cli::DEFAULT_SCENE.into(),
             csv: None,
             json: false,
             run: RunOptions {

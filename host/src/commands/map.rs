@@ -1,0 +1,57 @@
+//! `map` and `map merge`.
+
+use super::{overrides, to_json};
+use crate::error::{HostError, Result};
+use crate::scenes::scene_source;
+
+/// `map` and `map merge`.
+pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
+    use crate::map::{self, cell::CellOptions, sweep::Grid, sweep::Sweep, MapSpec, Shard};
+    let (m, out) = match &a.action {
+        Some(crate::cli::MapAction::Merge(mg)) => {
+            let mut parts = Vec::new();
+            for f in &mg.files {
+                parts.push((f.display().to_string(), map::read_json(f)?));
+            }
+            (map::merge(parts).map_err(HostError::Input)?, &mg.out)
+        }
+        None => {
+            // clap requires SCENE when no subcommand is given
+            let scene = a.scene.as_deref().ok_or_else(|| HostError::Input("map: give SCENE".into()))?;
+            let ns = scene_source::prepare(scene_source::resolve(scene)?, &overrides(&a.run))?;
+            let sweeps = a.sweeps.iter().map(|s| Sweep::parse(s)).collect::<std::result::Result<Vec<_>, _>>().map_err(HostError::Input)?;
+            let grid = Grid::new(sweeps).map_err(HostError::Input)?;
+            if !(a.kick.is_finite() && a.kick > 0.0 && a.kick <= 0.5) {
+                return Err(HostError::Input(format!("--kick {}: must satisfy 0 < kick <= 0.5", a.kick)));
+            }
+            let shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(HostError::Input)?;
+
+            let spec = MapSpec {
+                scene_name: ns.name.clone(),
+                base: ns.scene,
+                grid,
+                options: CellOptions { precision: a.run.precision, kick: a.kick },
+                shard,
+                jobs: a.jobs.map(usize::from),
+                progress: true,
+            };
+            let (m, t) = map::run_map(&spec)?;
+            eprintln!(
+                "map: {} cells, {} steps in {:.2} s on {} threads: {:.3e} steps/s",
+                t.cells,
+                t.steps,
+                t.seconds,
+                t.threads,
+                t.steps as f64 / t.seconds.max(1e-9)
+            );
+            (m, &a.out)
+        }
+    };
+    if let Some(path) = &out.csv {
+        map::output::write_csv(&m, path)?;
+    }
+    if let Some(path) = &out.plot {
+        map::plot::write(&m, path)?;
+    }
+    Ok(if out.json { to_json(&m) } else { map::output::markdown(&m) })
+}

@@ -1,0 +1,42 @@
+//! The commands: `main` dispatches here. Each returns what goes to stdout; errors go back to
+//! `main`. The commands themselves live in one module per command family.
+
+use crate::cli::RunOptions;
+use crate::scenes::scene_source::Overrides;
+
+mod cases;
+mod fit;
+mod map;
+mod numerics;
+mod recordings;
+mod simulate;
+
+pub use cases::cases;
+pub use fit::fit;
+pub use map::map;
+pub use numerics::{accuracy, stability};
+pub use recordings::{analyze, compare, decode, record, sil};
+pub use simulate::{scenes, simulate};
+
+pub(crate) fn overrides(o: &RunOptions) -> Overrides {
+    Overrides {
+        dt: o.dt,
+        duration: o.duration,
+        stats_from: o.stats_from,
+    }
+}
+
+pub(crate) fn to_json<T: serde::Serialize>(v: &T) -> String {
+    // Serializing plain structs of numbers and strings cannot fail; no NaN reaches here
+    // (non-finite values are None, printed as null).
+    let mut s =
+        serde_json::to_string_pretty(v).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+    s.push('\n');
+    s
+}
+
+pub(crate) fn stderr_is_terminal() -> bool {
+    use std::io::IsTerminal;
+    std::io::stderr().is_terminal()
+}
+
