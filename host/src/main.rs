@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+use stickslip::cli::parse::OutOfRange;
 use stickslip::cli::{Cli, Command, RunOptions, SimulateArgs};
 use stickslip::commands;
 use stickslip::scenes::run;
@@ -18,6 +19,11 @@ fn main() -> ExitCode {
             if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
                 let _ = e.print();
                 return ExitCode::SUCCESS;
+            }
+            // A value out of its option's range: the parser's own line (`--OPTION VALUE: rule`).
+            if let Some(r) = std::error::Error::source(&e).and_then(|s| s.downcast_ref::<OutOfRange>()) {
+                eprintln!("error: {r}");
+                return ExitCode::from(2);
             }
             // One line: clap's message up to its first blank line (it starts with "error: "),
             // without the usage block.

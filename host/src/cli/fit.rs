@@ -34,16 +34,16 @@ pub struct FitArgs {
     #[arg(long, value_name = "STAT=W[,...]")]
     pub weights: Vec<String>,
     /// Start of a recording's statistics on its time axis [s] (default SCENE's stats_from)
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = super::parse::from_time)]
     pub from: Option<f64>,
     /// Starts of the search, 1 to 1000 (the scene's values, then points spread over +-30 %;
     /// with horizon stages, the best points of a screen of the first horizon)
-    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_STARTS)]
+    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_STARTS, value_parser = super::parse::starts)]
     pub starts: usize,
     /// Horizon stages before the whole record, in stick-slip periods after each recording's
     /// first slip onset (0: none): each start is fitted to the recordings' first stretch, t = 0
     /// to the first horizon, then to the next, then to the whole record (see below)
-    #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS, allow_hyphen_values = true)]
+    #[arg(long, value_name = "CYCLES[,CYCLES...]", value_delimiter = ',', default_values_t = crate::fit::DEFAULT_HORIZONS, allow_hyphen_values = true, value_parser = super::parse::horizon)]
     pub horizons: Vec<f64>,
     /// What recordings are compared by: waveform (pad_x sample by sample, multiple shooting over
     /// the cycles: 1-DOF scenes), statistics (the whole record's), or auto (waveform where it
@@ -52,10 +52,10 @@ pub struct FitArgs {
     pub cost: String,
     /// Iteration limit of each start's Nelder-Mead run (and evaluation budget of its
     /// Levenberg-Marquardt run), 1 to 1000000
-    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_MAX_ITERS)]
+    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_MAX_ITERS, value_parser = super::parse::max_iters)]
     pub max_iters: u64,
     /// Bootstrap resamples over the recordings' windows, 0 (none) to 100000
-    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_BOOTSTRAP)]
+    #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_BOOTSTRAP, value_parser = super::parse::bootstrap)]
     pub bootstrap: usize,
     /// Seed of the bootstrap's resampling
     #[arg(long, value_name = "N", default_value_t = 1, allow_hyphen_values = true)]

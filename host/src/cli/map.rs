@@ -22,7 +22,7 @@ pub struct MapArgs {
     pub sweeps: Vec<String>,
     /// The start from sliding: velocity kick relative to the band speed V (x' and y' by kick V,
     /// phi' by kick V / l), 0 < kick <= 0.5
-    #[arg(long, value_name = "K", default_value_t = 0.01, allow_hyphen_values = true)]
+    #[arg(long, value_name = "K", default_value_t = 0.01, allow_hyphen_values = true, value_parser = super::parse::kick)]
     pub kick: f64,
     /// Run only every N-th cell starting at K (0 <= K < N <= 10000000), for a job array; join
     /// the shards' --json with `map merge`

@@ -11,6 +11,7 @@ mod cases;
 mod fit;
 mod map;
 mod numerics;
+pub mod parse;
 mod recordings;
 mod scenes;
 mod simulate;
@@ -120,12 +121,12 @@ pub struct RecordingInput {
 pub struct RecordOptions {
     /// Welch segment length [samples], even, 16 to 1048576 (default: the smallest power of two
     /// with a resolution of 2 Hz or finer, 16384 at 25.6 kHz, at most 65536)
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = parse::segment)]
     pub segment: Option<usize>,
     /// Fixed contact thresholds from a breakaway jump J [m/s^2], 0 < J <= 1e6: slip onset above
     /// J/2, stick at most J/4 (default: thresholds from the noise floor of the record's quiet
     /// rows)
-    #[arg(long, value_name = "M_S2", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M_S2", allow_hyphen_values = true, value_parser = parse::breakaway_jump)]
     pub breakaway_jump: Option<f64>,
 }
 

@@ -26,7 +26,7 @@ pub struct AnalyzeArgs {
     pub windows: Option<PathBuf>,
     /// Start of the statistics on the file's time axis [s] (default: the first row); earlier
     /// rows only run through the estimator and its filters
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = super::parse::from_time)]
     pub from: Option<f64>,
     /// Scene whose band speed and face geometry set up the estimator, and whose breakaway
     /// jump is the starting value (built-in name or TOML file)
@@ -40,7 +40,7 @@ pub struct AnalyzeArgs {
 #[derive(Debug, Args)]
 pub struct SilNoise {
     /// White noise on each accelerometer [m/s^2 rms], 0 (none) to 10000 (bounded at 3.46 sigma)
-    #[arg(long, value_name = "M_S2", default_value_t = crate::recorded::sil::DEFAULT_NOISE_M_S2, allow_hyphen_values = true)]
+    #[arg(long, value_name = "M_S2", default_value_t = crate::recorded::sil::DEFAULT_NOISE_M_S2, allow_hyphen_values = true, value_parser = super::parse::noise)]
     pub noise: f64,
     /// Seed of the noise generator
     #[arg(long, value_name = "N", default_value_t = crate::recorded::sil::DEFAULT_SEED, allow_hyphen_values = true)]
@@ -48,11 +48,11 @@ pub struct SilNoise {
     /// Front-end gain of the accelerometers [V/V], 0.001 to 1000: one value for all four, or
     /// four (disc_x,pad_x,pad_trail,pad_lead). 0.2 spans +-809 m/s^2 at 0.395 m/s^2 per count;
     /// 10 spans +-16 m/s^2 at 7.9 mm/s^2 per count (Table 3.1's levels)
-    #[arg(long, value_name = "G[,G,G,G]", value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_name = "G[,G,G,G]", value_delimiter = ',', allow_hyphen_values = true, value_parser = super::parse::gain)]
     pub gain: Vec<f64>,
     /// The clamped, band-still phase before the run [s], 0 to 60: quiet frames written before
     /// t = 0, whose noise floor sets the contact thresholds (0: none, the scene's breakaway jump)
-    #[arg(long, value_name = "S", default_value_t = crate::recorded::sil::DEFAULT_QUIET_S, allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", default_value_t = crate::recorded::sil::DEFAULT_QUIET_S, allow_hyphen_values = true, value_parser = super::parse::quiet_lead)]
     pub quiet_lead: f64,
     /// Conversions summed per frame, 1 to 16 (the firmware's oversampling: 4; 1: none): each
     /// frame count is the sum of N conversions of the same frame
@@ -60,7 +60,7 @@ pub struct SilNoise {
     pub oversample: u32,
     /// The converter's own noise on each conversion [counts rms], 0 (none) to 4096 (it dithers
     /// the oversampled conversions, the sensor's noise is drawn once per frame)
-    #[arg(long, value_name = "COUNTS", default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, value_name = "COUNTS", default_value_t = 0.0, allow_hyphen_values = true, value_parser = super::parse::adc_noise)]
     pub adc_noise: f64,
 }
 
@@ -108,7 +108,7 @@ pub struct CompareArgs {
     #[arg(long)]
     pub json: bool,
     /// Start of the statistics on the recording's time axis [s] (default: its first row)
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = super::parse::from_time)]
     pub from: Option<f64>,
     #[command(flatten)]
     pub floor: FloorOptions,

@@ -1,6 +1,6 @@
 //! `fit`.
 
-use super::recordings::{check_from, check_record, read_options};
+use super::recordings::read_options;
 use super::{stderr_is_terminal, to_json};
 use crate::error::{HostError, Result};
 use crate::scenes::scene_source::{self, Overrides};
@@ -8,21 +8,6 @@ use crate::scenes::scene_source::{self, Overrides};
 /// `fit`.
 pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
     use crate::fit::{self, output, FitRequest};
-    check_record(&a.record)?;
-    check_from(a.from)?;
-    if a.starts == 0 || a.max_iters == 0 {
-        return Err(HostError::Input("--starts and --max-iters must be at least 1".into()));
-    }
-    use crate::limits::{FIT_MAX_BOOTSTRAP, FIT_MAX_ITERS, FIT_MAX_STARTS};
-    if a.starts > FIT_MAX_STARTS {
-        return Err(HostError::Input(format!("--starts {}: at most {FIT_MAX_STARTS} starts", a.starts)));
-    }
-    if a.max_iters > FIT_MAX_ITERS {
-        return Err(HostError::Input(format!("--max-iters {}: at most {FIT_MAX_ITERS} iterations", a.max_iters)));
-    }
-    if a.bootstrap > FIT_MAX_BOOTSTRAP {
-        return Err(HostError::Input(format!("--bootstrap {}: at most {FIT_MAX_BOOTSTRAP} resamples", a.bootstrap)));
-    }
     if a.horizons.len() > 16 {
         return Err(HostError::Input(format!("--horizons: {} stages, at most 16", a.horizons.len())));
     }
@@ -48,9 +33,6 @@ pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
             HostError::Input(format!("--cost {}: give auto, waveform or statistics", a.cost))
         })?,
     };
-    if let Some(n) = a.horizons.iter().find(|n| !(n.is_finite() && **n >= 0.0)) {
-        return Err(HostError::Input(format!("--horizons {n}: a horizon is a number of stick-slip periods, finite and >= 0 (0: none)")));
-    }
     if let Some(spec) = &a.profile {
         if a.out.is_some() || a.plot.is_some() || !a.holdout.is_empty() {
             return Err(HostError::Input("--profile evaluates the cost only: it takes no --out, --plot or --holdout".into()));

@@ -21,9 +21,6 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
             let ns = scene_source::prepare(scene_source::resolve(scene)?, &overrides(&a.run))?;
             let sweeps = a.sweeps.iter().map(|s| Sweep::parse(s)).collect::<std::result::Result<Vec<_>, _>>().map_err(HostError::Input)?;
             let grid = Grid::new(sweeps).map_err(HostError::Input)?;
-            if !(a.kick.is_finite() && a.kick > 0.0 && a.kick <= 0.5) {
-                return Err(HostError::Input(format!("--kick {}: must satisfy 0 < kick <= 0.5", a.kick)));
-            }
             let shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(HostError::Input)?;
 
             let spec = MapSpec {
