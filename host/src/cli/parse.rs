@@ -77,28 +77,30 @@ pub fn kick(s: &str) -> Parsed<f64> {
     Ok(k)
 }
 
-/// `fit --starts`: 1 to 1000.
-pub fn starts(s: &str) -> Parsed<usize> {
-    let n: usize = number(s)?;
-    if n == 0 {
-        return out_of_range("--starts 0: at least 1 start".into());
+/// `OPTION`: a count from 1 to `max` (`one` thing, `many` things).
+fn count<T>(s: &str, option: &str, max: T, one: &str, many: &str) -> Parsed<T>
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display + From<u8>,
+    T::Err: std::fmt::Display,
+{
+    let n: T = number(s)?;
+    if n < T::from(1) {
+        return out_of_range(format!("{option} {n}: at least 1 {one}"));
     }
-    if n > FIT_MAX_STARTS {
-        return out_of_range(format!("--starts {n}: at most {FIT_MAX_STARTS} starts"));
+    if n > max {
+        return out_of_range(format!("{option} {n}: at most {max} {many}"));
     }
     Ok(n)
 }
 
+/// `fit --starts`: 1 to 1000.
+pub fn starts(s: &str) -> Parsed<usize> {
+    count(s, "--starts", FIT_MAX_STARTS, "start", "starts")
+}
+
 /// `fit --max-iters`: 1 to 1000000.
 pub fn max_iters(s: &str) -> Parsed<u64> {
-    let n: u64 = number(s)?;
-    if n == 0 {
-        return out_of_range("--max-iters 0: at least 1 iteration".into());
-    }
-    if n > FIT_MAX_ITERS {
-        return out_of_range(format!("--max-iters {n}: at most {FIT_MAX_ITERS} iterations"));
-    }
-    Ok(n)
+    count(s, "--max-iters", FIT_MAX_ITERS, "iteration", "iterations")
 }
 
 /// `fit --bootstrap`: 0 to 100000.
