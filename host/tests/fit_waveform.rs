@@ -13,7 +13,7 @@ use stickslip::fit::{self, goodness::Verdict, FitRequest};
 use stickslip::numerics::reference::model2::{self as model2_reference, Regime};
 use stickslip::scenes::scene_source::{NamedScene, Origin};
 use stickslip_model::coefficients::Coefficients;
-use stickslip_model::rig::prng::XorShift32;
+use stickslip_model::harness::prng::XorShift32;
 use stickslip_model::{FrictionLaw, Scene};
 
 /// Sampling rate of the truths' recordings: the rig's [Hz].
