@@ -498,18 +498,36 @@ pub fn residuals(tr: &Trace, scene: &Scene, model_out: Option<&mut Vec<f64>>) ->
 /// Scale of the features' log ratios in the global stage's cost: 1 %.
 pub const FEATURE_SCALE: f64 = 0.01;
 
+/// Sampling phases over which the model's slip extremes are taken ([`model_features`]).
+const FEATURE_PHASES: usize = 8;
+
 /// A cycle's features: the first re-stick after the band's start [s], the period [s], the
 /// slip's largest and most negative pad_x [m/s^2] and its mean square integral over a cycle
-/// [m^2/s^3].
-fn model_features(cy: &Cycle) -> [f64; 5] {
-    let (mut hi, mut lo, mut sq) = (0.0f64, 0.0f64, 0.0);
+/// [m^2/s^3]. The extremes as the recording's samples see them: a slip's pad_x can peak
+/// sharply (with falling friction it steepens over the last samples before a re-stick), and a
+/// sample interval `dt` misses most of such a peak; the recording's extreme is the median over
+/// its cycles, each sampled at its own phase, so the model's is the median over
+/// [`FEATURE_PHASES`] phases of the slip sampled at `dt`.
+fn model_features(cy: &Cycle, dt: f64) -> [f64; 5] {
+    let mut sq = 0.0;
     let steps = (cy.t_slip / cy.h).floor() as usize;
     for a in cy.acc.iter().take(steps + 1) {
-        hi = hi.max(*a);
-        lo = lo.min(*a);
         sq += a * a * cy.h;
     }
-    [cy.t_first + cy.t_slip, cy.period(), hi, -lo, sq]
+    let (mut his, mut los) = (Vec::with_capacity(FEATURE_PHASES), Vec::with_capacity(FEATURE_PHASES));
+    for k in 0..FEATURE_PHASES {
+        let (mut hi, mut lo) = (0.0f64, 0.0f64);
+        let mut tau = (k as f64 + 0.5) / FEATURE_PHASES as f64 * dt;
+        while tau < cy.t_slip {
+            let a = cy.slip_acc(tau);
+            hi = hi.max(a);
+            lo = lo.min(a);
+            tau += dt;
+        }
+        his.push(hi);
+        los.push(lo);
+    }
+    [cy.t_first + cy.t_slip, cy.period(), median(&mut his), -median(&mut los), sq]
 }
 
 impl Trace {
@@ -539,7 +557,7 @@ impl Trace {
 pub fn feature_residuals(tr: &Trace, scene: &Scene) -> std::result::Result<Vec<f64>, String> {
     let data = tr.features().ok_or_else(|| format!("{}: fewer than two re-sticks: no features", tr.path))?;
     let cy = cycle(scene, tr.dt, tr.t[tr.t.len() - 1].max(tr.dt * 64.0))?;
-    let m = model_features(&cy);
+    let m = model_features(&cy, tr.dt);
     Ok(m.iter()
         .zip(&data)
         .map(|(x, d)| if *x > 0.0 && *d > 0.0 { (x / d).ln() / FEATURE_SCALE } else { 7.0 / FEATURE_SCALE })
