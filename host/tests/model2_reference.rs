@@ -5,12 +5,12 @@
 
 use stickslip::scenes::builtin;
 use stickslip::numerics::reference::model2 as reference;
-use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
+use stickslip_model::model2::{AnyModel2Stepper, Model2Stats, Model2StatsObserver};
 use stickslip_model::{Real, Scene};
 
-fn stepper<T: Real>(scene: &Scene) -> Stats2 {
+fn stepper<T: Real>(scene: &Scene) -> Model2Stats {
     let mut s = AnyModel2Stepper::<T>::new(scene).unwrap();
-    let mut obs = Stats2Observer::new(scene.stats_from, scene.v);
+    let mut obs = Model2StatsObserver::new(scene.stats_from, scene.v);
     for _ in 0..(scene.duration / scene.dt).round() as u64 {
         s.step_observed(&mut obs).unwrap();
     }
@@ -22,7 +22,7 @@ fn rel(a: f64, b: f64) -> f64 {
 }
 
 /// Relative errors of (period, x pp, x' pp, stick fraction) against the reference.
-fn errors(scene: &Scene, s: &Stats2) -> [f64; 4] {
+fn errors(scene: &Scene, s: &Model2Stats) -> [f64; 4] {
     let r = reference::simulate(scene).unwrap().stats(scene).unwrap();
     [
         rel(1.0 / s.stick_slip_hz, 1.0 / r.stick_slip_hz),

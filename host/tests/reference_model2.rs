@@ -4,7 +4,7 @@
 //! Stribeck sliding, the stiff-band limit, and a closed-form breakaway of the stuck pad + band.
 
 use stickslip::numerics::reference::model2::{self, Regime, Start};
-use stickslip::numerics::reference::thesis::{self, Mode};
+use stickslip::numerics::reference::thesis::{self, Regime as ReferenceRegime};
 use stickslip::numerics::reference::Tolerances;
 use stickslip_model::{Caliper, FrictionLaw, Scene};
 
@@ -12,8 +12,8 @@ fn rel(a: f64, b: f64, scale: f64) -> f64 {
     (a - b).abs() / scale.max(f64::MIN_POSITIVE)
 }
 
-fn same_mode(m: Mode, r: Regime) -> bool {
-    matches!((m, r), (Mode::Stick, Regime::Stick) | (Mode::Slower, Regime::Slower) | (Mode::Faster, Regime::Faster))
+fn same_mode(m: ReferenceRegime, r: Regime) -> bool {
+    matches!((m, r), (ReferenceRegime::Stick, Regime::Stick) | (ReferenceRegime::Slower, Regime::Slower) | (ReferenceRegime::Faster, Regime::Faster))
 }
 
 /// Check 1: Every model-2 option off: the same transitions and statistics as `reference.rs`.

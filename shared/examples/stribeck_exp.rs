@@ -10,7 +10,7 @@
 //! micromath's exp (f64 is libm in all three). Each
 //! prints one line per precision: `exp=<f32 exp> <precision> period_s=... x_pp_m=...
 //! stick_fraction=... transitions=...`, with the full significand so two runs can be compared.
-use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
+use stickslip_model::model2::{AnyModel2Stepper, Model2Stats, Model2StatsObserver};
 use stickslip_model::{Caliper, FrictionLaw, Real, Scene};
 
 fn scene() -> Scene {
@@ -24,9 +24,9 @@ fn scene() -> Scene {
     s
 }
 
-fn run<T: Real>(scene: &Scene) -> Stats2 {
+fn run<T: Real>(scene: &Scene) -> Model2Stats {
     let mut st = AnyModel2Stepper::<T>::new(scene).expect("valid scene");
-    let mut obs = Stats2Observer::new(scene.stats_from, scene.v);
+    let mut obs = Model2StatsObserver::new(scene.stats_from, scene.v);
     let steps = (scene.duration / scene.dt).round() as u64;
     for _ in 0..steps {
         st.step_observed(&mut obs).unwrap_or_else(|h| panic!("{} run halted: {h:?}", T::NAME));

@@ -19,7 +19,7 @@
 use stickslip_model::linalg::{self, Mat};
 use stickslip_model::propagator::system_matrix;
 use stickslip_model::stickslip::Guard;
-use stickslip_model::model2::{Coulomb, Model2Stepper, Observer2, Transition2};
+use stickslip_model::model2::{Coulomb, Model2Stepper, Model2Observer, Model2Transition};
 use stickslip_model::{Coefficients, ExactStepper, Real, Regime, Scene, State, DEFAULT_SCENE};
 
 /// Time of the crest from the start of the run [s].
@@ -193,9 +193,9 @@ enum Stepper {
 /// Collects a model-2 stepper's transitions.
 struct Transitions(Vec<(f64, Regime, Regime)>);
 
-impl<T: Real> Observer2<T> for Transitions {
+impl<T: Real> Model2Observer<T> for Transitions {
     const DERIVATIVES: bool = false;
-    fn transition(&mut self, tr: &Transition2<T>) {
+    fn transition(&mut self, tr: &Model2Transition<T>) {
         self.0.push((tr.t, tr.from, tr.to));
     }
 }

@@ -12,7 +12,7 @@
 //! found by bisection on v(expm(A t) z(0)) in f64.
 
 use stickslip_model::linalg::{self, MatN};
-use stickslip_model::model2::{FloatFace, Model2Stepper, Observer2, System, Transition2, NA, NS, Y};
+use stickslip_model::model2::{FloatFace, Model2Stepper, Model2Observer, System, Model2Transition, NA, NS, Y};
 use stickslip_model::{Caliper, Coefficients, Real, Regime, Scene};
 
 const T_CREST: f64 = 5e-6;
@@ -128,9 +128,9 @@ impl Copy for Graze {}
 
 struct Transitions(Vec<(f64, Regime, Regime)>);
 
-impl<T: Real> Observer2<T> for Transitions {
+impl<T: Real> Model2Observer<T> for Transitions {
     const DERIVATIVES: bool = false;
-    fn transition(&mut self, tr: &Transition2<T>) {
+    fn transition(&mut self, tr: &Model2Transition<T>) {
         self.0.push((tr.t, tr.from, tr.to));
     }
 }

@@ -2,13 +2,13 @@
 //! (v_s -> 0 is Coulomb, k_b -> infinity is the constant-speed band), and the linear
 //! stability of steady sliding against the closed form of docs/model.md.
 
-use stickslip_model::model2::{AnyModel2Stepper, Stats2, Stats2Observer};
+use stickslip_model::model2::{AnyModel2Stepper, Model2Stats, Model2StatsObserver};
 use stickslip_model::stats::StatsObserver;
 use stickslip_model::{Caliper, ExactStepper, FrictionLaw, Real, Regime, Scene};
 
-fn run2<T: Real>(scene: &Scene) -> Stats2 {
+fn run2<T: Real>(scene: &Scene) -> Model2Stats {
     let mut s = AnyModel2Stepper::<T>::new(scene).unwrap();
-    let mut obs = Stats2Observer::new(scene.stats_from, scene.v);
+    let mut obs = Model2StatsObserver::new(scene.stats_from, scene.v);
     let steps = (scene.duration / scene.dt).round() as u64;
     for _ in 0..steps {
         s.step_observed(&mut obs).unwrap_or_else(|h| panic!("halted: {h:?}"));
@@ -165,7 +165,7 @@ fn the_stribeck_oracle_converges_in_f64_and_holds_in_f32() {
     let rig = stribeck_cycle();
     let a = run2::<f64>(&rig);
     let b = run2::<f32>(&rig);
-    let period = |s: &Stats2| 1.0 / s.stick_slip_hz;
+    let period = |s: &Model2Stats| 1.0 / s.stick_slip_hz;
     assert!(rel(period(&a), period(&reference)) < 1e-9, "f64 period {} vs {}", period(&a), period(&reference));
     assert!(rel(a.pp(0), reference.pp(0)) < 1e-9, "f64 amplitude {} vs {}", a.pp(0), reference.pp(0));
     assert!(rel(period(&b), period(&reference)) < 1e-4, "f32 period {} vs {}", period(&b), period(&reference));

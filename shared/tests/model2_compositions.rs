@@ -2,7 +2,7 @@
 //! (naming the field), leaves out what its composition does not use (table sizes from the
 //! dimensions, not from the code), and runs as the rig's lockstep model.
 
-use stickslip_model::model2::{AnyModel2Stepper, Band, Coulomb, Model2Stepper, Observer2, Segment2, Stribeck, StribeckBand, Transition2};
+use stickslip_model::model2::{AnyModel2Stepper, Band, Coulomb, Model2Stepper, Model2Observer, Model2Segment, Stribeck, StribeckBand, Model2Transition};
 use stickslip_model::rig::lockstep::LockstepModel;
 // The rig set as guessed before its Table 3.1 fit (a friction drop of 0.10): vigorous
 // stick-slip on every composition, the scenes these tests were written for; the fitted set's
@@ -135,15 +135,15 @@ struct ChunkCount {
     transitions: u32,
 }
 
-impl<T: stickslip_model::Real> Observer2<T> for ChunkCount {
+impl<T: stickslip_model::Real> Model2Observer<T> for ChunkCount {
     const DERIVATIVES: bool = false;
-    fn segment(&mut self, seg: &Segment2<T>) {
+    fn segment(&mut self, seg: &Model2Segment<T>) {
         self.segments += 1;
         if seg.regime != Regime::Stick {
             self.slip_segments += 1;
         }
     }
-    fn transition(&mut self, _tr: &Transition2<T>) {
+    fn transition(&mut self, _tr: &Model2Transition<T>) {
         self.transitions += 1;
     }
 }
@@ -196,13 +196,13 @@ struct Record {
     events: Vec<(u8, u64, Vec<u64>)>,
 }
 
-impl<T: stickslip_model::Real> Observer2<T> for Record {
-    fn segment(&mut self, seg: &Segment2<T>) {
+impl<T: stickslip_model::Real> Model2Observer<T> for Record {
+    fn segment(&mut self, seg: &Model2Segment<T>) {
         let mut v: Vec<u64> = seg.z0.iter().chain(&seg.z1).chain(&seg.zd0).chain(&seg.zd1).map(|x| x.to_f64().to_bits()).collect();
         v.push(seg.t1.to_bits());
         self.events.push((seg.regime as u8, seg.t0.to_bits(), v));
     }
-    fn transition(&mut self, tr: &Transition2<T>) {
+    fn transition(&mut self, tr: &Model2Transition<T>) {
         self.events.push((10 + tr.to as u8, tr.t.to_bits(), tr.z.iter().map(|x| x.to_f64().to_bits()).collect()));
     }
 }

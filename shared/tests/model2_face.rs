@@ -10,7 +10,7 @@
 //!   segment). It checks the derivation: with pivot kinematics the friction moment s w F does
 //!   work that no sliding dissipates, and the same balance does not close.
 
-use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, NS, Y};
+use stickslip_model::model2::{AnyModel2Stepper, Model2Observer, Model2Segment, NS, Y};
 // The rig set as guessed before its Table 3.1 fit (a friction drop of 0.10): vigorous
 // stick-slip on every composition, the scenes these tests were written for; the fitted set's
 // drop of 0.010 leaves the Coulomb compositions sliding after one breakaway.
@@ -240,9 +240,9 @@ struct Balance<'a> {
 /// A segment's recording (the stepper is borrowed while it runs, so segments are replayed).
 struct Segments(Vec<(Regime, f64, f64, [f64; NS], [f64; NS])>);
 
-impl Observer2<f64> for Segments {
+impl Model2Observer<f64> for Segments {
     const DERIVATIVES: bool = false;
-    fn segment(&mut self, seg: &Segment2<f64>) {
+    fn segment(&mut self, seg: &Model2Segment<f64>) {
         self.0.push((seg.regime, seg.t0, seg.t1, seg.z0, seg.z1));
     }
 }
@@ -479,9 +479,9 @@ fn the_energy_balance_closes_on_the_floating_pad() {
 /// Transition times of a run.
 struct Times(Vec<f64>);
 
-impl Observer2<f64> for Times {
+impl Model2Observer<f64> for Times {
     const DERIVATIVES: bool = false;
-    fn transition(&mut self, tr: &stickslip_model::model2::Transition2<f64>) {
+    fn transition(&mut self, tr: &stickslip_model::model2::Model2Transition<f64>) {
         self.0.push(tr.t);
     }
 }

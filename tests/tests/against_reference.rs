@@ -1,7 +1,7 @@
 //! The exact stepper (f64, default step 1/25600 s) against the independent event-driven
 //! DOP853 reference, on the six cases and the 1-DOF oracle.
 
-use stickslip::numerics::reference::thesis::{self, Mode};
+use stickslip::numerics::reference::thesis::{self, Regime as ReferenceRegime};
 use stickslip_model::stats::StatsObserver;
 use stickslip_model::{catalogue::CASE_BETAS, Caliper, ExactStepper, Observer, Regime, Scene, Transition};
 
@@ -29,8 +29,8 @@ fn exact(scene: &Scene) -> (stickslip_model::stats::RunStats, Vec<(f64, Regime, 
     (c.stats.finish(), c.tr)
 }
 
-fn same(m: Mode, r: Regime) -> bool {
-    matches!((m, r), (Mode::Stick, Regime::Stick) | (Mode::Slower, Regime::SlipSlower) | (Mode::Faster, Regime::SlipFaster))
+fn same(m: ReferenceRegime, r: Regime) -> bool {
+    matches!((m, r), (ReferenceRegime::Stick, Regime::Stick) | (ReferenceRegime::Slower, Regime::SlipSlower) | (ReferenceRegime::Faster, Regime::SlipFaster))
 }
 
 fn rel(a: f64, b: f64) -> f64 {

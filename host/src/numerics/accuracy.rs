@@ -39,7 +39,7 @@ use crate::scenes::builtin;
 use crate::error::{HostError, Result};
 use crate::numerics::exp_variants::{max_rel_error_stribeck_range, ExpF32, F32Exp, LibmExp, MicromathExp, ModelExp};
 use crate::numerics::reference::{model2 as model2_reference, thesis, Tolerances};
-use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
+use stickslip_model::model2::{AnyModel2Stepper, Model2Observer, Model2Segment, Model2StatsObserver, Model2Transition};
 
 /// The rig's sample period [s].
 pub const RIG_DT: f64 = 1.0 / stickslip_model::design::SAMPLE_RATE_HZ;
@@ -79,18 +79,18 @@ fn model2_scene(name: &str) -> Scene {
     builtin::find(name).expect("built-in").scene
 }
 
-struct Model2Observer {
-    stats: Stats2Observer,
+struct Model2OnsetObserver {
+    stats: Model2StatsObserver,
     onsets: Vec<f64>,
     from: f64,
 }
 
-impl<T: Real> Observer2<T> for Model2Observer {
-    fn segment(&mut self, seg: &Segment2<T>) {
-        <Stats2Observer as Observer2<T>>::segment(&mut self.stats, seg);
+impl<T: Real> Model2Observer<T> for Model2OnsetObserver {
+    fn segment(&mut self, seg: &Model2Segment<T>) {
+        <Model2StatsObserver as Model2Observer<T>>::segment(&mut self.stats, seg);
     }
-    fn transition(&mut self, tr: &Transition2<T>) {
-        <Stats2Observer as Observer2<T>>::transition(&mut self.stats, tr);
+    fn transition(&mut self, tr: &Model2Transition<T>) {
+        <Model2StatsObserver as Model2Observer<T>>::transition(&mut self.stats, tr);
         if tr.from == Regime::Stick && tr.t >= self.from {
             self.onsets.push(tr.t);
         }
@@ -101,7 +101,7 @@ impl<T: Real> Observer2<T> for Model2Observer {
 fn observe_model2<T: Real>(scene: &Scene) -> Result<Observed> {
     let mut st = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     let from = (scene.stats_from / scene.dt).round() * scene.dt;
-    let mut ob = Model2Observer { stats: Stats2Observer::new(from, scene.v), onsets: Vec::new(), from };
+    let mut ob = Model2OnsetObserver { stats: Model2StatsObserver::new(from, scene.v), onsets: Vec::new(), from };
     let mut o = Observed::default();
     for _ in 0..steps_of(scene) {
         if let Err(h) = st.step_observed(&mut ob) {
@@ -530,7 +530,7 @@ fn adaptive_row(scene_name: &str, truth: &Truth, scene: &Scene, rtol: f64, repea
     let window_onsets: Vec<f64> = run
         .transitions
         .iter()
-        .filter(|t| t.1 == thesis::Mode::Stick && t.0 >= scene.stats_from)
+        .filter(|t| t.1 == thesis::Regime::Stick && t.0 >= scene.stats_from)
         .map(|t| t.0)
         .collect();
     let o = Observed {

@@ -3,7 +3,7 @@
 
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
-use stickslip_model::model2::{AnyModel2Stepper, Observer2, Segment2, Stats2Observer, Transition2};
+use stickslip_model::model2::{AnyModel2Stepper, Model2Observer, Model2Segment, Model2StatsObserver, Model2Transition};
 use stickslip_model::{
     Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
 };
@@ -327,21 +327,21 @@ fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, f
 
 /// The model-2 run's observers: window statistics, cycle spread, transition log.
 struct Model2RunObserver {
-    stats: Stats2Observer,
+    stats: Model2StatsObserver,
     cycles: CycleObserver,
     log: EventLog,
 }
 
-impl<T: Real> Observer2<T> for Model2RunObserver {
-    fn segment(&mut self, seg: &Segment2<T>) {
+impl<T: Real> Model2Observer<T> for Model2RunObserver {
+    fn segment(&mut self, seg: &Model2Segment<T>) {
         let finite = seg.z0.iter().chain(seg.z1.iter()).all(|v| v.is_finite());
         if finite {
-            <Stats2Observer as Observer2<T>>::segment(&mut self.stats, seg);
+            <Model2StatsObserver as Model2Observer<T>>::segment(&mut self.stats, seg);
         }
     }
 
-    fn transition(&mut self, tr: &Transition2<T>) {
-        <Stats2Observer as Observer2<T>>::transition(&mut self.stats, tr);
+    fn transition(&mut self, tr: &Model2Transition<T>) {
+        <Model2StatsObserver as Model2Observer<T>>::transition(&mut self.stats, tr);
         let pad = Transition {
             t: tr.t,
             from: tr.from,
@@ -371,7 +371,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
     let window_start = window_start(scene);
     let mut obs = Model2RunObserver {
-        stats: if full { Stats2Observer::new(window_start, scene.v) } else { Stats2Observer::events_only(window_start, scene.v) },
+        stats: if full { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
     };

@@ -34,7 +34,7 @@ use crate::exact::{ExactStepper, Halt};
 use crate::methods::plant::Plant;
 use crate::real::Real;
 use crate::scene::{Scene, SceneError};
-use crate::model2::{AnyModel2Stepper, Observer2, Transition2};
+use crate::model2::{AnyModel2Stepper, Model2Observer, Model2Transition};
 use crate::stickslip::Regime;
 
 /// What the sensor model samples: a stepper, and the accelerations its sensors see.
@@ -117,9 +117,9 @@ struct OnsetLog {
     n: usize,
 }
 
-impl<T: Real> Observer2<T> for OnsetLog {
+impl<T: Real> Model2Observer<T> for OnsetLog {
     const DERIVATIVES: bool = false;
-    fn transition(&mut self, tr: &Transition2<T>) {
+    fn transition(&mut self, tr: &Model2Transition<T>) {
         if tr.from == Regime::Stick && self.n < self.t.len() {
             self.t[self.n] = tr.t;
             self.n += 1;

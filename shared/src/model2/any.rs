@@ -7,7 +7,7 @@ use crate::model2::composition::{
     Band, BandFace, Composition, Coulomb, CoulombFace, FloatFace, Stribeck, StribeckBand, StribeckBandFace,
     StribeckFace, StribeckFloatFace,
 };
-use crate::model2::stepper::{Model2Stepper, Observer2};
+use crate::model2::stepper::{Model2Stepper, Model2Observer};
 use crate::model2::system::NS;
 use crate::real::Real;
 use crate::scene::{FrictionLaw, Scene, SceneError};
@@ -122,7 +122,7 @@ impl<T: Real> AnyModel2Stepper<T> {
     pub fn step(&mut self) -> Result<usize, Halt> {
         each!(self, s => s.step())
     }
-    pub fn step_observed<O: Observer2<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
+    pub fn step_observed<O: Model2Observer<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
         each!(self, s => s.step_observed(obs))
     }
 }

@@ -22,6 +22,6 @@ pub use composition::{
     Band, BandFace, Composition, Coulomb, CoulombFace, FloatFace, Stribeck, StribeckBand, StribeckBandFace, StribeckFace,
     StribeckFloatFace,
 };
-pub use stats::{Stats2, Stats2Observer};
-pub use stepper::{Model2Stepper, Observer2, Segment2, Transition2};
+pub use stats::{Model2Stats, Model2StatsObserver};
+pub use stepper::{Model2Stepper, Model2Observer, Model2Segment, Model2Transition};
 pub use system::{System, NA, NS, Y};

@@ -8,7 +8,7 @@
 //! [`crate::stats`].
 
 use crate::stats::Extremes;
-use crate::model2::stepper::{Observer2, Segment2, Transition2};
+use crate::model2::stepper::{Model2Observer, Model2Segment, Model2Transition};
 use crate::real::Real;
 use crate::stickslip::Regime;
 
@@ -20,7 +20,7 @@ pub const NAMES: [&str; QUANTITIES] = ["x", "xdot", "phi", "phidot", "band_v", "
 
 /// Window statistics (SI units).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Stats2 {
+pub struct Model2Stats {
     pub min: [f64; QUANTITIES],
     pub max: [f64; QUANTITIES],
     pub stick_fraction: f64,
@@ -31,18 +31,18 @@ pub struct Stats2 {
     pub window_s: f64,
 }
 
-impl Stats2 {
+impl Model2Stats {
     pub fn pp(&self, i: usize) -> f64 {
         self.max[i] - self.min[i]
     }
 }
 
-/// Collects [`Stats2`] from the segments ending after `t_from` [s].
+/// Collects [`Model2Stats`] from the segments ending after `t_from` [s].
 #[derive(Clone, Debug)]
-pub struct Stats2Observer {
+pub struct Model2StatsObserver {
     t_from: f64,
     v: f64,
-    s: Stats2,
+    s: Model2Stats,
     /// The quantities' extremes (`seen`: any finite value taken).
     values: Extremes<f64, QUANTITIES>,
     seen: bool,
@@ -53,7 +53,7 @@ pub struct Stats2Observer {
     extremes: bool,
 }
 
-impl Stats2Observer {
+impl Model2StatsObserver {
     /// `v`: the band drive speed V [m/s] (the band velocity is V + u').
     pub fn new(t_from: f64, v: f64) -> Self {
         Self::with_extremes(t_from, v, true)
@@ -66,11 +66,11 @@ impl Stats2Observer {
     }
 
     fn with_extremes(t_from: f64, v: f64, extremes: bool) -> Self {
-        Stats2Observer {
+        Model2StatsObserver {
             extremes,
             t_from,
             v,
-            s: Stats2::default(),
+            s: Model2Stats::default(),
             values: Extremes::<f64, QUANTITIES>::EMPTY,
             seen: false,
             stick_s: 0.0,
@@ -88,10 +88,10 @@ impl Stats2Observer {
     }
 
     /// The window statistics so far.
-    pub fn finish(&self) -> Stats2 {
+    pub fn finish(&self) -> Model2Stats {
         let mut s = self.s;
         if !self.seen {
-            return Stats2::default();
+            return Model2Stats::default();
         }
         (s.min, s.max) = (self.values.min, self.values.max);
         for i in 0..QUANTITIES {
@@ -144,8 +144,8 @@ fn hermite_extremes(p0: f64, p1: f64, m0: f64, m1: f64, mut f: impl FnMut(f64)) 
     }
 }
 
-impl<T: Real> Observer2<T> for Stats2Observer {
-    fn segment(&mut self, seg: &Segment2<T>) {
+impl<T: Real> Model2Observer<T> for Model2StatsObserver {
+    fn segment(&mut self, seg: &Model2Segment<T>) {
         if seg.t1 <= self.t_from {
             return;
         }
@@ -194,7 +194,7 @@ impl<T: Real> Observer2<T> for Stats2Observer {
         self.take(6, d1[5]);
     }
 
-    fn transition(&mut self, tr: &Transition2<T>) {
+    fn transition(&mut self, tr: &Model2Transition<T>) {
         if tr.t < self.t_from {
             return;
         }

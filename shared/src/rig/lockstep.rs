@@ -34,7 +34,7 @@
 
 use super::pneumatics::normal_load_n;
 use crate::exact::{ExactStepper, Halt};
-use crate::model2::{Composition, Model2Stepper, Observer2, Transition2};
+use crate::model2::{Composition, Model2Stepper, Model2Observer, Model2Transition};
 use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
 
@@ -132,10 +132,10 @@ impl LockstepStepper for ExactStepper<f32> {
 /// Flags a stick-to-slip transition of a model-2 step.
 struct SlipOnset(bool);
 
-impl Observer2<f32> for SlipOnset {
+impl Model2Observer<f32> for SlipOnset {
     const DERIVATIVES: bool = false;
     #[inline(always)]
-    fn transition(&mut self, tr: &Transition2<f32>) {
+    fn transition(&mut self, tr: &Model2Transition<f32>) {
         if tr.from == Regime::Stick {
             self.0 = true;
         }

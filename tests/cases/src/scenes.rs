@@ -15,7 +15,7 @@
 use core::fmt;
 
 use stickslip_model::digest::{DigestBits, Fnv1a64};
-use stickslip_model::model2::{Composition, Model2Stepper, Observer2, Transition2};
+use stickslip_model::model2::{Composition, Model2Stepper, Model2Observer, Model2Transition};
 use stickslip_model::{Caliper, ExactStepper, FrictionLaw, Halt, Real, Scene, SceneError};
 
 pub const TAG_STEP: u8 = b'S';
@@ -183,9 +183,9 @@ struct DigestTransitions<'a, T> {
     _t: core::marker::PhantomData<T>,
 }
 
-impl<T: Real + DigestBits> Observer2<T> for DigestTransitions<'_, T> {
+impl<T: Real + DigestBits> Model2Observer<T> for DigestTransitions<'_, T> {
     const DERIVATIVES: bool = false;
-    fn transition(&mut self, tr: &Transition2<T>) {
+    fn transition(&mut self, tr: &Model2Transition<T>) {
         self.d.write_u8(TAG_TRANSITION);
         self.d.write_u8(tr.from.index() as u8);
         self.d.write_u8(tr.to.index() as u8);

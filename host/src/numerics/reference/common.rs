@@ -64,7 +64,7 @@ impl Pad {
 
 /// The regime of the contact.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Contact {
+pub enum Regime {
     Stick,
     /// Slip with the pad slower than the band (`v < 0`, sigma = +1).
     Slower,
@@ -72,25 +72,25 @@ pub enum Contact {
     Faster,
 }
 
-impl Contact {
+impl Regime {
     /// The regime after the guard of `self` fired, from the stick's required friction `f_req`
     /// and the static limit `mu_s N` there (the table of docs/model.md).
-    pub(super) fn after(self, f_req: f64, limit: f64) -> Contact {
+    pub(super) fn after(self, f_req: f64, limit: f64) -> Regime {
         match self {
-            Contact::Stick => {
+            Regime::Stick => {
                 if f_req > 0.0 {
-                    Contact::Slower
+                    Regime::Slower
                 } else {
-                    Contact::Faster
+                    Regime::Faster
                 }
             }
             _ => {
                 if f_req.abs() <= limit {
-                    Contact::Stick
+                    Regime::Stick
                 } else if f_req > 0.0 {
-                    Contact::Slower
+                    Regime::Slower
                 } else {
-                    Contact::Faster
+                    Regime::Faster
                 }
             }
         }

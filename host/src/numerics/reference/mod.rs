@@ -10,5 +10,5 @@ pub mod driver;
 pub mod model2;
 pub mod thesis;
 
-pub use common::{Contact, WindowStats};
+pub use common::{Regime, WindowStats};
 pub use driver::Tolerances;

@@ -46,7 +46,7 @@ const ARM: f64 = 1e-9;
 const CHUNK_STEPS: f64 = 400.0;
 
 /// The regime of the contact.
-pub use super::common::Contact as Regime;
+pub use super::common::Regime;
 
 /// The pad's constants (docs/model.md) and model 2's.
 #[derive(Clone, Copy, Debug)]

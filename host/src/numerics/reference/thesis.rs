@@ -18,7 +18,7 @@ use stickslip_model::Scene;
 type Y = State<4>;
 
 /// The contact's regime.
-pub use super::common::Contact as Mode;
+pub use super::common::Regime;
 
 /// The pad's constants (docs/model.md) and its static rotation under the load.
 #[derive(Clone, Copy, Debug)]
@@ -38,24 +38,24 @@ impl Phys {
     fn f_req(&self, y: &Y) -> f64 {
         self.pad.kg * y[0] + self.pad.cx * self.pad.v
     }
-    /// Friction force on the pad in `mode`.
-    fn friction(&self, mode: Mode, y: &Y) -> f64 {
-        match mode {
-            Mode::Stick => self.f_req(y),
-            Mode::Slower => self.pad.mu_k * self.normal(y),
-            Mode::Faster => -self.pad.mu_k * self.normal(y),
+    /// Friction force on the pad in `regime`.
+    fn friction(&self, regime: Regime, y: &Y) -> f64 {
+        match regime {
+            Regime::Stick => self.f_req(y),
+            Regime::Slower => self.pad.mu_k * self.normal(y),
+            Regime::Faster => -self.pad.mu_k * self.normal(y),
         }
     }
 }
 
 impl Hybrid<4> for Phys {
-    type Regime = Mode;
+    type Regime = Regime;
     const NAME: &'static str = "thesis reference";
 
-    fn rhs(&self, mode: Mode, y: &Y) -> Y {
-        let ff = self.friction(mode, y);
-        let xdd = match mode {
-            Mode::Stick => 0.0,
+    fn rhs(&self, regime: Regime, y: &Y) -> Y {
+        let ff = self.friction(regime, y);
+        let xdd = match regime {
+            Regime::Stick => 0.0,
             _ => (-self.pad.kg * y[0] - self.pad.cx * y[1] + ff) / self.pad.m,
         };
         let (phid, phidd) = if self.pad.rotation {
@@ -66,17 +66,17 @@ impl Hybrid<4> for Phys {
         Y::new(y[1], xdd, phid, phidd)
     }
     /// Guard value: the regime holds while negative.
-    fn guard(&self, mode: Mode, y: &Y) -> f64 {
-        match mode {
-            Mode::Stick => self.f_req(y).abs() - self.pad.mu_s * self.normal(y),
-            Mode::Slower => y[1] - self.pad.v,
-            Mode::Faster => self.pad.v - y[1],
+    fn guard(&self, regime: Regime, y: &Y) -> f64 {
+        match regime {
+            Regime::Stick => self.f_req(y).abs() - self.pad.mu_s * self.normal(y),
+            Regime::Slower => y[1] - self.pad.v,
+            Regime::Faster => self.pad.v - y[1],
         }
     }
     /// The table of docs/model.md; entering stick sets x' = V.
-    fn transition(&self, mode: Mode, y: &mut Y) -> Mode {
-        let next = mode.after(self.f_req(y), self.pad.mu_s * self.normal(y));
-        if next == Mode::Stick {
+    fn transition(&self, regime: Regime, y: &mut Y) -> Regime {
+        let next = regime.after(self.f_req(y), self.pad.mu_s * self.normal(y));
+        if next == Regime::Stick {
             y[1] = self.pad.v;
         }
         next
@@ -98,7 +98,7 @@ pub type RefStats = WindowStats<4>;
 /// A reference run: the transitions (time, from, to), the window statistics (when asked for),
 /// the final state and the work done.
 pub struct RefRun {
-    pub transitions: Vec<(f64, Mode, Mode)>,
+    pub transitions: Vec<(f64, Regime, Regime)>,
     pub stats: RefStats,
     /// [x, x', phi, phi'] at `scene.duration`.
     pub final_state: [f64; 4],
@@ -135,12 +135,12 @@ pub fn simulate_with(scene: &Scene, tol: Tolerances, with_stats: bool) -> Result
     };
     // one DOP853 run to the window's start, one from there to the end, each cut at events
     let plan = Plan { stop_at: Some(t_win), chunk_steps: None };
-    let path = driver::run(&p, y0, Mode::Stick, t_end, plan, &tol, |piece| {
-        let (mode, t, y, ts, ys) = (piece.regime, piece.t0, piece.y0, piece.ts, piece.ys);
+    let path = driver::run(&p, y0, Regime::Stick, t_end, plan, &tol, |piece| {
+        let (regime, t, y, ts, ys) = (piece.regime, piece.t0, piece.y0, piece.ts, piece.ys);
         let (seg_end, y_end) = (piece.t1, piece.y1);
         // statistics over the part of this run inside the window
         if t >= t_win {
-            if mode == Mode::Stick {
+            if regime == Regime::Stick {
                 stick_time += seg_end - t;
             }
             let last = if with_stats { piece.fired.unwrap_or(ts.len() - 1) } else { 0 };
@@ -151,15 +151,15 @@ pub fn simulate_with(scene: &Scene, tol: Tolerances, with_stats: bool) -> Result
                 let y_a = ys[k - 1];
                 let y_b = if k == last { *y_end } else { ys[k] };
                 include(&mut ext, &y_b);
-                let da = p.rhs(mode, &y_a);
-                let db = p.rhs(mode, &y_b);
+                let da = p.rhs(regime, &y_a);
+                let db = p.rhs(regime, &y_b);
                 for c in 0..4 {
                     if da[c] * db[c] < 0.0 {
                         // an interior extremum of component c: bisect on the sign of its rate
                         let sign_a = da[c] > 0.0;
                         let step = Bracket { t_a: ts[k - 1], y_a, lo: ts[k - 1], hi: hi_t, y_hi: y_b };
                         let found =
-                            driver::bisect(&p, mode, step, piece.h_max, &tol, |ym| (p.rhs(mode, ym)[c] > 0.0) != sign_a)?;
+                            driver::bisect(&p, regime, step, piece.h_max, &tol, |ym| (p.rhs(regime, ym)[c] > 0.0) != sign_a)?;
                         include(&mut ext, &found.last.unwrap_or(y_a));
                     }
                 }
@@ -167,9 +167,9 @@ pub fn simulate_with(scene: &Scene, tol: Tolerances, with_stats: bool) -> Result
         }
         Ok(())
     })?;
-    let transitions: Vec<(f64, Mode, Mode)> =
+    let transitions: Vec<(f64, Regime, Regime)> =
         path.transitions.iter().filter(|tr| tr.to != tr.from).map(|tr| (tr.t, tr.from, tr.to)).collect();
-    let onsets: Vec<f64> = transitions.iter().filter(|tr| tr.1 == Mode::Stick && tr.0 >= t_win).map(|tr| tr.0).collect();
+    let onsets: Vec<f64> = transitions.iter().filter(|tr| tr.1 == Regime::Stick && tr.0 >= t_win).map(|tr| tr.0).collect();
     let (min, max) = ext.unwrap_or(([0.0; 4], [0.0; 4]));
     let y = path.final_state;
     Ok(RefRun {

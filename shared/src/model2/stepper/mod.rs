@@ -198,21 +198,21 @@ struct Excess<T> {
 
 /// A piece of motion inside one regime, between two located instants.
 #[derive(Clone, Copy, Debug)]
-pub struct Segment2<T> {
+pub struct Model2Segment<T> {
     pub regime: Regime,
     /// Start and end time [s].
     pub t0: f64,
     pub t1: f64,
     pub z0: [T; NS],
     pub z1: [T; NS],
-    /// z' at both ends (only filled for observers that ask, [`Observer2::DERIVATIVES`]).
+    /// z' at both ends (only filled for observers that ask, [`Model2Observer::DERIVATIVES`]).
     pub zd0: [T; NS],
     pub zd1: [T; NS],
 }
 
 /// A change of regime of model 2.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Transition2<T> {
+pub struct Model2Transition<T> {
     pub t: f64,
     pub from: Regime,
     pub to: Regime,
@@ -221,14 +221,14 @@ pub struct Transition2<T> {
 }
 
 /// Sees every segment and transition of a model-2 run.
-pub trait Observer2<T: Real> {
+pub trait Model2Observer<T: Real> {
     /// Whether segments need z' at their ends (costs two evaluations per segment).
     const DERIVATIVES: bool = true;
-    fn segment(&mut self, _seg: &Segment2<T>) {}
-    fn transition(&mut self, _tr: &Transition2<T>) {}
+    fn segment(&mut self, _seg: &Model2Segment<T>) {}
+    fn transition(&mut self, _tr: &Model2Transition<T>) {}
 }
 
-impl<T: Real> Observer2<T> for () {
+impl<T: Real> Model2Observer<T> for () {
     const DERIVATIVES: bool = false;
 }
 

@@ -10,13 +10,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     }
 
     #[allow(clippy::too_many_arguments)] // a segment's regime, place and two ends
-    pub(super) fn emit<O: Observer2<T>>(&self, obs: &mut O, regime: Regime, sub: u32, p0: u64, p1: u64, z0: [T; NS], z1: [T; NS]) {
+    pub(super) fn emit<O: Model2Observer<T>>(&self, obs: &mut O, regime: Regime, sub: u32, p0: u64, p1: u64, z0: [T; NS], z1: [T; NS]) {
         let (zd0, zd1) = if O::DERIVATIVES {
             (self.derivative(regime, &z0), self.derivative(regime, &z1))
         } else {
             ([T::zero(); NS], [T::zero(); NS])
         };
-        obs.segment(&Segment2 { regime, t0: self.time_at(sub, p0), t1: self.time_at(sub, p1), z0, z1, zd0, zd1 });
+        obs.segment(&Model2Segment { regime, t0: self.time_at(sub, p0), t1: self.time_at(sub, p1), z0, z1, zd0, zd1 });
     }
 
     /// One step of `dt` with no observer.
@@ -26,7 +26,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
 
     /// One step of `dt`; `obs` sees every segment and transition. Returns the number of
     /// transitions in the step.
-    pub fn step_observed<O: Observer2<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
+    pub fn step_observed<O: Model2Observer<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
         if let Some(h) = self.halted {
             return Err(h);
         }
@@ -66,7 +66,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// [`Self::step_observed`] with every substep on the general path (`substep`), never the
     /// short one (`short_substep`): for the test that the two agree bit for bit.
     #[doc(hidden)]
-    pub fn step_observed_general<O: Observer2<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
+    pub fn step_observed_general<O: Model2Observer<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
         if let Some(h) = self.halted {
             return Err(h);
         }
@@ -91,7 +91,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// is not armed yet (`substep` handles the arming). `SLIP`: whether the regime is a slip
     /// (compiled apart for stick and slip: each has its own short path).
     #[inline(always)]
-    pub(super) fn short_substep<const SLIP: bool, O: Observer2<T>>(&mut self, sub: u32, obs: &mut O) -> Result<Option<FirstChunk<T>>, Halt> {
+    pub(super) fn short_substep<const SLIP: bool, O: Model2Observer<T>>(&mut self, sub: u32, obs: &mut O) -> Result<Option<FirstChunk<T>>, Halt> {
         let units = Self::UNITS;
         let regime = self.regime;
         let stribeck_slip = C::STRIBECK && SLIP;
@@ -137,7 +137,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
 
     /// One substep: chunks, each tested for transitions, until the substep's end. `first`:
     /// the first chunk, when [`Self::short_substep`] has taken it already.
-    pub(super) fn substep<O: Observer2<T>>(&mut self, sub: u32, obs: &mut O, mut first: Option<FirstChunk<T>>) -> Result<usize, Halt> {
+    pub(super) fn substep<O: Model2Observer<T>>(&mut self, sub: u32, obs: &mut O, mut first: Option<FirstChunk<T>>) -> Result<usize, Halt> {
         let units = Self::UNITS;
         let mut pos = 0u64;
         let mut z = self.z;
@@ -220,7 +220,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             } else {
                 touched = None;
                 self.armed = false;
-                obs.transition(&Transition2 { t: self.time_at(sub, at), from: regime, to: next, z: zn });
+                obs.transition(&Model2Transition { t: self.time_at(sub, at), from: regime, to: next, z: zn });
                 transitions += 1;
                 self.transitions += 1;
             }
