@@ -14,7 +14,8 @@
 #   4. host workspace: cargo test --workspace --release; then, as a step of its own, the
 #      debug-probe path of `stickslip record` (cargo feature `probe`, the probe-rs library):
 #      cargo test --release -p stickslip --features probe --test record; and the campaign of
-#      bad inputs, scripts/bad-inputs.sh (python3 and /usr/bin/time, in Debian's base image)
+#      bad inputs, scripts/bad-inputs.sh (python3 and /usr/bin/time, in Debian's base image);
+#      and the Python module (host/python): scripts/python-module.sh (pip, maturin, pytest)
 #   5. the model and the rig's per-sample chain on the emulated Cortex-M4F against the host,
 #      bit for bit (bins digest and rig):
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
@@ -108,6 +109,9 @@ bash scripts/bad-inputs.sh
 echo
 echo "== 4c: stickslip record's debug-probe path (cargo feature probe, probe-rs): build and tests"
 cargo test --release -p stickslip --features probe --test record
+echo
+echo "== 4d: the Python module (host/python): built with maturin into a virtual environment, its tests against the binary (scripts/python-module.sh)"
+bash scripts/python-module.sh
 
 section "5/8 model and rig chain on the emulated Cortex-M4F == on the host, the fault path (QEMU netduinoplus2)"
 STICKSLIP_ON_TARGET_ELF="$on_target_dir/digest" STICKSLIP_ON_TARGET_RIG_ELF="$on_target_dir/rig" \

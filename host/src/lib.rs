@@ -23,3 +23,6 @@ pub mod numerics;
 pub mod output;
 pub mod recorded;
 pub mod scenes;
+
+/// The tool's version (the host crate's, as `stickslip --version` prints it).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -9,6 +9,7 @@ use crate::scenes::run::Precision;
 
 mod cases;
 mod fit;
+pub mod invoke;
 mod map;
 mod numerics;
 pub mod parse;

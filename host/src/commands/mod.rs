@@ -1,7 +1,9 @@
-//! The commands: `main` dispatches here. Each returns what goes to stdout; errors go back to
-//! `main`. The commands themselves live in one module per command family.
+//! The commands: [`run`] dispatches a parsed command (for `main` and for the Python module).
+//! Each returns what goes to stdout; errors go back to the caller. The commands themselves live
+//! in one module per command family.
 
-use crate::cli::RunOptions;
+use crate::cli::{Command, RunOptions};
+use crate::error::Result;
 use crate::scenes::scene_source::Overrides;
 
 mod cases;
@@ -17,6 +19,24 @@ pub use map::map;
 pub use numerics::{accuracy, stability};
 pub use recordings::{analyze, compare, decode, record, sil};
 pub use simulate::{scenes, simulate};
+
+/// Runs one parsed command: what it prints on stdout, or its error.
+pub fn run(command: &Command) -> Result<String> {
+    match command {
+        Command::Simulate(a) => simulate(a),
+        Command::Cases(a) => cases(a),
+        Command::Scenes(a) => scenes(a),
+        Command::Accuracy(a) => accuracy(a),
+        Command::Stability(a) => stability(a),
+        Command::Analyze(a) => analyze(a),
+        Command::Sil(a) => sil(a),
+        Command::Compare(a) => compare(a),
+        Command::Map(a) => map(a),
+        Command::Fit(a) => fit(a),
+        Command::Decode(a) => decode(a),
+        Command::Record(a) => record(a),
+    }
+}
 
 pub(crate) fn overrides(o: &RunOptions) -> Overrides {
     Overrides {

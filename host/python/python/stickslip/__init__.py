@@ -1,0 +1,350 @@
+"""stickslip from Python: scenes, runs, recordings, maps and fits of the brake-pad stick-slip tool.
+
+Every function here builds the command line the ``stickslip`` tool would take and runs it in
+this process, through the tool's own parser and commands (the Rust extension
+``stickslip._stickslip``), so a result equals the tool's ``--json`` value for value, and a bad
+input raises ``ValueError`` with the tool's one-line message.
+
+Options are keyword arguments named as the tool's flags with ``_`` for ``-``
+(``stats_from=0.5`` is ``--stats-from 0.5``): ``True`` gives a bare flag, ``None`` or
+``False`` leaves it out, a list or tuple repeats the flag (``sweep=["beta=0.02:0.06:10"]``), a
+dict gives ``KEY=VALUE`` pairs (``channel={"pad_x": "acc2"}``). Keyword arguments that are
+scene keys (``beta``, ``mu_s``, ``caliper``, ...) change the scene instead:
+``simulate("push_center", beta=0.03)`` runs push_center with the load at 30 mm (the changed
+scene goes to the tool as a scene file). SI units throughout, as in the tool.
+
+See docs/python.md for installation and a worked example.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import re
+import tempfile
+import tomllib
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from ._stickslip import read_series_csv as _read_series_csv
+from ._stickslip import run as _run
+from ._stickslip import version
+
+__all__ = [
+    "cli",
+    "scenes",
+    "scene",
+    "simulate",
+    "cases",
+    "analyze",
+    "sil",
+    "map",
+    "fit",
+    "version",
+    "DEFAULT_SCENE",
+]
+
+#: The scene the tool runs when none is named.
+DEFAULT_SCENE = "push_center"
+
+# Flags that belong to the run, not to the scene, although a scene file has keys of the same
+# name: given as keyword arguments they go to the tool as flags (as `--dt` on its command line).
+_RUN_FLAGS = {"dt", "duration", "stats_from", "precision"}
+
+_scene_keys_cache: set[str] | None = None
+
+
+def cli(*args: Any) -> str:
+    """Runs one ``stickslip`` command line (without the program's name) and returns its stdout.
+
+    ``cli("simulate", "push_center", "--json")`` is ``stickslip simulate push_center --json``.
+    Raises ValueError for bad input (the tool's exit code 2), RuntimeError otherwise.
+    """
+    return _run([str(a) for a in args])
+
+
+def _scene_keys() -> set[str]:
+    """The keys a scene file may hold (those of a model-2 scene with every option written)."""
+    global _scene_keys_cache
+    if _scene_keys_cache is None:
+        keys: set[str] = set()
+        for name in (DEFAULT_SCENE, "rig_float_push_center", "oracle_stribeck"):
+            keys |= set(tomllib.loads(cli("scenes", "show", name)).keys())
+        _scene_keys_cache = keys
+    return _scene_keys_cache
+
+
+def _toml_value(key: str, v: Any) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        f = float(v)
+        if math.isnan(f):
+            return "nan"
+        if math.isinf(f):
+            return "inf" if f > 0 else "-inf"
+        return repr(f)
+    if isinstance(v, str):
+        return json.dumps(v)  # a TOML basic string: the same escapes
+    raise ValueError(f"scene key `{key}`: a number, a bool or a string, not {type(v).__name__}")
+
+
+def _scene_toml(values: Mapping[str, Any]) -> str:
+    return "".join(f"{k} = {_toml_value(k, v)}\n" for k, v in values.items())
+
+
+class _Call:
+    """One command line under construction, with the temporary files it needs."""
+
+    def __init__(self, *head: Any):
+        self.args: list[str] = [str(a) for a in head]
+        self._dir: tempfile.TemporaryDirectory | None = None
+
+    def tmp(self, name: str) -> str:
+        if self._dir is None:
+            self._dir = tempfile.TemporaryDirectory(prefix="stickslip-")
+        return os.path.join(self._dir.name, name)
+
+    def scene(self, scene: Any, overrides: Mapping[str, Any]) -> str:
+        """The scene argument: a built-in name or a file as given, or a scene file written from
+        a dict and/or scene-key overrides."""
+        if isinstance(scene, os.PathLike):
+            scene = os.fspath(scene)
+        if isinstance(scene, str) and not overrides:
+            return scene
+        if isinstance(scene, str):
+            values = dict(tomllib.loads(cli("scenes", "show", scene)))
+        elif isinstance(scene, Mapping):
+            values = dict(scene)
+        else:
+            raise ValueError(f"scene: a built-in name, a scene file or a dict, not {type(scene).__name__}")
+        values.update(overrides)
+        path = self.tmp("scene.toml")
+        Path(path).write_text(_scene_toml(values))
+        return path
+
+    def flags(self, options: Mapping[str, Any]) -> "_Call":
+        for key, v in options.items():
+            flag = "--" + key.replace("_", "-")
+            if v is None or v is False:
+                continue
+            if v is True:
+                self.args.append(flag)
+            elif isinstance(v, Mapping):
+                for k, x in v.items():
+                    self.args += [flag, f"{k}={x}"]
+            elif isinstance(v, (list, tuple)):
+                for x in v:
+                    self.args += [flag, str(x)]
+            else:
+                self.args += [flag, str(v)]
+        return self
+
+    def run(self) -> str:
+        try:
+            return _run(self.args)
+        finally:
+            if self._dir is not None:
+                self._dir.cleanup()
+                self._dir = None
+
+    def json(self) -> dict:
+        return json.loads(_run(self.args + ["--json"]))
+
+
+def _split(kwargs: Mapping[str, Any]) -> tuple[dict, dict]:
+    """Scene-key overrides apart from flags."""
+    keys = _scene_keys()
+    scene = {k: v for k, v in kwargs.items() if k in keys and k not in _RUN_FLAGS}
+    flags = {k: v for k, v in kwargs.items() if k not in scene}
+    return scene, flags
+
+
+def _json_with_files(call: _Call) -> dict:
+    try:
+        return call.json()
+    finally:
+        if call._dir is not None:
+            call._dir.cleanup()
+
+
+def scenes() -> list[dict]:
+    """The built-in scenes: a list of {name, caliper, beta, description}."""
+    rows = cli("scenes").splitlines()[1:]
+    out = []
+    for line in rows:
+        if not line.strip():
+            break  # the table ends at its first blank line (a hint follows)
+        m = re.match(r"^(\S+)\s+(\S+)\s+(\S+)\s+(.*)$", line)
+        if m:
+            out.append({"name": m[1], "caliper": m[2], "beta": float(m[3]), "description": m[4]})
+    return out
+
+
+def scene(name: str | os.PathLike = DEFAULT_SCENE) -> dict:
+    """One scene as a dict of its keys (a built-in name or a scene file, every key written)."""
+    return tomllib.loads(cli("scenes", "show", os.fspath(name)))
+
+
+def _read_series(path: str) -> dict[str, np.ndarray]:
+    """A series CSV of the tool as arrays: float64 for numbers, str for text (the regime)."""
+    header, columns = _read_series_csv(path)
+    return {name: col if isinstance(col, np.ndarray) else np.array(col) for name, col in zip(header, columns)}
+
+
+def _json_and_series(call: _Call, flags: dict, series: bool) -> dict:
+    """Runs `call` with `flags` for its JSON; with `series`, also its ``--csv`` as arrays."""
+    if series:
+        flags = dict(flags, csv=call.tmp("series.csv"))
+    call.flags(flags)
+    try:
+        out = call.json()
+        if series:
+            out["series"] = _read_series(flags["csv"])
+        return out
+    finally:
+        if call._dir is not None:
+            call._dir.cleanup()
+
+
+def simulate(scene: Any = DEFAULT_SCENE, *, series: bool = False, **kwargs: Any) -> dict:
+    """Runs one scene: the statistics as ``stickslip simulate SCENE --json`` prints them.
+
+    ``series=True`` adds ``result["series"]``: the sampled run as numpy arrays, one per column
+    of the tool's ``--csv`` (t_s, x_m, xdot_m_per_s, phi_rad, phidot_rad_per_s, n_N, f_f_N,
+    regime). Keyword arguments: scene keys, and the flags dt, duration, stats_from, precision.
+    """
+    overrides, flags = _split(kwargs)
+    call = _Call("simulate")
+    call.args.append(call.scene(scene, overrides))
+    return _json_and_series(call, flags, series)
+
+
+def cases(**kwargs: Any) -> dict:
+    """The six cases (or another set: ``set="rig"``), as ``stickslip cases --json``."""
+    return _json_with_files(_Call("cases").flags(kwargs))
+
+
+def _write_recording(call: _Call, arrays: Mapping[str, Any], rate: float | None) -> str:
+    columns = {k: np.asarray(v, dtype=np.float64).ravel() for k, v in arrays.items()}
+    if not columns:
+        raise ValueError("recording: the dict holds no channel")
+    n = {len(v) for v in columns.values()}
+    if len(n) != 1:
+        raise ValueError(f"recording: the channels differ in length ({sorted(n)} samples)")
+    (n,) = n
+    time_keys = [k for k in columns if k in ("t", "t_s", "time", "time_s")]
+    if rate is None and not time_keys:
+        raise ValueError("recording: give rate= (samples per second) or a time array (t_s)")
+    if rate is not None and time_keys:
+        raise ValueError("recording: give rate= or a time array, not both")
+    if rate is not None:
+        if not (rate > 0 and math.isfinite(rate)):
+            raise ValueError(f"rate: {rate} is not a sample rate > 0 [1/s]")
+        columns = {"t_s": np.arange(n, dtype=np.float64) / float(rate), **columns}
+    path = call.tmp("recording.csv")
+    names = list(columns)
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(names)
+        for i in range(n):
+            w.writerow([repr(float(columns[k][i])) for k in names])
+    return path
+
+
+def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
+    """Analyses a recording, as ``stickslip analyze FILE --json``.
+
+    ``recording``: a file (CSV, UFF 58/58b, WAV), or a dict of channel name -> array (disc_x,
+    pad_x, pad_trail, pad_lead [m/s^2]; other names with ``channel={"pad_x": "name"}``) with
+    either ``rate`` [samples/s] or a time array ``t_s`` [s].
+    """
+    call = _Call("analyze")
+    if isinstance(recording, Mapping):
+        call.args.append(_write_recording(call, recording, rate))
+    elif rate is not None:
+        raise ValueError("rate: only for a recording given as arrays (a file carries its own time axis)")
+    else:
+        call.args.append(os.fspath(recording))
+    scene = kwargs.pop("scene", None)
+    if scene is not None:
+        kwargs["scene"] = call.scene(scene, {})
+    call.flags(kwargs)
+    return _json_with_files(call)
+
+
+def sil(scene: Any = DEFAULT_SCENE, *, series: bool = False, **kwargs: Any) -> dict:
+    """The virtual rig, as ``stickslip sil SCENE --json``: scene keys and the tool's flags.
+
+    ``series=True`` adds ``result["series"]``: the rig's calibrated channels as numpy arrays,
+    one per column of the tool's ``--csv`` (t_s, disc_x_m_s2, pad_x_m_s2, pad_trail_m_s2,
+    pad_lead_m_s2; the quiet lead before t = 0 included).
+    """
+    overrides, flags = _split(kwargs)
+    call = _Call("sil")
+    call.args.append(call.scene(scene, overrides))
+    return _json_and_series(call, flags, series)
+
+
+def _column(values: Iterable[Any]) -> np.ndarray:
+    values = list(values)
+    if all(v is None or isinstance(v, (int, float)) for v in values):
+        return np.array([np.nan if v is None else float(v) for v in values], dtype=np.float64)
+    return np.array(["" if v is None else str(v) for v in values])
+
+
+def _flatten(prefix: str, value: Any, row: dict) -> None:
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            _flatten(f"{prefix}.{k}" if prefix else k, v, row)
+    elif not isinstance(value, list):
+        row[prefix] = value
+
+
+def map(scene: Any, sweeps: Iterable[str] | str, jobs: int | None = None, **kwargs: Any) -> dict:
+    """A regime map, as ``stickslip map SCENE --sweep ... --json``.
+
+    ``sweeps``: one or two ``KEY=FROM:TO:N[:log]``. Adds ``result["arrays"]``: one numpy array
+    per cell field, in cell order (``beta``, ``from_rest.regime``, ``linear.max_growth_rate``,
+    ...; null is NaN for numbers and "" for text).
+    """
+    if isinstance(sweeps, str):
+        sweeps = [sweeps]
+    overrides, flags = _split(kwargs)
+    call = _Call("map")
+    call.args.append(call.scene(scene, overrides))
+    call.flags({"sweep": list(sweeps), "jobs": jobs, **flags})
+    out = _json_with_files(call)
+    rows = []
+    for cell in out.get("cells", []):
+        row: dict = {}
+        _flatten("", cell.get("params", {}), row)
+        _flatten("", {k: v for k, v in cell.items() if k != "params"}, row)
+        rows.append(row)
+    names: list[str] = []
+    for r in rows:
+        names += [k for k in r if k not in names]
+    out["arrays"] = {k: _column(r.get(k) for r in rows) for k in names}
+    return out
+
+
+def fit(scene: Any, free: Iterable[str] | str, recordings: Mapping[str, Any] | None = None, **kwargs: Any) -> dict:
+    """Identification, as ``stickslip fit --scene SCENE --free KEYS [CASE=FILE...] --json``.
+
+    ``recordings``: case name -> recording file (``{"oracle": "rec.csv"}``); or give
+    ``table="table.csv"``. The other options are the tool's flags (starts, bounds, cost, ...).
+    """
+    if not isinstance(free, str):
+        free = ",".join(free)
+    overrides, flags = _split(kwargs)
+    call = _Call("fit")
+    call.flags({"scene": call.scene(scene, overrides), "free": free, **flags})
+    for case, path in (recordings or {}).items():
+        call.args.append(f"{case}={os.fspath(path)}")
+    return _json_with_files(call)

@@ -1,0 +1,154 @@
+//! `stickslip._stickslip`: the desktop tool's commands inside the Python interpreter.
+//!
+//! One entry point, [`run`]: a command line (without the program's name) in, what the tool
+//! prints on stdout out, through the same parser and dispatcher as the `stickslip` binary
+//! (`stickslip::cli::invoke::parse`, `stickslip::commands::run`). The Python package
+//! (`python/stickslip/__init__.py`) builds the command lines and turns the JSON and CSV into
+//! dicts and numpy arrays.
+//!
+//! - Errors: an input error (the tool's exit code 2) raises `ValueError`, any other failure
+//!   `RuntimeError`, each with the tool's one-line message (without its `error: ` prefix).
+//! - A panic inside the tool is caught on its worker thread and raised as `RuntimeError`; it
+//!   never unwinds into the interpreter.
+//! - The command runs on its own thread with the GIL released; the calling thread wakes every
+//!   50 ms to let Python handle signals, so Ctrl-C in a notebook raises `KeyboardInterrupt` at
+//!   once. The abandoned command runs on to its end in the background (the tool has no
+//!   cancellation points), its result dropped.
+
+use std::panic::{self, AssertUnwindSafe};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
+
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+
+use stickslip::cli::invoke::{self, Parsed};
+
+/// How often the waiting thread lets Python look for a signal.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// The worker thread's stack [bytes]: the binary's main thread has 8 MiB; a spawned thread's
+/// default is 2 MiB.
+const WORKER_STACK_BYTES: usize = 8 << 20;
+
+/// What a command line came to: stdout's text, or (exit code, one-line message).
+type Outcome = Result<String, (u8, String)>;
+
+fn execute(args: Vec<String>) -> Outcome {
+    let argv = std::iter::once("stickslip".to_string()).chain(args);
+    match invoke::parse(argv) {
+        Ok(Parsed::Help(h)) => Ok(h.render().to_string()),
+        Ok(Parsed::Run(command)) => stickslip::commands::run(&command).map_err(|e| (e.exit_code(), e.to_string())),
+        Err(line) => Err((2, line.strip_prefix("error: ").unwrap_or(&line).to_string())),
+    }
+}
+
+fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        s.to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "a panic without a message".to_string()
+    }
+}
+
+/// Runs one `stickslip` command line (`args` without the program's name) and returns what the
+/// tool prints on stdout. Raises ValueError for bad input (the tool's exit code 2) and
+/// RuntimeError for any other failure, with the tool's one-line message.
+#[pyfunction]
+fn run(py: Python<'_>, args: Vec<String>) -> PyResult<String> {
+    let (tx, rx) = mpsc::channel::<Outcome>();
+    std::thread::Builder::new()
+        .name("stickslip".into())
+        .stack_size(WORKER_STACK_BYTES)
+        .spawn(move || {
+            let out = panic::catch_unwind(AssertUnwindSafe(|| execute(args)))
+                .unwrap_or_else(|p| Err((101, format!("internal error (a bug: please report it): {}", panic_message(p)))));
+            // The caller may have gone (Ctrl-C): nobody to tell.
+            let _ = tx.send(out);
+        })
+        .map_err(|e| PyRuntimeError::new_err(format!("cannot start the worker thread: {e}")))?;
+    // A Receiver is not Sync: the waiting closure, which runs without the GIL, borrows it
+    // through a Mutex (only this thread ever locks it).
+    let rx = std::sync::Mutex::new(rx);
+    loop {
+        let next = py.detach(|| match rx.lock() {
+            Ok(rx) => rx.recv_timeout(SIGNAL_POLL),
+            Err(_) => Err(RecvTimeoutError::Disconnected),
+        });
+        match next {
+            Ok(Ok(text)) => return Ok(text),
+            Ok(Err((2, msg))) => return Err(PyValueError::new_err(msg)),
+            Ok(Err((_, msg))) => return Err(PyRuntimeError::new_err(msg)),
+            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err("the worker thread ended without a result"))
+            }
+        }
+    }
+}
+
+/// One column of a series CSV: numbers, or text where any row is not a number.
+enum Column {
+    Numbers(Vec<f64>),
+    Text(Vec<String>),
+}
+
+impl Column {
+    /// Numbers as a float64 numpy array (moved, not copied); text as a list of str.
+    fn into_py(self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        Ok(match self {
+            Column::Numbers(v) => v.into_pyarray(py).into_any().unbind(),
+            Column::Text(v) => v.into_pyobject(py)?.into_any().unbind(),
+        })
+    }
+}
+
+/// Reads a series CSV the tool wrote (`simulate --csv`, `sil --csv`): its header and its
+/// columns, each all numbers (a float64 numpy array, parsed exactly as Rust parses the tool's
+/// own output) or text (a list of str). Raises ValueError naming the line of a row with the wrong number of fields.
+#[pyfunction]
+fn read_series_csv(py: Python<'_>, path: std::path::PathBuf) -> PyResult<(Vec<String>, Vec<Py<PyAny>>)> {
+    let (header, columns) = py.detach(move || -> PyResult<(Vec<String>, Vec<Column>)> {
+        let mut r = csv::Reader::from_path(&path).map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
+        let header: Vec<String> = r
+            .headers()
+            .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let mut text: Vec<Vec<String>> = vec![Vec::new(); header.len()];
+        for (i, row) in r.records().enumerate() {
+            let row = row.map_err(|e| PyValueError::new_err(format!("{}: line {}: {e}", path.display(), i + 2)))?;
+            for (c, field) in row.iter().enumerate() {
+                text[c].push(field.to_string());
+            }
+        }
+        let columns = text
+            .into_iter()
+            .map(|col| match col.iter().map(|x| x.parse::<f64>()).collect::<Result<Vec<f64>, _>>() {
+                Ok(v) => Column::Numbers(v),
+                Err(_) => Column::Text(col),
+            })
+            .collect();
+        Ok((header, columns))
+    })?;
+    let columns = columns.into_iter().map(|c| c.into_py(py)).collect::<PyResult<Vec<_>>>()?;
+    Ok((header, columns))
+}
+
+/// The tool's version (the host crate's).
+#[pyfunction]
+fn version() -> &'static str {
+    stickslip::VERSION
+}
+
+#[pymodule]
+fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(read_series_csv, m)?)?;
+    Ok(())
+}

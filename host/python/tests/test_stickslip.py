@@ -1,0 +1,225 @@
+"""The Python module against the `stickslip` binary: the same inputs give the same JSON, value for
+value; bad input raises with the binary's one-line message; arrays in give what the same
+samples in a file give.
+
+The binary is `STICKSLIP_BIN`, or target/release/stickslip of this repository (build it with
+`cargo build --release` first).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stickslip
+
+REPO = Path(__file__).resolve().parents[3]
+BIN = os.environ.get("STICKSLIP_BIN", str(REPO / "target" / "release" / "stickslip"))
+RECORDINGS = REPO / "host" / "tests" / "data" / "recordings"
+
+
+def tool(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([BIN, *args], capture_output=True, text=True, timeout=600)
+
+
+def tool_json(*args: str) -> dict:
+    p = tool(*args, "--json")
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stdout)
+
+
+def without(d: dict, *keys: str) -> dict:
+    return {k: v for k, v in d.items() if k not in keys}
+
+
+def same(a, b, path="") -> None:
+    """Equal value for value (NaN equal to NaN), naming the first difference."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        assert a.keys() == b.keys(), f"{path}: keys {sorted(a.keys() ^ b.keys())}"
+        for k in a:
+            same(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list) and isinstance(b, list):
+        assert len(a) == len(b), f"{path}: lengths {len(a)} and {len(b)}"
+        for i, (x, y) in enumerate(zip(a, b)):
+            same(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) and isinstance(b, float) and math.isnan(a):
+        assert math.isnan(b), f"{path}: NaN and {b}"
+    else:
+        assert a == b and type(a) is type(b), f"{path}: {a!r} and {b!r}"
+
+
+def test_the_binary_is_there():
+    assert Path(BIN).exists(), f"build the binary first (cargo build --release): {BIN}"
+    assert stickslip.version() == tool("--version").stdout.split()[-1]
+
+
+@pytest.mark.parametrize("scene", ["push_trail", "push_center", "push_lead", "pull_trail", "pull_center", "pull_lead"])
+def test_simulate_equals_the_binary_on_the_six_cases(scene):
+    same(stickslip.simulate(scene), tool_json("simulate", scene))
+
+
+def test_cases_equals_the_binary():
+    same(stickslip.cases(), tool_json("cases"))
+
+
+def test_scene_overrides_are_a_scene_file(tmp_path):
+    text = tool("scenes", "show", "push_center").stdout.replace("beta = 0.04 ", "beta = 0.03 ")
+    assert "beta = 0.03" in text
+    f = tmp_path / "s.toml"
+    f.write_text(text)
+    same(stickslip.simulate("push_center", beta=0.03), tool_json("simulate", str(f)))
+    # a dict is a scene file of its keys: keys left out take the default pad's values
+    g = tmp_path / "d.toml"
+    g.write_text('name = "d"\nbeta = 0.03\nmu_k = 0.3\n')
+    same(stickslip.simulate({"name": "d", "beta": 0.03, "mu_k": 0.3}), tool_json("simulate", str(g)))
+
+
+def test_run_flags_are_flags():
+    same(stickslip.simulate("oracle_stribeck", dt=1e-4, precision="f32"), tool_json("simulate", "oracle_stribeck", "--dt", "1e-4", "--precision", "f32"))
+
+
+def test_series_are_the_csv(tmp_path):
+    out = stickslip.simulate("pull_center", series=True, duration=0.2, stats_from=0.1)
+    f = tmp_path / "s.csv"
+    p = tool("simulate", "pull_center", "--duration", "0.2", "--stats-from", "0.1", "--csv", str(f))
+    assert p.returncode == 0, p.stderr
+    lines = f.read_text().splitlines()
+    header = lines[0].split(",")
+    assert list(out["series"]) == header
+    rows = [l.split(",") for l in lines[1:]]
+    assert len(out["series"]["t_s"]) == len(rows) == 5120
+    for i, name in enumerate(header):
+        col = out["series"][name]
+        if name == "regime":
+            assert list(col) == [r[i] for r in rows]
+        else:
+            assert col.dtype == np.float64
+            assert [float(r[i]) for r in rows] == list(col)
+    same(without(out, "series"), tool_json("simulate", "pull_center", "--duration", "0.2", "--stats-from", "0.1"))
+
+
+def test_sil_equals_the_binary():
+    same(stickslip.sil("pull_center", noise=0.01, seed=3), tool_json("sil", "pull_center", "--noise", "0.01", "--seed", "3"))
+
+
+def test_analyze_equals_the_binary():
+    rec = str(RECORDINGS / "rec.csv")
+    same(stickslip.analyze(rec), tool_json("analyze", rec))
+    uff = str(RECORDINGS / "rec_58b_double.uff")
+    same(stickslip.analyze(uff), tool_json("analyze", uff))
+
+
+def test_analyze_of_arrays_is_that_of_the_same_samples_in_a_file():
+    rec = RECORDINGS / "rec.csv"
+    data = np.genfromtxt(rec, delimiter=",", names=True)
+    names = data.dtype.names
+    dt = np.diff(data["t_s"])
+    arrays = {n: data[n] for n in names if n != "t_s"}
+    from_file = stickslip.analyze(str(rec))
+    # with the time axis as an array: the same samples, the same report (but the file's name)
+    with_time = stickslip.analyze({"t_s": data["t_s"], **arrays})
+    same(without(with_time, "file"), without(from_file, "file"))
+    # with a rate: the time axis k / rate, equal to the file's when its first row is at 0
+    rate = 1.0 / float(np.mean(dt))
+    if data["t_s"][0] == 0.0 and np.allclose(dt, 1.0 / rate, rtol=1e-12, atol=0):
+        with_rate = stickslip.analyze(arrays, rate=rate)
+        assert with_rate["channels"].keys() == from_file["channels"].keys()
+        for ch in from_file["channels"]:
+            a, b = with_rate["channels"][ch], from_file["channels"][ch]
+            for k, v in b.items():
+                if isinstance(v, float):
+                    assert a[k] == pytest.approx(v, rel=1e-9, abs=1e-12), (ch, k)
+
+
+def test_a_map_equals_the_binary_and_gives_arrays():
+    sweeps = ["beta=0.02:0.06:10", "mu_s=0.4:0.6:10"]
+    out = stickslip.map("push_center", sweeps)
+    ref = tool_json("map", "push_center", "--sweep", sweeps[0], "--sweep", sweeps[1])
+    same(without(out, "arrays"), ref)
+    arrays = out["arrays"]
+    assert len(arrays["beta"]) == 100
+    assert list(arrays["beta"]) == [c["params"]["beta"] for c in ref["cells"]]
+    assert list(arrays["from_rest.regime"]) == [c["from_rest"]["regime"] for c in ref["cells"]]
+    got = arrays["from_rest.stick_fraction"]
+    want = [c["from_rest"]["stick_fraction"] for c in ref["cells"]]
+    assert all((w is None and math.isnan(g)) or g == w for g, w in zip(got, want))
+
+
+def test_a_small_fit_equals_the_binary():
+    args = dict(table="thesis_table_3_1", starts=1, max_iters=20)
+    out = stickslip.fit("push_center", ["mu_k"], **args)
+    ref = tool_json("fit", "--scene", "push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--starts", "1", "--max-iters", "20")
+    # the wall time is the only field that may differ
+    same(without(out, "seconds"), without(ref, "seconds"))
+
+
+@pytest.mark.parametrize(
+    "call, args",
+    [
+        (lambda: stickslip.simulate("no_such_scene"), ["simulate", "no_such_scene"]),
+        (lambda: stickslip.simulate("push_center", dt=0), ["simulate", "push_center", "--dt", "0"]),
+        (lambda: stickslip.map("push_center", ["bogus=1:2:3"]), ["map", "push_center", "--sweep", "bogus=1:2:3"]),
+        (lambda: stickslip.analyze(str(RECORDINGS / "missing.csv")), ["analyze", str(RECORDINGS / "missing.csv")]),
+        (lambda: stickslip.cli("frobnicate"), ["frobnicate"]),
+        (lambda: stickslip.sil("push_center", noise=-1), ["sil", "push_center", "--noise", "-1"]),
+    ],
+)
+def test_bad_input_raises_value_error_with_the_binarys_message(call, args):
+    p = tool(*args)
+    assert p.returncode == 2
+    line = p.stderr.strip().splitlines()[-1]
+    with pytest.raises(ValueError) as e:
+        call()
+    assert "error: " + str(e.value) == line
+
+
+def test_a_bad_scene_key_names_the_field():
+    with pytest.raises(ValueError, match=r"field `m` = -1"):
+        stickslip.simulate("push_center", m=-1.0)
+    with pytest.raises(ValueError, match=r"beta"):
+        stickslip.simulate("push_center", beta=0.2)
+    with pytest.raises(ValueError, match=r"scene key `beta`"):
+        stickslip.simulate("push_center", beta=[1, 2])
+
+
+def test_bad_arrays_raise():
+    with pytest.raises(ValueError, match="rate"):
+        stickslip.analyze({"pad_x": np.zeros(100)})
+    with pytest.raises(ValueError, match="differ in length"):
+        stickslip.analyze({"pad_x": np.zeros(100), "disc_x": np.zeros(99)}, rate=1000.0)
+    with pytest.raises(ValueError, match="rate"):
+        stickslip.analyze({"pad_x": np.zeros(100)}, rate=-1.0)
+
+
+def test_help_is_text_not_an_error():
+    assert stickslip.cli("simulate", "--help") == tool("simulate", "--help").stdout
+
+
+def test_scenes_lists_every_builtin():
+    names = [s["name"] for s in stickslip.scenes()]
+    assert names[:6] == ["push_trail", "push_center", "push_lead", "pull_trail", "pull_center", "pull_lead"]
+    table = tool("scenes").stdout
+    assert all(re.search(rf"^{re.escape(n)}\s", table, re.M) for n in names)
+    assert stickslip.scene("push_center")["beta"] == 0.04
+
+
+def test_the_worked_example_in_docs_python_md_runs(tmp_path, monkeypatch):
+    """docs/python.md's example, run as written (matplotlib drawing to a file if it is installed)."""
+    text = (REPO / "docs" / "python.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert blocks, "docs/python.md has no ```python block"
+    monkeypatch.chdir(tmp_path)
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    scope = {"RECORDING": str(RECORDINGS / "rec.csv")}
+    for b in blocks:
+        exec(compile(b, "docs/python.md", "exec"), scope)
