@@ -198,6 +198,42 @@ def test_bad_arrays_raise():
         stickslip.analyze({"pad_x": np.zeros(100)}, rate=-1.0)
 
 
+def test_channels_name_the_columns():
+    rec = RECORDINGS / "rec.csv"
+    data = np.genfromtxt(rec, delimiter=",", names=True)
+    renamed = {"t_s": data["t_s"], "acc_a": data["pad_x"], "acc_b": data["disc_x"]}
+    got = stickslip.analyze(renamed, channels={"pad_x": "acc_a", "disc_x": "acc_b"})
+    plain = stickslip.analyze({"t_s": data["t_s"], "pad_x": data["pad_x"], "disc_x": data["disc_x"]})
+    same(without(got, "file"), without(plain, "file"))
+
+
+def test_ctrl_c_interrupts_a_long_call():
+    """SIGINT during a 100 x 100 map (about 10 s of work) raises KeyboardInterrupt in the caller;
+    the timeout only guards against a hang."""
+    import signal
+    import sys
+
+    code = (
+        "import stickslip, sys\n"
+        "print('started', flush=True)\n"
+        "try:\n"
+        "    stickslip.map('push_center', ['beta=0.005:0.075:100', 'mu_s=0.36:0.8:100'])\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n"
+        "    sys.exit(7)\n"
+        "print('finished', flush=True)\n"
+    )
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "started"
+    import time
+
+    time.sleep(0.5)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 7, (out, err)
+    assert "interrupted" in out
+
+
 def test_help_is_text_not_an_error():
     assert stickslip.cli("simulate", "--help") == tool("simulate", "--help").stdout
 

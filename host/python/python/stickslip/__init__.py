@@ -262,8 +262,8 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
     """Analyses a recording, as ``stickslip analyze FILE --json``.
 
     ``recording``: a file (CSV, UFF 58/58b, WAV), or a dict of channel name -> array (disc_x,
-    pad_x, pad_trail, pad_lead [m/s^2]; other names with ``channel={"pad_x": "name"}``) with
-    either ``rate`` [samples/s] or a time array ``t_s`` [s].
+    pad_x, pad_trail, pad_lead [m/s^2]; other names with ``channels={"pad_x": "name"}``, the
+    tool's ``--channel``) with either ``rate`` [samples/s] or a time array ``t_s`` [s].
     """
     call = _Call("analyze")
     if isinstance(recording, Mapping):
@@ -272,6 +272,8 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
         raise ValueError("rate: only for a recording given as arrays (a file carries its own time axis)")
     else:
         call.args.append(os.fspath(recording))
+    if "channels" in kwargs:  # the issue's name; the flag is --channel
+        kwargs["channel"] = kwargs.pop("channels")
     scene = kwargs.pop("scene", None)
     if scene is not None:
         kwargs["scene"] = call.scene(scene, {})
