@@ -17,6 +17,9 @@
 //!
 //! Every other run, f32 and f64, is bit-identical to af3be34.
 
+#[path = "common/pinned.rs"]
+mod pinned;
+use pinned::PinnedRow;
 use stickslip_model::digest::{DigestBits, Fnv1a64};
 use stickslip_model::catalogue::CASE_BETAS;
 use stickslip_model::{Caliper, ExactStepper, Real, Scene, DEFAULT_SCENE};
@@ -63,7 +66,7 @@ fn digest<T: Real + DigestBits>(scene: &Scene) -> u64 {
 }
 
 /// (scene, dt, f32 digest, f64 digest), pinned on af3be34 (three rows re-pinned on branch crest).
-const PINNED: &[(&str, f64, u64, u64)] = &[
+const PINNED: &[PinnedRow] = &[
     ("push_trail", 3.90625e-5, 0x56909c8c498e8811, 0x335f7107590556fb),
     ("push_trail", 0.001, 0xc956c5bbae6900be, 0x4dfb8b4f86607849),
     ("push_center", 3.90625e-5, 0x1173da501f708092, 0x2932073910ebe1e6),
@@ -84,19 +87,5 @@ const PINNED: &[(&str, f64, u64, u64)] = &[
 
 #[test]
 fn the_thesis_set_is_bit_identical_to_its_pinned_digests() {
-    let mut rows = Vec::new();
-    let mut bad = Vec::new();
-    for (name, base) in thesis_set() {
-        for dt in [1.0 / 25600.0, 1e-3] {
-            let mut s = base;
-            s.dt = dt;
-            let (d32, d64) = (digest::<f32>(&s), digest::<f64>(&s));
-            rows.push(format!("    (\"{name}\", {dt:?}, 0x{d32:016x}, 0x{d64:016x}),"));
-            match PINNED.iter().find(|r| r.0 == name && r.1 == dt) {
-                Some(r) if r.2 == d32 && r.3 == d64 => {}
-                _ => bad.push(format!("{name} at dt {dt}")),
-            }
-        }
-    }
-    assert!(bad.is_empty(), "changed: {bad:?}\nnow:\n{}", rows.join("\n"));
+    pinned::assert_pinned(thesis_set(), PINNED, |s| (digest::<f32>(s), digest::<f64>(s)));
 }
