@@ -48,6 +48,7 @@ fn main() -> ExitCode {
             scene: stickslip::cli::DEFAULT_SCENE.into(),
             csv: None,
             json: false,
+            grid: false,
             run: RunOptions {
                 dt: None,
                 duration: None,

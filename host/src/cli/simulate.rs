@@ -17,6 +17,12 @@ pub struct SimulateArgs {
     /// Print one JSON object instead of the summary
     #[arg(long)]
     pub json: bool,
+    /// Step on the sample grid even without --csv. By default a model-2 scene in f64 without
+    /// --csv runs event-driven (exact flows between events, an error-controlled Runge-Kutta
+    /// pair in Stribeck slip; the summary's precision line then says so); the thesis model,
+    /// f32, --csv and any run the event path gives back (a halt) step on the grid
+    #[arg(long)]
+    pub grid: bool,
     #[command(flatten)]
     pub run: RunOptions,
 }
