@@ -7,7 +7,7 @@
 use crate::model2::system::{Mat9, NA, NS, ONE};
 
 /// Terms kept: w_0 .. w_{TERMS-1} (z'' needs two more than z).
-const TERMS: usize = 34;
+const TERMS: usize = 26;
 /// The highest power of s the state's polynomial uses.
 const ORDER: usize = TERMS - 3;
 
@@ -38,21 +38,17 @@ impl Taylor {
     /// Whether the series has converged to round-off at offsets up to `s` [s]: each entry's
     /// last two terms (of z, z' and z'') below 1e-17 of its largest term.
     pub fn converged(&self, s: f64) -> bool {
-        for i in 0..NS {
-            for shift in 0..3 {
-                let mut term = 1.0;
+        let mut c = [1.0; ORDER + 1];
+        for k in 1..=ORDER {
+            c[k] = c[k - 1] * s / k as f64;
+        }
+        for shift in 0..3 {
+            for i in 0..NS {
                 let mut big: f64 = 0.0;
-                let mut tail: f64 = 0.0;
                 for k in 0..=ORDER {
-                    if k > 0 {
-                        term *= s / k as f64;
-                    }
-                    let v = libm::fabs(term * self.w[k + shift][i]);
-                    big = big.max(v);
-                    if k + 2 > ORDER {
-                        tail += v;
-                    }
+                    big = big.max(libm::fabs(c[k] * self.w[k + shift][i]));
                 }
+                let tail = libm::fabs(c[ORDER - 1] * self.w[ORDER - 1 + shift][i]) + libm::fabs(c[ORDER] * self.w[ORDER + shift][i]);
                 if !(tail <= 1e-17 * big) && tail > 0.0 {
                     return false;
                 }

@@ -40,7 +40,7 @@ pub mod flow;
 pub mod rk;
 
 /// The default tolerance of Stribeck slip (see the module comment).
-pub const DEFAULT_RTOL: f64 = 1e-11;
+pub const DEFAULT_RTOL: f64 = 1e-10;
 /// Smallest magnitude a component's error is taken relative to [SI units].
 const SCALE_FLOOR: f64 = 1e-12;
 /// A guard is located to this fraction of the step (then to the time's round-off); an extremum
