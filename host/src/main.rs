@@ -49,6 +49,7 @@ fn main() -> ExitCode {
             csv: None,
             json: false,
             grid: false,
+            events: false,
             run: RunOptions {
                 dt: None,
                 duration: None,

@@ -21,7 +21,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<String> {
             r
         }
         None => {
-            if let Some((r, ev)) = (!a.grid).then(|| event::try_run(&ns.scene, precision)).transpose()?.flatten() {
+            if let Some((r, ev)) = (!a.grid).then(|| event::try_run(&ns.scene, precision, a.events)).transpose()?.flatten() {
                 return Ok(if a.json {
                     to_json(&SimulateJson::new(&ns, &r))
                 } else {

@@ -2,7 +2,9 @@
 //! `model2::event_run`), with the sampled run's observers and report, for runs that need no
 //! samples on the grid (`simulate` without `--csv`, `cases`).
 //!
-//! Covered: every model-2 scene (Stribeck or Coulomb friction, the band, the face, the
+//! Used by default where it pays ([`pays`]: a scene whose fastest mode is slow against the
+//! sample rate, such as the 1-DOF Stribeck oracle); `simulate --events` runs it wherever it
+//! covers the scene. Covered: every model-2 scene (Stribeck or Coulomb friction, the band, the face, the
 //! floating pad) in f64 from the rest start. Not covered, and run on the sampled path: the
 //! thesis model, f32, a run over the work budget, and every run the event runner gives back
 //! (a state out of range, that is a halt, or a step size underflow: [`Fallback`]).
@@ -40,7 +42,24 @@ impl EventRun {
 
 /// Whether the event path covers `scene` in `precision` (before running it).
 pub fn covers(scene: &Scene, precision: Precision) -> bool {
-    precision == Precision::F64 && scene.uses_model2()
+    if !(precision == Precision::F64 && scene.uses_model2()) {
+        return false;
+    }
+    true
+}
+
+/// The fastest linear mode's turn per sample, dt x rate [rad], above which the grid is
+/// cheaper (the rig sets, at about 0.1 rad per sample, run 4 to 7 times slower event-driven:
+/// their error-controlled steps are a few hundredths of a radian; `simulate rig_push_trail`
+/// against `simulate rig_push_trail --grid`).
+pub const PAYS_BELOW_RAD_PER_SAMPLE: f64 = 0.005;
+
+/// Whether the event path is expected to be cheaper than the grid for `scene`: its fastest
+/// linear mode turns at most [`PAYS_BELOW_RAD_PER_SAMPLE`] per sample (oracle_stribeck: 4e-4).
+pub fn pays(scene: &Scene) -> bool {
+    let co = Coefficients::of(scene);
+    let rate = System::of(scene, &co).linear_rate(scene, &co);
+    rate * scene.dt <= PAYS_BELOW_RAD_PER_SAMPLE
 }
 
 /// The sampled path's work budget of `scene`, from its substep rule (the same count the
@@ -95,8 +114,11 @@ pub fn run(scene: &Scene, precision: Precision, rtol: f64) -> Result<Option<std:
     Ok(Some(Ok((report, EventRun { rtol, counts: runner.counts() }))))
 }
 
-/// [`run`] at the default tolerance, or None (not covered, or given back: run the sampled
-/// path).
-pub fn try_run(scene: &Scene, precision: Precision) -> Result<Option<(RunReport, EventRun)>> {
+/// [`run`] at the default tolerance where it [`pays`] (or wherever it covers the scene, with
+/// `force`), or None (not covered, not paying, or given back: run the sampled path).
+pub fn try_run(scene: &Scene, precision: Precision, force: bool) -> Result<Option<(RunReport, EventRun)>> {
+    if !force && !pays(scene) {
+        return Ok(None);
+    }
     Ok(run(scene, precision, DEFAULT_RTOL)?.and_then(|r| r.ok()))
 }
