@@ -163,3 +163,26 @@ fn a_run_out_of_range_falls_back_to_the_grid() {
     }
     assert!(event::try_run(&scene, Precision::F64, true).unwrap().is_none());
 }
+
+/// A 2-DOF Stribeck case and a rig-set case (Stribeck, band, face, damping) against the
+/// reference: frequency, x pp, x' pp and stick fraction within 1e-8 (measured up to 1.7e-10;
+/// the sampled path is held to 1e-5 on the same scenes by model2_reference.rs).
+#[test]
+fn two_dof_stribeck_and_the_rig_set_match_the_reference() {
+    let mut stribeck = Scene::case(Caliper::Pull, 0.040);
+    stribeck.friction = FrictionLaw::Stribeck;
+    stribeck.v_s = 0.002;
+    let rig = builtin::find("rig_pull_center").unwrap().scene;
+    for (name, scene) in [("pull_center + Stribeck", stribeck), ("rig_pull_center", rig)] {
+        let r = reference::simulate(&scene).unwrap().stats(&scene).unwrap();
+        let e = event_report(&scene);
+        let errors = [
+            rel(e.stats.stick_slip_hz, r.stick_slip_hz),
+            rel(e.pp(0).unwrap(), r.pp(0)),
+            rel(e.pp(1).unwrap(), r.pp(1)),
+            (e.stats.stick_fraction - r.stick_fraction).abs(),
+        ];
+        println!("{name} {errors:?}");
+        assert!(errors.iter().all(|&x| x <= 1e-8), "{name} {errors:?}");
+    }
+}
