@@ -37,6 +37,8 @@ pub fn default_command() -> Command {
         scene: DEFAULT_SCENE.into(),
         csv: None,
         json: false,
+        grid: false,
+        events: false,
         run: RunOptions { dt: None, duration: None, stats_from: None, precision: Precision::F64 },
     })
 }

@@ -4,7 +4,7 @@ use super::{overrides, to_json};
 use crate::cli::{ScenesAction, ScenesArgs, SimulateArgs};
 use crate::error::Result;
 use crate::output::report::{self, SimulateJson};
-use crate::scenes::builtin;
+use crate::scenes::{builtin, event};
 use crate::scenes::run::{self, Precision};
 use crate::scenes::scene_file;
 use crate::scenes::scene_source::{self, Overrides};
@@ -20,13 +20,35 @@ pub fn simulate(a: &SimulateArgs) -> Result<String> {
             sink.finish()?;
             r
         }
-        None => run::run(&ns.scene, precision, &mut NoSink)?,
+        None => {
+            if let Some((r, ev)) = (!a.grid).then(|| event::try_run(&ns.scene, precision, a.events)).transpose()?.flatten() {
+                return Ok(if a.json {
+                    to_json(&SimulateJson::new(&ns, &r))
+                } else {
+                    with_method(report::summary(&ns, &r), &ev.describe())
+                });
+            }
+            run::run(&ns.scene, precision, &mut NoSink)?
+        }
     };
     Ok(if a.json {
         to_json(&SimulateJson::new(&ns, &report))
     } else {
         report::summary(&ns, &report)
     })
+}
+
+/// The summary with the method after its precision line's value ("f64 (event-driven: ...)").
+fn with_method(summary: String, method: &str) -> String {
+    let mut out = String::with_capacity(summary.len() + method.len() + 3);
+    for l in summary.lines() {
+        out.push_str(l);
+        if l.starts_with("precision ") {
+            out.push_str(&format!(" ({method})"));
+        }
+        out.push('\n');
+    }
+    out
 }
 
 pub fn scenes(a: &ScenesArgs) -> Result<String> {

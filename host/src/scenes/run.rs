@@ -188,9 +188,9 @@ impl RunReport {
 
 /// Whole-run transition log: count and first slip.
 #[derive(Default)]
-struct EventLog {
-    transitions: u64,
-    first_slip: Option<f64>,
+pub(crate) struct EventLog {
+    pub(crate) transitions: u64,
+    pub(crate) first_slip: Option<f64>,
 }
 
 /// Forwards every segment and transition to the window statistics, the cycle spread and the
@@ -326,10 +326,10 @@ fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, f
 }
 
 /// The model-2 run's observers: window statistics, cycle spread, transition log.
-struct Model2RunObserver {
-    stats: Model2StatsObserver,
-    cycles: CycleObserver,
-    log: EventLog,
+pub(crate) struct Model2RunObserver {
+    pub(crate) stats: Model2StatsObserver,
+    pub(crate) cycles: CycleObserver,
+    pub(crate) log: EventLog,
 }
 
 impl<T: Real> Model2Observer<T> for Model2RunObserver {

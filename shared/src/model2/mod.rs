@@ -5,6 +5,8 @@
 //! - [`composition`]: which options a stepper is compiled for (band; Stribeck or Coulomb; face).
 //! - [`stepper`]: the fixed-step stepper (exact flows for the linear regimes, ETDRK4 for
 //!   Stribeck slip, in-step transitions and crests), generic over its composition.
+//! - [`event_run`]: statistics at event speed (exact flows and an error-controlled Runge-Kutta
+//!   pair from event to event, no samples on the grid; host runs that need only statistics).
 //! - [`any`]: the stepper of the composition a scene asks for, chosen at run time (host).
 //! - [`stats`]: window statistics of a model-2 run (extremes inside segments by cubic Hermite
 //!   interpolation of the state and its derivative).
@@ -13,6 +15,7 @@
 //! transition table, with the sliding velocity and the required force of model 2).
 pub mod any;
 pub mod composition;
+pub mod event_run;
 pub mod stats;
 pub mod stepper;
 pub mod system;

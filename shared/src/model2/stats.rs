@@ -51,6 +51,9 @@ pub struct Model2StatsObserver {
     onsets: crate::stats::OnsetRate,
     /// Keep the extremes (false: only the window's time, stick time and transitions).
     extremes: bool,
+    /// Look for extremes inside segments (false: the segments end at every extreme, as the
+    /// event run's do).
+    interpolate: bool,
 }
 
 impl Model2StatsObserver {
@@ -76,7 +79,16 @@ impl Model2StatsObserver {
             stick_s: 0.0,
             t_end: t_from,
             onsets: crate::stats::OnsetRate::new(),
+            interpolate: true,
         }
+    }
+
+    /// The same observer for segments that end at every extreme of the quantities (the event
+    /// run, [`crate::model2::event_run`]): the values at the segments' ends only, no
+    /// interpolation inside.
+    pub fn without_interpolation(mut self) -> Self {
+        self.interpolate = false;
+        self
     }
 
     fn take(&mut self, i: usize, v: f64) {
@@ -173,7 +185,7 @@ impl<T: Real> Model2Observer<T> for Model2StatsObserver {
                 self.take(q, z0[i] + off);
             }
             self.take(q, z1[i] + off);
-            if h > 0.0 && seg.t0 >= self.t_from {
+            if self.interpolate && h > 0.0 && seg.t0 >= self.t_from {
                 let mut found = [f64::NAN; 2];
                 let mut k = 0;
                 hermite_extremes(z0[i], z1[i], h * d0[i], h * d1[i], |v| {
