@@ -138,9 +138,9 @@ pub(super) fn neighbourhood_best(p: &Problem, u: &[f64], cost: f64) -> Option<Ve
         .iter()
         .map(|&s| if s > 0.0 { ((2.0 * cost).sqrt() / s).min(NEIGHBOURHOOD_SPAN) } else { NEIGHBOURHOOD_SPAN })
         .collect();
-    let screen: Vec<Vec<f64>> = (1..=NEIGHBOURHOOD_POINTS_PER_KEY * n)
-        .map(|k| {
-            let z: Vec<f64> = (0..half.len()).map(|i| half[i] * (2.0 * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()]) - 1.0)).collect();
+    let screen: Vec<Vec<f64>> = halton_unit_points(NEIGHBOURHOOD_POINTS_PER_KEY * n, half.len())
+        .map(|h| {
+            let z: Vec<f64> = h.iter().zip(&half).map(|(h, s)| s * (2.0 * h - 1.0)).collect();
             (0..n).map(|j| u[j] + (0..z.len()).map(|i| v_t[(i, j)] * z[i]).sum::<f64>()).collect()
         })
         .collect();

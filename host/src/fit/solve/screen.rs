@@ -17,6 +17,13 @@ pub(super) fn halton(mut k: u32, b: u32) -> f64 {
     x
 }
 
+/// Points 1 ..= `count` of the Halton sequence in `dim` dimensions (base [`HALTON_BASES`]`[i]`
+/// in dimension i), in the unit box [0, 1)^dim: the screen's points and the polish's
+/// neighbourhood are these, mapped onto their boxes.
+pub(super) fn halton_unit_points(count: usize, dim: usize) -> impl Iterator<Item = Vec<f64>> {
+    (1..=count).map(move |k| (0..dim).map(|i| halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()])).collect())
+}
+
 /// Screen of the first horizon stage: this many points per free key, spread over
 /// start / [`SCREEN_FACTOR`] .. start x [`SCREEN_FACTOR`] by a Halton sequence.
 pub const SCREEN_POINTS_PER_KEY: usize = 64;
@@ -42,22 +49,22 @@ pub fn screened_starts(first: &Problem, starts: usize, span: Option<f64>, per_ke
         return vec![vec![0.0; n]];
     }
     let t0 = std::time::Instant::now();
-    let point = |k: usize| -> Vec<f64> {
-        first
-            .free
-            .iter()
-            .enumerate()
-            .map(|(i, f)| {
-                let (mut a, mut b) = ((f.lo / f.start).ln(), (f.hi / f.start).ln());
-                if let Some(sp) = span {
-                    a = a.max(-sp);
-                    b = b.min(sp);
-                }
-                a + (b - a) * halton(k as u32, HALTON_BASES[i % HALTON_BASES.len()])
-            })
-            .collect()
-    };
-    let screen: Vec<Vec<f64>> = (1..=per_key * n).map(point).collect();
+    // the box in u = ln(p / p_start): the bounds, or e^span either way inside them
+    let sides: Vec<(f64, f64)> = first
+        .free
+        .iter()
+        .map(|f| {
+            let (mut a, mut b) = ((f.lo / f.start).ln(), (f.hi / f.start).ln());
+            if let Some(sp) = span {
+                a = a.max(-sp);
+                b = b.min(sp);
+            }
+            (a, b)
+        })
+        .collect();
+    let screen: Vec<Vec<f64>> = halton_unit_points(per_key * n, n)
+        .map(|h| h.iter().zip(&sides).map(|(h, (a, b))| a + (b - a) * h).collect())
+        .collect();
     let costs: Vec<f64> = screen.par_iter().map(|u| first.residuals(u).map_or(OUTSIDE, |r| cost_of(&r))).collect();
     let mut order: Vec<usize> = (0..screen.len()).filter(|&i| costs[i] < OUTSIDE).collect();
     order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
