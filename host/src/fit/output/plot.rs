@@ -14,33 +14,6 @@ pub(super) const CASE_COLOURS: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
 ];
 
-/// The ticks of a log axis over [lo, hi] at 1, 2 and 5 of each decade.
-pub(super) fn ticks_125(lo: f64, hi: f64) -> Vec<f64> {
-    let mut v = Vec::new();
-    let mut d = lo.log10().floor() as i32;
-    while 10f64.powi(d) <= hi * 1.000001 {
-        for m in [1.0, 2.0, 5.0] {
-            let x = m * 10f64.powi(d);
-            if x >= lo * 0.999999 && x <= hi * 1.000001 {
-                v.push(x);
-            }
-        }
-        d += 1;
-    }
-    v
-}
-
-/// A tick's label: the shortest decimal, or 1e-4 style outside 1e-3 .. 1e5.
-pub(super) fn tick_label(x: f64) -> String {
-    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) {
-        let e = x.abs().log10().floor() as i32;
-        let m = x / 10f64.powi(e);
-        return if (m - 1.0).abs() < 1e-9 { format!("1e{e}") } else { format!("{}e{e}", m.round()) };
-    }
-    let s = format!("{x:.6}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
 /// Draws a channel's marker at `at` on `area` in `colour` (filled: fitted; open: held out):
 /// disc_x a circle, pad_x a triangle, pad_trail a cross, pad_lead a square, a per-case
 /// statistic a diamond.
@@ -103,7 +76,7 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
         let vals = pts.iter().flat_map(|(c, _)| [c.measured, c.model.unwrap_or(c.measured)]);
         let (lo, hi) = vals.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
         let (lo, hi) = (lo / 1.5, hi * 1.5);
-        let mut ticks = ticks_125(lo, hi);
+        let mut ticks = style::ticks_log(lo, hi);
         if ticks.len() > 9 {
             ticks.retain(|x| (x / 10f64.powf(x.log10().floor()) - 1.0).abs() < 1e-9);
         }
@@ -116,11 +89,11 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
             .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
-            .x_desc("measured")
-            .y_desc("model")
+            .x_desc(style::axis_label("measured", stat.unit()))
+            .y_desc(style::axis_label("model", stat.unit()))
             .label_style((style::FONT, 11))
-            .x_label_formatter(&|x| tick_label(*x))
-            .y_label_formatter(&|x| tick_label(*x))
+            .x_label_formatter(&|x| style::tick_label(*x))
+            .y_label_formatter(&|x| style::tick_label(*x))
             .light_line_style(WHITE.mix(0.0))
             .bold_line_style(BLACK.mix(0.08))
             .draw()
