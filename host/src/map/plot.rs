@@ -305,6 +305,8 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
             hi = lo + 1.0;
         }
         let pad = 0.05 * (hi - lo);
+        // room above the data for the legend (upper right), so that it covers no line
+        let top = hi + pad + style::LEGEND_ROOM * (hi - lo);
         let mut chart = ChartBuilder::on(panel)
             .caption(caption.as_str(), (style::FONT, 15))
             .margin(12)
@@ -312,7 +314,7 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
             .y_label_area_size(70)
             .build_cartesian_2d(
                 style::TickedAxis { range: -0.5..a.n as f64 - 0.5, ticks: ax.positions() },
-                style::TickedAxis { range: lo - pad..hi + pad, ticks: style::ticks_linear(lo - pad, hi + pad, style::MAX_TICKS) },
+                style::TickedAxis { range: lo - pad..top, ticks: style::ticks_linear(lo - pad, top, style::MAX_TICKS) },
             )
             .map_err(|e| style::draw_err(path, e))?;
         chart
@@ -327,7 +329,7 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
             .map_err(|e| style::draw_err(path, e))?;
         for &x in &boundary {
             chart
-                .draw_series(std::iter::once(PathElement::new(vec![(x, lo - pad), (x, hi + pad)], BLACK.stroke_width(1))))
+                .draw_series(std::iter::once(PathElement::new(vec![(x, lo - pad), (x, top)], BLACK.stroke_width(1))))
                 .map_err(|e| style::draw_err(path, e))?;
         }
         for (label, pts, col, dashed) in series {

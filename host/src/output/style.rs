@@ -7,7 +7,8 @@
 //! - **labels as short as the step needs**: [`tick_label`] (as many decimals as the span or
 //!   step needs, no trailing zeros, no "-0");
 //! - **a unit on every axis**: `name [unit]`, [`axis_label`] (`[-]` for a ratio);
-//! - **no overlapping labels**: at most [`MAX_TICKS`] ticks an axis, legends in a box.
+//! - **no overlapping labels**: at most [`MAX_TICKS`] ticks an axis, legends in a box, with
+//!   room kept for them above the data of a line chart ([`LEGEND_ROOM`]).
 
 use std::ops::Range;
 use std::path::Path;
@@ -123,6 +124,10 @@ impl Ranged for TickedAxis {
 pub fn draw_err(path: &Path, e: impl std::fmt::Display) -> HostError {
     HostError::Output(format!("{}: cannot write the figure: {e}", path.display()))
 }
+
+/// Room above the data for a legend in the upper corner of a line chart, as a fraction of the
+/// data's span: the legend covers no line.
+pub const LEGEND_ROOM: f64 = 0.3;
 
 /// Width of a legend entry's line sample [px] (plotters' default).
 pub const LEGEND_LINE: u32 = 30;
