@@ -8,6 +8,8 @@
 # NAME                where                  from
 # simulate-summary    README.md              `stickslip simulate` (the default scene), a few of
 #                                            its lines
+# bad-inputs          docs/checks.md         the count of each outcome of scripts/bad-inputs.sh
+#                                            (its output given by --bad-inputs FILE, or run)
 # per-sample-cost     firmware/README.md     the `instructions rig_sample ...` lines of
 #                                            scripts/count-instructions.sh (--counts FILE)
 #
@@ -16,6 +18,8 @@
 #   bash scripts/docs-tables.sh                      rewrite the host-command blocks in place
 #   bash scripts/docs-tables.sh --check              fail (exit 1, with the diff) if a block
 #                                                    differs from what the command prints now
+#   ... --bad-inputs FILE                            the campaign's counts from its saved output
+#                                                    (instead of running it: 20 s)
 #   ... --counts FILE                                also the per-sample cost table, from the
 #                                                    saved output of count-instructions.sh
 #
@@ -29,10 +33,12 @@ cd "$root"
 
 check=false
 counts=""
+bad_log=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --check) check=true ;;
         --counts) counts="$2"; shift ;;
+        --bad-inputs) bad_log="$2"; shift ;;
         *) echo "docs-tables: unknown argument $1" >&2; exit 2 ;;
     esac
     shift
@@ -52,6 +58,14 @@ simulate_summary() {
     echo '```'
 }
 
+bad_inputs() {
+    if [ -z "$bad_log" ]; then
+        bad_log="$work/bad-inputs.log"
+        bash scripts/bad-inputs.sh >"$bad_log"
+    fi
+    sed -n '/^| class | inputs |$/,/^| total | [0-9]* |$/p' "$bad_log"
+}
+
 # 12345 -> "12 345" (the docs' thousands separator)
 grouped() { printf '%d' "$1" | sed -E ':a; s/([0-9])([0-9]{3})($| )/\1 \2\3/; ta'; }
 
@@ -69,7 +83,7 @@ per_sample_cost() {
         "$(grouped "$(val "$b" model_transition_max)")" "$(grouped "$(val "$b" record_start)")"
 }
 
-blocks=("simulate-summary README.md simulate_summary")
+blocks=("simulate-summary README.md simulate_summary" "bad-inputs docs/checks.md bad_inputs")
 if [ -n "$counts" ]; then
     blocks+=("per-sample-cost firmware/README.md per_sample_cost")
 fi

@@ -106,10 +106,10 @@ section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
 echo
 echo "== 4b: the campaign of bad inputs (scripts/bad-inputs.sh: each one line and exit 2 or a classified halt, within 5 s and 200 MB)"
-bash scripts/bad-inputs.sh
+bash scripts/bad-inputs.sh | tee "$root/target/bad-inputs.log"
 echo
-echo "== 4c: the docs' generated blocks are current (scripts/docs-tables.sh --check: README's sample output)"
-bash scripts/docs-tables.sh --check
+echo "== 4c: the docs' generated blocks are current (scripts/docs-tables.sh --check: README's sample output, the campaign's counts)"
+bash scripts/docs-tables.sh --check --bad-inputs "$root/target/bad-inputs.log"
 echo
 echo "== 4d: stickslip record's debug-probe path (cargo feature probe, probe-rs): build and tests"
 cargo test --release -p stickslip --features probe --test record
