@@ -237,19 +237,9 @@ printf 'a,b,c\n1,2,3\n' >t_head.csv
 printf 'case,channel,statistic,value\npush_center,pad_x,pp,10\npush_center,pad_x,pp,11\n' >t_twice.csv
 printf 'case,channel,statistic,value\npush_center,pad_x,pp,10,5\n' >t_ragged.csv
 F=(fit --scene push_center --free mu_k)
-t error "t_sf.csv" "${F[@]}" --table t_sf.csv
-t error "t_huge.csv" "${F[@]}" --table t_huge.csv
-t error "t_tiny.csv" "${F[@]}" --table t_tiny.csv
-t error "t_neg.csv" "${F[@]}" --table t_neg.csv
-t error "t_nan.csv" "${F[@]}" --table t_nan.csv
-t error "t_hz.csv" "${F[@]}" --table t_hz.csv
-t error "t_chan.csv" "${F[@]}" --table t_chan.csv
-t error "t_stat.csv" "${F[@]}" --table t_stat.csv
-t error "t_case.csv" "${F[@]}" --table t_case.csv
-t error "t_empty.csv" "${F[@]}" --table t_empty.csv
-t error "t_head.csv" "${F[@]}" --table t_head.csv
-t error "t_twice.csv" "${F[@]}" --table t_twice.csv
-t error "t_ragged.csv" "${F[@]}" --table t_ragged.csv
+for table in t_sf t_huge t_tiny t_neg t_nan t_hz t_chan t_stat t_case t_empty t_head t_twice t_ragged; do
+    t error "$table.csv" "${F[@]}" --table "$table.csv"
+done
 t error "/dev/zero" "${F[@]}" --table /dev/zero
 t error "random.bin" "${F[@]}" --table random.bin
 t error "--free k_b" fit --scene push_center --free k_b --table thesis_table_3_1

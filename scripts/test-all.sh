@@ -14,8 +14,9 @@
 #   4. host workspace: cargo test --workspace --release; then, as a step of its own, the
 #      debug-probe path of `stickslip record` (cargo feature `probe`, the probe-rs library):
 #      cargo test --release -p stickslip --features probe --test record; and the campaign of
-#      bad inputs, scripts/bad-inputs.sh (python3 and /usr/bin/time, in Debian's base image);
-#      and the Python module (host/python): scripts/python-module.sh (pip, maturin, pytest)
+#      bad inputs, scripts/bad-inputs.sh (python3 and /usr/bin/time, in Debian's base image); the
+#      docs' generated blocks current (scripts/docs-tables.sh --check); and the Python module
+#      (host/python): scripts/python-module.sh (pip, maturin, pytest)
 #   5. the model and the rig's per-sample chain on the emulated Cortex-M4F against the host,
 #      bit for bit (bins digest and rig):
 #      cargo test --release -p stickslip-crosscheck --test on_target -- --ignored
@@ -27,6 +28,7 @@
 #      stack_overflow), which must end in the firmware's fault entry with both valves vented
 #      (--test stack_overflow_on_target)
 #   6. instruction counts under QEMU                                 scripts/count-instructions.sh
+#      (and firmware/README.md's per-sample cost table held to them: scripts/docs-tables.sh)
 #      ExactStepper<f32>::step() (fails above 200 instructions for a step without a
 #      transition) and the rig's per-sample path (fails above 1,500 instructions for a sample
 #      of calibration + estimator + window statistics)
@@ -105,12 +107,15 @@ section "4/8 host workspace: cargo test --workspace --release"
 cargo test --workspace --release
 echo
 echo "== 4b: the campaign of bad inputs (scripts/bad-inputs.sh: each one line and exit 2 or a classified halt, within 5 s and 200 MB)"
-bash scripts/bad-inputs.sh
+bash scripts/bad-inputs.sh | tee "$root/target/bad-inputs.log"
 echo
-echo "== 4c: stickslip record's debug-probe path (cargo feature probe, probe-rs): build and tests"
+echo "== 4c: the docs' generated blocks are current (scripts/docs-tables.sh --check: README's sample output, the campaign's counts)"
+bash scripts/docs-tables.sh --check --bad-inputs "$root/target/bad-inputs.log"
+echo
+echo "== 4d: stickslip record's debug-probe path (cargo feature probe, probe-rs): build and tests"
 cargo test --release -p stickslip --features probe --test record
 echo
-echo "== 4d: the Python module (host/python): built with maturin into a virtual environment, its tests against the binary (scripts/python-module.sh)"
+echo "== 4e: the Python module (host/python): built with maturin into a virtual environment, its tests against the binary (scripts/python-module.sh)"
 bash scripts/python-module.sh
 
 section "5/8 model and rig chain on the emulated Cortex-M4F == on the host, the fault path (QEMU netduinoplus2)"
@@ -143,7 +148,10 @@ cargo run --release -q -p stickslip -- decode --elf "$on_target_dir/records" "$r
 rm -rf "$record_parent"
 
 section "6/8 instruction counts under QEMU (scripts/count-instructions.sh)"
-COUNT_ELF="$on_target_dir/count" RIG_COUNT_ELF="$rig_count_elf" bash "$root/scripts/count-instructions.sh"
+COUNT_ELF="$on_target_dir/count" RIG_COUNT_ELF="$rig_count_elf" bash "$root/scripts/count-instructions.sh" \
+    | tee "$root/target/count-instructions.log"
+# firmware/README.md's per-sample cost table is these counts (fails when it is stale)
+bash scripts/docs-tables.sh --check --counts "$root/target/count-instructions.log"
 
 section "7/8 short work-precision and stability reports, held to their bounds"
 # exit code 3 when a figure regresses past its bound (see `stickslip accuracy --help`)

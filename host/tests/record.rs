@@ -16,27 +16,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use recorded_common::*;
+use recorded_common::defmt_fixture::{frames, kinds as fixture_kinds, ELF, FRAMES, STREAM};
 
-const ELF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.elf");
-const STREAM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.defmt");
-
-/// Frames in the fixture, and its kinds in order (recorded_decode.rs).
-const FRAMES: usize = 14;
-const KINDS: [&str; 13] = [
-    "boot",
-    "config_error",
-    "armed",
-    "start",
-    "state",
-    "command",
-    "event",
-    "window",
-    "overrun",
-    "stall",
-    "input",
-    "panic",
-    "log",
-];
 /// The fixture's frame 4 (a state record) and 8 (the window record).
 const STATE_FRAME: usize = 4;
 const WINDOW_FRAME: usize = 8;
@@ -44,23 +25,6 @@ const WINDOW_FRAME: usize = 8;
 /// Hang guard of the waits below (a run takes well under a second): not a timing assertion,
 /// a recorder that never catches up fails instead of blocking the test run.
 const HANG_GUARD: Duration = Duration::from_secs(120);
-
-/// (offset, length) of every frame: the runs of non-zero bytes ended by a zero.
-fn frames(bytes: &[u8]) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut start = None;
-    for (i, &b) in bytes.iter().enumerate() {
-        match (b, start) {
-            (0, Some(s)) => {
-                out.push((s, i - s));
-                start = None;
-            }
-            (_, None) if b != 0 => start = Some(i),
-            _ => {}
-        }
-    }
-    out
-}
 
 fn csv_files(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -130,7 +94,7 @@ fn the_fixture_is_recorded_as_decode_reads_it() {
     let (stdout, err) = run_record(&out, STREAM);
     let input = std::fs::read(STREAM).unwrap();
     let kinds = assert_as_decode(&out, &input, &stdout);
-    assert_eq!(kinds, KINDS, "every kind of the fixture, in order");
+    assert_eq!(kinds, fixture_kinds(), "every kind of the fixture, in order");
     assert!(stdout.starts_with("record: the input ended\n"), "{stdout}");
     // decode's counts, worked out from the fixture: 14 frames, nothing lost
     assert!(

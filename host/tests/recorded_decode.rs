@@ -10,36 +10,9 @@ mod recorded_common;
 
 use proptest::prelude::*;
 use recorded_common::*;
+use recorded_common::defmt_fixture::{fixture, frames, ELF, FRAMES, FRAME_KINDS, STREAM};
 use serde_json::Value;
 use stickslip::recorded::decode::{decode_stream, load_table, Record, StreamStats};
-
-const ELF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.elf");
-const STREAM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.defmt");
-
-/// Frames in the fixture (13 records and one plain line).
-const FRAMES: usize = 14;
-
-fn fixture() -> (Vec<u8>, Vec<u8>) {
-    (std::fs::read(ELF).unwrap(), std::fs::read(STREAM).unwrap())
-}
-
-/// (offset, length) of every frame: the non-empty runs of non-zero bytes ended by a zero.
-fn frames(bytes: &[u8]) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut start = None;
-    for (i, &b) in bytes.iter().enumerate() {
-        match (b, start) {
-            (0, Some(s)) => {
-                out.push((s, i - s));
-                start = None;
-            }
-            (0, None) => {}
-            (_, None) => start = Some(i),
-            (_, Some(_)) => {}
-        }
-    }
-    out
-}
 
 fn decode(elf: &[u8], bytes: &[u8]) -> (Vec<Record>, StreamStats) {
     let table = load_table("fixture.elf", elf).unwrap();
@@ -266,25 +239,7 @@ fn the_fixture_decodes_to_the_values_it_logged() {
     assert_eq!(st.bytes, bytes.len() as u64);
     assert_eq!(st.encoding, "rzcobs");
     let kinds: Vec<&str> = recs.iter().map(|r| r.kind.as_str()).collect();
-    assert_eq!(
-        kinds,
-        [
-            "boot",
-            "config_error",
-            "armed",
-            "start",
-            "state",
-            "command",
-            "command",
-            "event",
-            "window",
-            "overrun",
-            "stall",
-            "input",
-            "panic",
-            "log"
-        ]
-    );
+    assert_eq!(kinds, FRAME_KINDS);
     for (i, (r, want)) in recs.iter().zip(&EXPECTED).enumerate() {
         assert_eq!(r.frame, i as u64);
         assert_eq!(r.offset as usize, fr[i].0, "frame {i}");

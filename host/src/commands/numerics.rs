@@ -27,8 +27,8 @@ pub fn accuracy(a: &AccuracyArgs) -> Result<String> {
     if let Some(path) = &a.plot {
         numerics_plots::accuracy(&rep, path)?;
     }
-    let out = if a.json { to_json(&rep) } else { accuracy::markdown(&rep) };
-    let failures = if a.check {
+    let out = if a.report.json { to_json(&rep) } else { accuracy::markdown(&rep) };
+    let failures = if a.report.check {
         rep.checks
             .iter()
             .filter(|c| !c.passed)
@@ -45,9 +45,9 @@ pub fn stability(a: &StabilityArgs) -> Result<String> {
     if let Some(path) = &a.plot {
         numerics_plots::stability(&rep, path)?;
     }
-    let out = if a.json { to_json(&rep) } else { stability::markdown(&rep) };
+    let out = if a.report.json { to_json(&rep) } else { stability::markdown(&rep) };
     let mut failures = Vec::new();
-    if a.check {
+    if a.report.check {
         for prec in ["f64", "f32"] {
             let ok = rep.rows.iter().any(|r| {
                 r.sweep == "contact_stiffness" && r.contact_stiffness == 1e10 && r.method == "exact" && r.precision == prec && r.outcome == "bounded"

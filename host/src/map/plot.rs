@@ -1,16 +1,17 @@
 //! `map --plot`: a 2-D map as heat maps (regime from rest, regime from sliding, stick-slip
 //! frequency, groan level), each with the linear stability boundary of steady sliding drawn
 //! over it as a black line on the cell edges where stability changes; a 1-D map as lines
-//! against the swept key. Axes run over the cells (log sweeps evenly in log), labelled with
-//! the swept values. SVG.
+//! against the swept key. Axes run over the cells (log sweeps evenly in log), with ticks at
+//! round values of the swept key (not at the cells' centres) placed where they fall between the
+//! cells, and the key's unit (the figure rules of [`crate::output::style`]). SVG.
 
 use std::path::Path;
 
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::cell::{CellJson, RunCell};
 use super::output::{by_index, REGIMES};
+use super::sweep::Sweep;
 use super::MapJson;
 use crate::error::Result;
 use crate::output::format::sig4;
@@ -40,7 +41,68 @@ fn viridis(t: f64) -> RGBColor {
     RGBColor(c(S[i].0, S[i + 1].0), c(S[i].1, S[i + 1].1), c(S[i].2, S[i + 1].2))
 }
 
-type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<style::TickedAxis, style::TickedAxis>>;
+
+/// A swept key's axis over the cells (cell i centred at i): its description with the key's
+/// unit, and round values of the key, each with the position it falls at between the cells.
+struct SweepAxis {
+    label: String,
+    /// (position on the cell axis, value of the key)
+    ticks: Vec<(f64, f64)>,
+}
+
+impl SweepAxis {
+    /// At most `max` ticks: 1, 2, 5 x 10^k per decade for a log sweep (only the powers of 10
+    /// when those are too many), multiples of a 1-2-5 step for a linear one.
+    fn of(s: &Sweep, max: usize) -> SweepAxis {
+        let unit = crate::scenes::scene_file::KEYS.iter().find(|(k, _)| *k == s.key).and_then(|(_, d)| {
+            let a = d.rfind('[')?;
+            let b = d[a..].find(']')?;
+            Some(&d[a + 1..a + b])
+        });
+        let label = unit.map_or(s.key.clone(), |u| style::axis_label(&s.key, u));
+        let last = (s.n.max(1) - 1) as f64;
+        // position of a value, and the values at the cells' outer edges
+        let pos = |v: f64| -> f64 {
+            if s.n == 1 || s.to == s.from {
+                0.0
+            } else if s.log {
+                (v / s.from).ln() / (s.to / s.from).ln() * last
+            } else {
+                (v - s.from) / (s.to - s.from) * last
+            }
+        };
+        let ticks = if s.n == 1 || s.to == s.from {
+            vec![s.from]
+        } else {
+            let half = 0.5 / last;
+            let edge = |f: f64| if s.log { s.from * (s.to / s.from).powf(f) } else { s.from + f * (s.to - s.from) };
+            let (lo, hi) = (edge(-half).min(edge(1.0 + half)), edge(-half).max(edge(1.0 + half)));
+            let mut t = if s.log && lo > 0.0 { style::ticks_log(lo, hi) } else { Vec::new() };
+            if t.len() > max {
+                t.retain(|x| (x / 10f64.powf(x.log10().floor()) - 1.0).abs() < 1e-9);
+            }
+            if t.len() < 2 {
+                t = style::ticks_linear(lo, hi, max);
+            }
+            t
+        };
+        let ticks = ticks.into_iter().map(|v| (pos(v), v)).filter(|(p, _)| (-0.5..=last + 0.5).contains(p)).collect();
+        SweepAxis { label, ticks }
+    }
+
+    fn positions(&self) -> Vec<f64> {
+        self.ticks.iter().map(|t| t.0).collect()
+    }
+
+    /// The label of the tick at position `x` (the nearest).
+    fn label_at(&self, x: f64) -> String {
+        self.ticks
+            .iter()
+            .min_by(|a, b| (a.0 - x).abs().total_cmp(&(b.0 - x).abs()))
+            .map_or(String::new(), |t| style::tick_label(t.1))
+    }
+}
 
 /// The series labels, upper right.
 fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, path: &Path) -> Result<()> {
@@ -65,6 +127,7 @@ type Quantity<'a> = (&'a str, Box<dyn Fn(&CellJson) -> Option<f64> + 'a>, bool);
 
 fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
     let (a, b) = (&m.sweeps[0], &m.sweeps[1]);
+    let (ax, ay) = (SweepAxis::of(a, 6), SweepAxis::of(b, 6));
     let cells = by_index(m);
     let root = SVGBackend::new(path, (1400, 1150)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
@@ -131,17 +194,20 @@ fn heat_maps(m: &MapJson, path: &Path) -> Result<()> {
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(-0.5..a.n as f64 - 0.5, -0.5..b.n as f64 - 0.5)
+            .build_cartesian_2d(
+                style::TickedAxis { range: -0.5..a.n as f64 - 0.5, ticks: ax.positions() },
+                style::TickedAxis { range: -0.5..b.n as f64 - 0.5, ticks: ay.positions() },
+            )
             .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_desc(a.key.as_str())
-            .y_desc(b.key.as_str())
-            .x_labels(6)
-            .y_labels(6)
-            .x_label_formatter(&|x| sig4(a.value(x.round().clamp(0.0, (a.n - 1) as f64) as usize)))
-            .y_label_formatter(&|y| sig4(b.value(y.round().clamp(0.0, (b.n - 1) as f64) as usize)))
+            .x_desc(ax.label.as_str())
+            .y_desc(ay.label.as_str())
+            .x_label_formatter(&|x| ax.label_at(*x))
+            .y_label_formatter(&|y| ay.label_at(*y))
+            .label_style((style::FONT, 12))
+            .axis_desc_style((style::FONT, 14))
             .draw()
             .map_err(|e| style::draw_err(path, e))?;
         let color = |c: &CellJson| -> RGBColor {
@@ -191,6 +257,7 @@ type Series = (String, Vec<(f64, f64)>, RGBColor, bool);
 
 fn lines(m: &MapJson, path: &Path) -> Result<()> {
     let a = &m.sweeps[0];
+    let ax = SweepAxis::of(a, style::MAX_TICKS);
     let cells = by_index(m);
     let root = SVGBackend::new(path, (1400, 950)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
@@ -238,24 +305,31 @@ fn lines(m: &MapJson, path: &Path) -> Result<()> {
             hi = lo + 1.0;
         }
         let pad = 0.05 * (hi - lo);
+        // room above the data for the legend (upper right), so that it covers no line
+        let top = hi + pad + style::LEGEND_ROOM * (hi - lo);
         let mut chart = ChartBuilder::on(panel)
-            .caption(caption, (style::FONT, 15))
+            .caption(caption.as_str(), (style::FONT, 15))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(-0.5..a.n as f64 - 0.5, lo - pad..hi + pad)
+            .build_cartesian_2d(
+                style::TickedAxis { range: -0.5..a.n as f64 - 0.5, ticks: ax.positions() },
+                style::TickedAxis { range: lo - pad..top, ticks: style::ticks_linear(lo - pad, top, style::MAX_TICKS) },
+            )
             .map_err(|e| style::draw_err(path, e))?;
         chart
             .configure_mesh()
-            .x_desc(a.key.as_str())
-            .x_labels(8)
-            .x_label_formatter(&|x| sig4(a.value(x.round().clamp(0.0, (a.n - 1) as f64) as usize)))
-            .y_label_formatter(&|y| sig4(*y))
+            .x_desc(ax.label.as_str())
+            .y_desc(caption.as_str())
+            .x_label_formatter(&|x| ax.label_at(*x))
+            .y_label_formatter(&|y| style::tick_label(*y))
+            .label_style((style::FONT, 12))
+            .axis_desc_style((style::FONT, 14))
             .draw()
             .map_err(|e| style::draw_err(path, e))?;
         for &x in &boundary {
             chart
-                .draw_series(std::iter::once(PathElement::new(vec![(x, lo - pad), (x, hi + pad)], BLACK.stroke_width(1))))
+                .draw_series(std::iter::once(PathElement::new(vec![(x, lo - pad), (x, top)], BLACK.stroke_width(1))))
                 .map_err(|e| style::draw_err(path, e))?;
         }
         for (label, pts, col, dashed) in series {

@@ -53,7 +53,7 @@ pub fn accuracy(rep: &accuracy::Report, path: &Path) -> Result<()> {
         chart
             .configure_mesh()
             .x_desc("run time [s] (minimum over repeats)")
-            .y_desc("error (relative)")
+            .y_desc("relative error [-]")
             .x_label_formatter(&|v| format!("{v:.0e}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
@@ -149,7 +149,7 @@ pub fn stability(rep: &stability::Report, path: &Path) -> Result<()> {
         let below = TextStyle::from((style::FONT, 10).into_font()).pos(Pos::new(HPos::Center, VPos::Top));
         for (i, v) in values.iter().enumerate() {
             let (px, py) = chart.backend_coord(&(i as f64 + 0.5, 0.0));
-            root.draw(&Text::new(format!("{v:e}"), (px, py + 4), below.clone())).map_err(|e| style::draw_err(path, e))?;
+            root.draw(&Text::new(style::tick_label(*v), (px, py + 4), below.clone())).map_err(|e| style::draw_err(path, e))?;
         }
         // one label per row, drawn beside it (axis ticks would skip rows)
         let beside = TextStyle::from((style::FONT, 10).into_font()).pos(Pos::new(HPos::Right, VPos::Center));

@@ -7,6 +7,8 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
+pub mod defmt_fixture;
+
 pub fn stickslip(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_stickslip")).args(args).output().expect("the stickslip binary runs")
 }

@@ -175,7 +175,8 @@ impl<const N: usize> BandPass<N> {
 /// sin and cos of |x| <= 2 pi for the set-up of the design (f64): Cody-Waite reduction by
 /// pi/2 (two-part constant) and Taylor series on |r| <= pi/4 to the 25th order (truncation
 /// below 1e-20). The firmware designs its filter at boot; libm's sin, cos and tan would link
-/// their general argument reduction (about 5 KB of flash) for these few small angles.
+/// their general argument reduction (kilobytes of flash: `scripts/build-firmware.sh` prints the
+/// builds' sizes) for these few small angles.
 pub fn sin_cos(x: f64) -> (f64, f64) {
     const PIO2_HI: f64 = core::f64::consts::FRAC_PI_2; // nearest f64 to pi/2
     const PIO2_LO: f64 = 6.123_233_995_736_766e-17; // pi/2 - PIO2_HI

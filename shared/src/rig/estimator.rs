@@ -203,7 +203,7 @@ impl Estimator {
     }
 
     /// [`Self::new`] written into `slot` (e.g. a `static`'s memory): the estimator carries the
-    /// lockstep model's stepper (20 to 26 KB with model 2 in f32), which a Cortex-M4F's stack
+    /// lockstep model's stepper (kilobytes with model 2 in f32: `core::mem::size_of`), which a Cortex-M4F's stack
     /// should not hold while it is moved. On an error `slot` is not written.
     pub fn new_in<'a>(slot: &'a mut core::mem::MaybeUninit<Self>, cfg: &EstimatorConfig) -> Result<&'a mut Self, ConfigError> {
         Ok(slot.write(Self::fresh(cfg, Self::checked_groan(cfg)?)))
@@ -343,7 +343,8 @@ impl<M: ModelSlot> Estimator<M> {
     }
 
     /// The report of the last closed window, once. Takes the window's divisions and square
-    /// roots (about 1,200 Cortex-M4F instructions): call it outside the sample deadline.
+    /// roots (its Cortex-M4F instructions: the window-closing samples of
+    /// `scripts/count-instructions.sh`): call it outside the sample deadline.
     pub fn take_window(&mut self) -> Option<WindowReport> {
         self.window.take_report()
     }
@@ -355,8 +356,8 @@ impl<M: ModelSlot> Estimator<M> {
 
     /// One sample. Always inlined: it is the per-sample path, compiled where it is called (the
     /// firmware's `stickslip_rig_core::sample_words`, at opt-level 3); left to the inliner, a program with
-    /// two callers (tests/on-target's `rig_count`) got one out-of-line copy compiled at this
-    /// crate's "s", 1.4 times the instructions.
+    /// two callers (tests/on-target's `rig_count`) gets one out-of-line copy compiled at this
+    /// crate's "s", with more instructions per sample (`scripts/count-instructions.sh`).
     #[inline(always)]
     pub fn update(&mut self, c: &Calibrated) -> EstimatorSample {
         let sample = self.sample;

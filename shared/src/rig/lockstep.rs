@@ -4,12 +4,13 @@
 //! The scene is the configured pad (a template [`Scene`]) with the *measured* normal load,
 //! F_N = p_actuator A (see [`super::pneumatics`]), and the configured band speed V; its step is
 //! the sampling interval. Building it computes the exact flows in f64 (about 75 matrix
-//! exponentials): a set-up cost paid once per record, not per sample. Per sample it is one
-//! [`ExactStepper::step`] in f32 and x'' from the regime's row of the system matrix (five
-//! multiply-adds, no division: the same x'' as `Plant::accelerations`, to f32 rounding):
-//! measured 200 to 230 Cortex-M4F instructions in all without a transition, 4,400 to 4,900
-//! for a step with one (see [`super::estimator`]); at 168 MHz and 25.6 kHz a sample has 6,560
-//! cycles, so a transition step takes most of a sample's time.
+//! exponentials): a set-up cost paid once, when the rig is set up at boot
+//! ([`super::pipeline::Rig::init`]), not per record and not per sample; each record restarts
+//! the built model ([`LockstepModel::restart`]). Per sample it is one [`ExactStepper::step`]
+//! in f32 and x'' from the regime's row of the system matrix (five multiply-adds, no division:
+//! the same x'' as `Plant::accelerations`, to f32 rounding). Its Cortex-M4F instructions, for a
+//! step without a transition and for one with, are counted by `scripts/count-instructions.sh`
+//! (see [`super::estimator`]); at 168 MHz and 25.6 kHz a sample has 6,560 cycles.
 //!
 //! The model starts from its own initial state (stick, x = 0, at rest under the load), so it
 //! is meaningful from the moment the band starts moving. The push cases are irregular (their
@@ -191,10 +192,11 @@ pub struct ModelSample {
 /// (stopped). The stepper is built in its slot ([`LockstepStepper::build_in`]) and never
 /// moved. Stopping keeps it (its tables: kilobytes, built in f64 once): [`Self::restart`] puts
 /// it back at its initial state, a few words written, no tables copied (the rig's record start,
-/// [`super::pipeline`]). (Its value may still be assembled on the stack first: a model-2 stepper is 15 to 26 KB
-/// in f32, and the optimiser decides whether `Option::insert` builds it in place; with the
-/// `model2` stepper, `Estimator::start_model`'s frame is 16.5 KB, `arm-none-eabi-objdump -d` of
-/// bin `rig` of `tests/on-target` built `--features model2`.)
+/// [`super::pipeline`]). (Its value may still be assembled on the stack first: a model-2 stepper
+/// in f32 takes kilobytes (`core::mem::size_of`), and the optimiser decides whether
+/// `Option::insert` builds it in place; `Estimator::start_model`'s frame with the `model2`
+/// stepper is read off `arm-none-eabi-objdump -d` of bin `rig` of `tests/on-target` built
+/// `--features model2`.)
 ///
 /// (`repr(C)`: the halt first and the stepper after it, where the compiler put them before the
 /// restart's fields came, and those last: the per-sample step keeps its field offsets, and its

@@ -73,7 +73,8 @@ impl NoiseFloor {
 
     /// One sample: the four accelerations and a_rel [m/s^2] (finite: the caller checks).
     /// Never inlined: it runs only in the clamped phase, and inlined into the per-sample path
-    /// it cost 0.6 KB of flash there.
+    /// it would be a second copy of its code in flash (the builds' sizes:
+    /// `scripts/build-firmware.sh`).
     #[inline(never)]
     #[allow(clippy::needless_range_loop)] // parallel per-value arrays
     pub fn add(&mut self, accel_m_s2: &[f32; ACCEL_CHANNELS], a_rel_m_s2: f32) {

@@ -23,8 +23,8 @@
 //!    stops the model.
 //!
 //! **The lockstep model and the sample deadline.** Building a lockstep model is the f64 set-up
-//! of [`super::lockstep`] (the exact flows: some 13 million instructions of soft double
-//! precision on the Cortex-M4F, about 0.1 s), far more than one sample's time. [`Rig::init`]
+//! of [`super::lockstep`] (the exact flows in soft double precision on the Cortex-M4F), far
+//! more than one sample's time. [`Rig::init`]
 //! therefore builds the model once ("armed"), from the clamp setpoint pressure, in the running
 //! estimator, where it stays (one set of tables in the rig), and keeps a fresh estimator
 //! without a model beside it; when the sequencer enters Record, the fresh estimator's parts are
@@ -307,8 +307,9 @@ pub struct SampleOut {
     /// This sample ended Clamp into Drive with a floor long enough to design from: the noise
     /// floor measured while clamped and the contact thresholds designed from it (they hold
     /// from here on, and in every record until the next clamp measures again) wait for
-    /// [`Rig::take_floor`]. A flag, not the floor itself: the 100 bytes of the floor copied
-    /// out with every sample cost 160 instructions per sample (the `memcpy`).
+    /// [`Rig::take_floor`]. A flag, not the floor itself: the floor copied out with every
+    /// sample would put a `memcpy` on the per-sample path (whose instructions
+    /// `scripts/count-instructions.sh` counts).
     pub floor_ready: bool,
 }
 
