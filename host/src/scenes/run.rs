@@ -322,17 +322,30 @@ fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, f
 fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
     let proto = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     let budget = OverBudget::of(proto.substeps(), planned_steps(scene));
-    starts.iter_mut().map(|(z0, sink)| run_model2_in(scene, precision, proto.clone(), *z0, full, budget, &mut **sink)).collect()
+    starts
+        .iter_mut()
+        .map(|(z0, sink)| {
+            if full {
+                run_model2_in::<T, S, true>(scene, precision, proto.clone(), *z0, budget, &mut **sink)
+            } else {
+                run_model2_in::<T, S, false>(scene, precision, proto.clone(), *z0, budget, &mut **sink)
+            }
+        })
+        .collect()
 }
 
-/// The model-2 run's observers: window statistics, cycle spread, transition log.
-struct Model2RunObserver {
+/// The model-2 run's observers: window statistics, cycle spread, transition log. `FULL`:
+/// the window statistics keep the extremes, which need z' at each segment's ends; without
+/// them ([`Detail::Events`]) the stepper computes no derivatives.
+struct Model2RunObserver<const FULL: bool> {
     stats: Model2StatsObserver,
     cycles: CycleObserver,
     log: EventLog,
 }
 
-impl<T: Real> Model2Observer<T> for Model2RunObserver {
+impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
+    const DERIVATIVES: bool = FULL;
+
     fn segment(&mut self, seg: &Model2Segment<T>) {
         let finite = seg.z0.iter().chain(seg.z1.iter()).all(|v| v.is_finite());
         if finite {
@@ -356,12 +369,11 @@ impl<T: Real> Model2Observer<T> for Model2RunObserver {
     }
 }
 
-fn run_model2_in<T: Real, S: Sink + ?Sized>(
+fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     scene: &Scene,
     precision: Precision,
     mut stepper: AnyModel2Stepper<T>,
     z0: Option<[f64; 8]>,
-    full: bool,
     budget: Option<OverBudget>,
     sink: &mut S,
 ) -> Result<RunReport> {
@@ -370,13 +382,13 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
     }
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
     let window_start = window_start(scene);
-    let mut obs = Model2RunObserver {
-        stats: if full { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
+    let mut obs = Model2RunObserver::<FULL> {
+        stats: if FULL { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
-    let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
+    let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
     for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
@@ -385,14 +397,18 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
             break;
         }
         steps_done += 1;
+        let t = stepper.time();
+        if t < samples_from {
+            continue;
+        }
         let z = stepper.state();
         let regime = stepper.regime();
         sink.sample(&Sample {
-            t: stepper.time(),
+            t,
             z: [z[0].to_f64(), z[1].to_f64(), z[2].to_f64(), z[3].to_f64()],
             n: if forces { stepper.normal_force(&z).to_f64() } else { f64::NAN },
             f_f: if forces { stepper.friction_force(regime, &z).to_f64() } else { f64::NAN },
-            pad_acc: if kinematics { stepper.derivative(regime, &z)[1].to_f64() } else { f64::NAN },
+            pad_acc: if kinematics { stepper.pad_acceleration().to_f64() } else { f64::NAN },
             v_slide: if kinematics { stepper.sliding_velocity(&z).to_f64() } else { f64::NAN },
             regime,
         })?;
@@ -460,7 +476,7 @@ fn run_in<T: Real, S: Sink + ?Sized>(
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
-    let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
+    let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
     for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
@@ -479,10 +495,14 @@ fn run_in<T: Real, S: Sink + ?Sized>(
             break;
         }
         steps_done += 1;
+        let t = stepper.time();
+        if t < samples_from {
+            continue;
+        }
         let st = stepper.state();
         let regime = stepper.regime();
         sink.sample(&Sample {
-            t: stepper.time(),
+            t,
             z: [
                 st.x.to_f64(),
                 st.xdot.to_f64(),
