@@ -322,22 +322,30 @@ fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, f
 fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
     let proto = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     let budget = OverBudget::of(proto.substeps(), planned_steps(scene));
-    starts
-        .iter_mut()
-        .map(|(z0, sink)| {
-            if full {
-                run_model2_in::<T, S, true>(scene, precision, proto.clone(), *z0, budget, &mut **sink)
-            } else {
-                run_model2_in::<T, S, false>(scene, precision, proto.clone(), *z0, budget, &mut **sink)
-            }
-        })
-        .collect()
+    let mut reports = Vec::with_capacity(starts.len());
+    let last = starts.len().saturating_sub(1);
+    let mut proto = Some(proto);
+    for (i, (z0, sink)) in starts.iter_mut().enumerate() {
+        // each run its own copy of the stepper, the last the set-up itself (its tables are
+        // tens of KB)
+        let stepper = if i == last { proto.take() } else { proto.clone() };
+        let Some(stepper) = stepper else { break };
+        reports.push(if full {
+            run_model2_in::<T, S, true>(scene, precision, stepper, *z0, budget, &mut **sink)?
+        } else {
+            run_model2_in::<T, S, false>(scene, precision, stepper, *z0, budget, &mut **sink)?
+        });
+    }
+    Ok(reports)
 }
 
 /// The model-2 run's observers: window statistics, cycle spread, transition log. `FULL`:
 /// the window statistics keep the extremes, which need z' at each segment's ends; without
 /// them ([`Detail::Events`]) the stepper computes no derivatives.
 struct Model2RunObserver<const FULL: bool> {
+    /// The statistics window's start [s]: the window statistics take no segment ending
+    /// at or before it.
+    window_start: f64,
     stats: Model2StatsObserver,
     cycles: CycleObserver,
     log: EventLog,
@@ -347,6 +355,9 @@ impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
     const DERIVATIVES: bool = FULL;
 
     fn segment(&mut self, seg: &Model2Segment<T>) {
+        if seg.t1 <= self.window_start {
+            return;
+        }
         let finite = seg.z0.iter().chain(seg.z1.iter()).all(|v| v.is_finite());
         if finite {
             <Model2StatsObserver as Model2Observer<T>>::segment(&mut self.stats, seg);
@@ -383,6 +394,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
     let window_start = window_start(scene);
     let mut obs = Model2RunObserver::<FULL> {
+        window_start,
         stats: if FULL { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
