@@ -30,6 +30,7 @@ pub mod coefficients;
 pub mod design;
 pub mod digest;
 pub mod exact;
+pub mod exp64;
 pub mod expf;
 pub mod friction;
 pub mod halt;

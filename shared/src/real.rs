@@ -150,4 +150,4 @@ impl_real!(f32, 24, "f32", libm::sqrtf, crate::expf::expf, libm::powf);
 impl_real!(f32, 24, "f32", libm::sqrtf, libm::expf, libm::powf);
 #[cfg(all(feature = "micromath", not(feature = "libm-exp")))]
 impl_real!(f32, 24, "f32", libm::sqrtf, expf_micromath, libm::powf);
-impl_real!(f64, 53, "f64", libm::sqrt, libm::exp, libm::pow);
+impl_real!(f64, 53, "f64", libm::sqrt, crate::exp64::exp, libm::pow);

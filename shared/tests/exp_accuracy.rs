@@ -87,3 +87,43 @@ fn model_expf_over_the_whole_range() {
     assert_eq!(expf(0.0), 1.0);
     assert_eq!(expf(-0.0), 1.0);
 }
+
+/// The model's f64 exp (`exp64::exp`, libm's algorithm with its common path inlined) gives
+/// `libm::exp`'s bits: over every sign and exponent (a stride through the bit patterns), the
+/// Stribeck law's arguments densely, and the edges where it hands over to libm.
+#[test]
+fn the_f64_exp_is_libms_bit_for_bit() {
+    use stickslip_model::exp64::exp;
+    let check = |x: f64| {
+        let (a, b) = (exp(x), libm::exp(x));
+        assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "exp({x:e}) = {a:e}, libm {b:e}");
+    };
+    let mut bits = 0u64;
+    while bits < 0x7ff0_0000_0000_0000 {
+        check(f64::from_bits(bits));
+        check(-f64::from_bits(bits));
+        bits += 0x0000_0123_4567_89ab;
+    }
+    let n = 4_000_000;
+    for i in 0..=n {
+        check(-50.0 * i as f64 / n as f64);
+        check(2.0 * i as f64 / n as f64 - 1.0);
+    }
+    for edge in [700.0f64, 708.0, 708.3964185322641, 709.782712893384, 745.1332191019411, 0.5 * core::f64::consts::LN_2, 1.5 * core::f64::consts::LN_2, 2f64.powi(-28)] {
+        let mut x = edge;
+        for _ in 0..1000 {
+            check(x);
+            check(-x);
+            x = f64::from_bits(x.to_bits() - 1);
+        }
+        let mut x = edge;
+        for _ in 0..1000 {
+            check(x);
+            check(-x);
+            x = f64::from_bits(x.to_bits() + 1);
+        }
+    }
+    for x in [0.0, -0.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN, f64::MIN_POSITIVE, 5e-324, f64::MAX, f64::MIN] {
+        check(x);
+    }
+}

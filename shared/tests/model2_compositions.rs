@@ -8,7 +8,7 @@ use stickslip_model::rig::lockstep::LockstepModel;
 // stick-slip on every composition, the scenes these tests were written for; the fitted set's
 // drop of 0.010 leaves the Coulomb compositions sliding after one breakaway.
 use stickslip_model::rig_set::pre_fit_rig_scene as rig_scene;
-use stickslip_model::{Caliper, FrictionLaw, Regime, Scene};
+use stickslip_model::{Caliper, FrictionLaw, Real, Regime, Scene};
 
 fn stribeck_no_band() -> Scene {
     let mut s = rig_scene(Caliper::Push, 0.040);
@@ -277,4 +277,47 @@ fn the_short_substep_is_the_general_one_bit_for_bit() {
             assert!(stick > 100 && slip > 100, "{caliper:?} {beta}: {stick} stick and {slip} slip steps");
         }
     }
+}
+
+/// Steps `scene` for `steps` steps and checks, after each, that `pad_acceleration` (which
+/// takes the friction's falling part the stepper carries) is bit for bit row 1 of
+/// `derivative` (which evaluates it afresh). Returns the steps ending in stick and in slip.
+fn pad_acceleration_is_the_derivative<T: Real>(scene: &Scene, steps: u64) -> (u64, u64) {
+    let mut s = AnyModel2Stepper::<T>::new(scene).unwrap();
+    let (mut stick, mut slip) = (0, 0);
+    for k in 0..steps {
+        if s.step().is_err() {
+            break;
+        }
+        let want = s.derivative(s.regime(), &s.state())[1];
+        let got = s.pad_acceleration();
+        assert_eq!(got.to_f64().to_bits(), want.to_f64().to_bits(), "{}: step {k}: {:?}", s.composition(), s.regime());
+        if s.regime() == Regime::Stick {
+            stick += 1;
+        } else {
+            slip += 1;
+        }
+    }
+    (stick, slip)
+}
+
+#[test]
+fn the_pad_acceleration_is_the_derivatives_row_bit_for_bit() {
+    use stickslip_model::rig_set::{rig_float_scene, rig_scene as fitted};
+    let mut scenes = vec![rig_scene(Caliper::Push, 0.040), stribeck_no_band(), fitted(Caliper::Pull, 0.055)];
+    for v in [0.001, 0.004] {
+        let mut f = rig_float_scene(Caliper::Push, 0.040);
+        f.v = v;
+        scenes.push(f);
+    }
+    let (mut slipped, mut stuck) = (0, 0);
+    for scene in &scenes {
+        let steps = (0.5 / scene.dt).round() as u64;
+        for (stick, slip) in [pad_acceleration_is_the_derivative::<f64>(scene, steps), pad_acceleration_is_the_derivative::<f32>(scene, steps)] {
+            slipped += usize::from(slip > 0);
+            stuck += usize::from(stick > 0);
+        }
+    }
+    // the check covers both regimes (slip: the carried falling part) in most runs
+    assert!(slipped >= 6 && stuck >= 6, "{slipped} of 10 runs slip, {stuck} stick");
 }

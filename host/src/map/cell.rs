@@ -150,6 +150,10 @@ impl Sink for CellSink {
         true
     }
 
+    fn samples_from(&self) -> f64 {
+        self.filter_from
+    }
+
     #[inline]
     fn sample(&mut self, s: &Sample) -> Result<()> {
         if s.t < self.filter_from {

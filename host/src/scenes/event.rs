@@ -13,13 +13,12 @@
 
 use stickslip_model::model2::event_run::{EventCounts, EventRunner, Fallback, DEFAULT_RTOL};
 use stickslip_model::model2::{Model2StatsObserver, System};
-use stickslip_model::stats::RunStats;
 use stickslip_model::{Coefficients, Scene};
 
 use crate::error::{HostError, Result};
 use crate::scenes::cycles::CycleObserver;
 use crate::scenes::run::{
-    planned_steps, window_start, EventLog, Model2Extra, Model2RunObserver, Outcome, OverBudget, Precision, RunReport,
+    planned_steps, window_start, EventLog, Model2Extra, Model2RunObserver, run_stats, Outcome, OverBudget, Precision, RunReport,
 };
 
 /// What the event run did, for the report's method line.
@@ -81,7 +80,8 @@ pub fn run(scene: &Scene, precision: Precision, rtol: f64) -> Result<Option<std:
     let mut runner = EventRunner::new(scene, rtol).map_err(|e| HostError::Input(e.to_string()))?;
     let window_start = window_start(scene);
     let steps_planned = planned_steps(scene);
-    let mut obs = Model2RunObserver {
+    let mut obs = Model2RunObserver::<true> {
+        window_start,
         stats: Model2StatsObserver::new(window_start, scene.v).without_interpolation(),
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
@@ -90,15 +90,7 @@ pub fn run(scene: &Scene, precision: Precision, rtol: f64) -> Result<Option<std:
         return Ok(Some(Err(f)));
     }
     let s2 = obs.stats.finish();
-    let stats = RunStats {
-        min: [s2.min[0], s2.min[1], s2.min[2], s2.min[3]],
-        max: [s2.max[0], s2.max[1], s2.max[2], s2.max[3]],
-        stick_fraction: s2.stick_fraction,
-        stick_slip_hz: s2.stick_slip_hz,
-        slip_onsets: s2.slip_onsets,
-        transitions: s2.transitions,
-        window_s: s2.window_s,
-    };
+    let stats = run_stats(&s2);
     let report = RunReport {
         precision,
         steps_planned,

@@ -3,7 +3,7 @@
 
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
-use stickslip_model::model2::{AnyModel2Stepper, Model2Observer, Model2Segment, Model2StatsObserver, Model2Transition};
+use stickslip_model::model2::{AnyModel2Stepper, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition};
 use stickslip_model::{
     Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
 };
@@ -322,18 +322,56 @@ fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, f
 fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
     let proto = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     let budget = OverBudget::of(proto.substeps(), planned_steps(scene));
-    starts.iter_mut().map(|(z0, sink)| run_model2_in(scene, precision, proto.clone(), *z0, full, budget, &mut **sink)).collect()
+    let mut reports = Vec::with_capacity(starts.len());
+    let last = starts.len().saturating_sub(1);
+    let mut proto = Some(proto);
+    for (i, (z0, sink)) in starts.iter_mut().enumerate() {
+        // each run its own copy of the stepper, the last the set-up itself (its tables are
+        // tens of KB)
+        let stepper = if i == last { proto.take() } else { proto.clone() };
+        let Some(stepper) = stepper else { break };
+        reports.push(if full {
+            run_model2_in::<T, S, true>(scene, precision, stepper, *z0, budget, &mut **sink)?
+        } else {
+            run_model2_in::<T, S, false>(scene, precision, stepper, *z0, budget, &mut **sink)?
+        });
+    }
+    Ok(reports)
 }
 
-/// The model-2 run's observers: window statistics, cycle spread, transition log.
-pub(crate) struct Model2RunObserver {
+/// A model-2 run's window statistics as the thesis runs report them (the pad's four
+/// coordinates; the band's and the lateral ones stay in [`Model2Extra`]).
+pub(crate) fn run_stats(s: &Model2Stats) -> RunStats {
+    RunStats {
+        min: [s.min[0], s.min[1], s.min[2], s.min[3]],
+        max: [s.max[0], s.max[1], s.max[2], s.max[3]],
+        stick_fraction: s.stick_fraction,
+        stick_slip_hz: s.stick_slip_hz,
+        slip_onsets: s.slip_onsets,
+        transitions: s.transitions,
+        window_s: s.window_s,
+    }
+}
+
+/// The model-2 run's observers: window statistics, cycle spread, transition log. `FULL`:
+/// the window statistics keep the extremes, which need z' at each segment's ends; without
+/// them ([`Detail::Events`]) the stepper computes no derivatives.
+pub(crate) struct Model2RunObserver<const FULL: bool> {
+    /// The statistics window's start [s]: the window statistics take no segment ending
+    /// at or before it.
+    pub(crate) window_start: f64,
     pub(crate) stats: Model2StatsObserver,
     pub(crate) cycles: CycleObserver,
     pub(crate) log: EventLog,
 }
 
-impl<T: Real> Model2Observer<T> for Model2RunObserver {
+impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
+    const DERIVATIVES: bool = FULL;
+
     fn segment(&mut self, seg: &Model2Segment<T>) {
+        if seg.t1 <= self.window_start {
+            return;
+        }
         let finite = seg.z0.iter().chain(seg.z1.iter()).all(|v| v.is_finite());
         if finite {
             <Model2StatsObserver as Model2Observer<T>>::segment(&mut self.stats, seg);
@@ -356,12 +394,11 @@ impl<T: Real> Model2Observer<T> for Model2RunObserver {
     }
 }
 
-fn run_model2_in<T: Real, S: Sink + ?Sized>(
+fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     scene: &Scene,
     precision: Precision,
     mut stepper: AnyModel2Stepper<T>,
     z0: Option<[f64; 8]>,
-    full: bool,
     budget: Option<OverBudget>,
     sink: &mut S,
 ) -> Result<RunReport> {
@@ -370,13 +407,14 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
     }
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
     let window_start = window_start(scene);
-    let mut obs = Model2RunObserver {
-        stats: if full { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
+    let mut obs = Model2RunObserver::<FULL> {
+        window_start,
+        stats: if FULL { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
-    let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
+    let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
     for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
@@ -385,28 +423,24 @@ fn run_model2_in<T: Real, S: Sink + ?Sized>(
             break;
         }
         steps_done += 1;
+        let t = stepper.time();
+        if t < samples_from {
+            continue;
+        }
         let z = stepper.state();
         let regime = stepper.regime();
         sink.sample(&Sample {
-            t: stepper.time(),
+            t,
             z: [z[0].to_f64(), z[1].to_f64(), z[2].to_f64(), z[3].to_f64()],
             n: if forces { stepper.normal_force(&z).to_f64() } else { f64::NAN },
             f_f: if forces { stepper.friction_force(regime, &z).to_f64() } else { f64::NAN },
-            pad_acc: if kinematics { stepper.derivative(regime, &z)[1].to_f64() } else { f64::NAN },
+            pad_acc: if kinematics { stepper.pad_acceleration().to_f64() } else { f64::NAN },
             v_slide: if kinematics { stepper.sliding_velocity(&z).to_f64() } else { f64::NAN },
             regime,
         })?;
     }
     let s2 = obs.stats.finish();
-    let stats = RunStats {
-        min: [s2.min[0], s2.min[1], s2.min[2], s2.min[3]],
-        max: [s2.max[0], s2.max[1], s2.max[2], s2.max[3]],
-        stick_fraction: s2.stick_fraction,
-        stick_slip_hz: s2.stick_slip_hz,
-        slip_onsets: s2.slip_onsets,
-        transitions: s2.transitions,
-        window_s: s2.window_s,
-    };
+    let stats = run_stats(&s2);
     Ok(RunReport {
         precision,
         steps_planned,
@@ -460,7 +494,7 @@ fn run_in<T: Real, S: Sink + ?Sized>(
         log: EventLog::default(),
     };
     let steps_planned = planned_steps(scene);
-    let (forces, kinematics) = (sink.wants_forces(), sink.wants_kinematics());
+    let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
     for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
@@ -479,10 +513,14 @@ fn run_in<T: Real, S: Sink + ?Sized>(
             break;
         }
         steps_done += 1;
+        let t = stepper.time();
+        if t < samples_from {
+            continue;
+        }
         let st = stepper.state();
         let regime = stepper.regime();
         sink.sample(&Sample {
-            t: stepper.time(),
+            t,
             z: [
                 st.x.to_f64(),
                 st.xdot.to_f64(),

@@ -43,6 +43,11 @@ pub trait Sink {
     fn wants_kinematics(&self) -> bool {
         false
     }
+    /// The first time [s] whose sample the sink reads: the run builds no sample (and computes
+    /// none of its forces and kinematics) at a step end t below it. The default: every sample.
+    fn samples_from(&self) -> f64 {
+        f64::NEG_INFINITY
+    }
 }
 
 /// Takes nothing.
@@ -51,6 +56,12 @@ pub struct NoSink;
 impl Sink for NoSink {
     fn sample(&mut self, _s: &Sample) -> Result<()> {
         Ok(())
+    }
+    fn wants_forces(&self) -> bool {
+        false
+    }
+    fn samples_from(&self) -> f64 {
+        f64::INFINITY
     }
 }
 

@@ -119,6 +119,10 @@ impl<T: Real> AnyModel2Stepper<T> {
     pub fn derivative(&self, regime: Regime, z: &[T; NS]) -> [T; NS] {
         each!(self, s => s.derivative(regime, z))
     }
+    /// The pad's x'' at the current state ([`Model2Stepper::pad_acceleration`]).
+    pub fn pad_acceleration(&self) -> T {
+        each!(self, s => s.pad_acceleration())
+    }
     pub fn step(&mut self) -> Result<usize, Halt> {
         each!(self, s => s.step())
     }

@@ -554,6 +554,23 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         d
     }
 
+    /// The pad's acceleration x'' [m/s^2] at the current state and regime: row 1 of
+    /// [`Self::derivative`] bit for bit, with the friction's falling part the stepper carries
+    /// from the last chunk (no exponential) when it has it (a run's per-step samples).
+    pub fn pad_acceleration(&self) -> T {
+        let z = &self.z;
+        let regime = self.regime;
+        let mut d = dot::<T, C>(&self.a[regime.index()][1], z);
+        if C::STRIBECK && regime != Regime::Stick {
+            let ex = match self.head {
+                Some(ex) => ex,
+                None => self.excess(z),
+            };
+            d += self.b[1] * self.q_of(T::from_f64(regime.friction_sign()), &ex);
+        }
+        d
+    }
+
     #[inline(always)]
     fn is_stribeck_slip(regime: Regime) -> bool {
         C::STRIBECK && regime != Regime::Stick

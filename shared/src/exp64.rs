@@ -1,0 +1,59 @@
+//! e^x in f64: libm's `exp` (FreeBSD's e_exp.c, as the `libm` crate ports it), the same
+//! operations in the same order, with its common path inlined into the caller. Model 2's f64
+//! Stribeck slip evaluates e^x four times per ETDRK4 chunk, and the call, its special-case
+//! tests and its out-of-line `scalbn` were a third of that exponential's cost.
+//!
+//! For |x| < 700 the scaling by 2^k (|k| <= 1010, the result a normal number) is one exact
+//! multiplication, which is what `scalbn` does there; everything else (|x| >= 700, NaN, inf)
+//! goes to `libm::exp` itself. The bits are libm's for every input (test:
+//! `cargo test --release -p stickslip-model --test exp_accuracy`, against `libm::exp`).
+
+const HALF: [f64; 2] = [0.5, -0.5];
+// libm's constants, by their bits (the decimals of e_exp.c round to these)
+const LN2HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000); // 6.93147180369123816490e-01
+const LN2LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76); // 1.90821492927058770002e-10
+const INVLN2: f64 = f64::from_bits(0x3ff7_1547_652b_82fe); // 1.44269504088896338700e+00
+const P1: f64 = f64::from_bits(0x3fc5_5555_5555_553e); // 1.66666666666666019037e-01
+const P2: f64 = f64::from_bits(0xbf66_c16c_16be_bd93); // -2.77777777770155933842e-03
+const P3: f64 = f64::from_bits(0x3f11_566a_af25_de2c); // 6.61375632143793436117e-05
+const P4: f64 = f64::from_bits(0xbebb_bd41_c5d2_6bf1); // -1.65339022054652515390e-06
+const P5: f64 = f64::from_bits(0x3e66_3769_72be_a4d0); // 4.13813679705723846039e-08
+
+/// e^x, bit for bit `libm::exp(x)`.
+#[inline(always)]
+pub fn exp(x: f64) -> f64 {
+    let hx = (x.to_bits() >> 32) as u32;
+    let sign = (hx >> 31) as usize;
+    let hx = hx & 0x7fffffff; // high word of |x|
+    if hx >= 0x4085e000 {
+        // |x| >= 700 (a result near or beyond f64's range), NaN, inf
+        return libm::exp(x);
+    }
+    // argument reduction: x = k ln 2 + r, r = hi - lo
+    let (k, hi, lo, r) = if hx > 0x3fd62e42 {
+        // |x| > 0.5 ln 2
+        let k = if hx >= 0x3ff0a2b2 {
+            // |x| >= 1.5 ln 2
+            (INVLN2 * x + HALF[sign]) as i32
+        } else {
+            1 - 2 * sign as i32
+        };
+        let hi = x - k as f64 * LN2HI; // k ln2hi is exact here
+        let lo = k as f64 * LN2LO;
+        (k, hi, lo, hi - lo)
+    } else if hx > 0x3e300000 {
+        // |x| > 2^-28
+        (0, x, 0.0, x)
+    } else {
+        return 1.0 + x;
+    };
+    let xx = r * r;
+    let c = r - xx * (P1 + xx * (P2 + xx * (P3 + xx * (P4 + xx * P5))));
+    let y = 1.0 + (r * c / (2.0 - c) - lo + hi);
+    if k == 0 {
+        y
+    } else {
+        // |k| <= 1010 and y in [0.7, 1.5]: 2^k and y 2^k are normal, the product exact
+        y * f64::from_bits(((0x3ff + k) as u64) << 52)
+    }
+}
