@@ -128,14 +128,14 @@ def test_analyze_of_arrays_is_that_of_the_same_samples_in_a_file():
     same(without(with_time, "file"), without(from_file, "file"))
     # with a rate: the time axis k / rate, equal to the file's when its first row is at 0
     rate = 1.0 / float(np.mean(dt))
-    if data["t_s"][0] == 0.0 and np.allclose(dt, 1.0 / rate, rtol=1e-12, atol=0):
-        with_rate = stickslip.analyze(arrays, rate=rate)
-        assert with_rate["channels"].keys() == from_file["channels"].keys()
-        for ch in from_file["channels"]:
-            a, b = with_rate["channels"][ch], from_file["channels"][ch]
-            for k, v in b.items():
-                if isinstance(v, float):
-                    assert a[k] == pytest.approx(v, rel=1e-9, abs=1e-12), (ch, k)
+    assert data["t_s"][0] == 0.0 and np.allclose(dt, 1.0 / rate, rtol=1e-12, atol=0)
+    with_rate = stickslip.analyze(arrays, rate=rate)
+    assert with_rate["channels"].keys() == from_file["channels"].keys()
+    for ch in from_file["channels"]:
+        a, b = with_rate["channels"][ch], from_file["channels"][ch]
+        for k, v in b.items():
+            if isinstance(v, float):
+                assert a[k] == pytest.approx(v, rel=1e-9, abs=1e-12), (ch, k)
 
 
 def test_a_map_equals_the_binary_and_gives_arrays():

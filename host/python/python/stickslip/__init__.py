@@ -146,16 +146,18 @@ class _Call:
                 self.args += [flag, str(v)]
         return self
 
-    def run(self) -> str:
-        try:
-            return _run(self.args)
-        finally:
-            if self._dir is not None:
-                self._dir.cleanup()
-                self._dir = None
+    def close(self) -> None:
+        """Removes the temporary files."""
+        if self._dir is not None:
+            self._dir.cleanup()
+            self._dir = None
 
     def json(self) -> dict:
-        return json.loads(_run(self.args + ["--json"]))
+        """Runs the command line with ``--json``, then removes its temporary files."""
+        try:
+            return json.loads(_run(self.args + ["--json"]))
+        finally:
+            self.close()
 
 
 def _split(kwargs: Mapping[str, Any]) -> tuple[dict, dict]:
@@ -164,14 +166,6 @@ def _split(kwargs: Mapping[str, Any]) -> tuple[dict, dict]:
     scene = {k: v for k, v in kwargs.items() if k in keys and k not in _RUN_FLAGS}
     flags = {k: v for k, v in kwargs.items() if k not in scene}
     return scene, flags
-
-
-def _json_with_files(call: _Call) -> dict:
-    try:
-        return call.json()
-    finally:
-        if call._dir is not None:
-            call._dir.cleanup()
 
 
 def scenes() -> list[dict]:
@@ -200,17 +194,16 @@ def _read_series(path: str) -> dict[str, np.ndarray]:
 
 def _json_and_series(call: _Call, flags: dict, series: bool) -> dict:
     """Runs `call` with `flags` for its JSON; with `series`, also its ``--csv`` as arrays."""
-    if series:
-        flags = dict(flags, csv=call.tmp("series.csv"))
-    call.flags(flags)
+    if not series:
+        return call.flags(flags).json()
+    csv_path = call.tmp("series.csv")
+    call.flags(dict(flags, csv=csv_path))
     try:
-        out = call.json()
-        if series:
-            out["series"] = _read_series(flags["csv"])
+        out = json.loads(_run(call.args + ["--json"]))
+        out["series"] = _read_series(csv_path)
         return out
     finally:
-        if call._dir is not None:
-            call._dir.cleanup()
+        call.close()
 
 
 def simulate(scene: Any = DEFAULT_SCENE, *, series: bool = False, **kwargs: Any) -> dict:
@@ -228,7 +221,7 @@ def simulate(scene: Any = DEFAULT_SCENE, *, series: bool = False, **kwargs: Any)
 
 def cases(**kwargs: Any) -> dict:
     """The six cases (or another set: ``set="rig"``), as ``stickslip cases --json``."""
-    return _json_with_files(_Call("cases").flags(kwargs))
+    return _Call("cases").flags(kwargs).json()
 
 
 def _write_recording(call: _Call, arrays: Mapping[str, Any], rate: float | None) -> str:
@@ -278,7 +271,7 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
     if scene is not None:
         kwargs["scene"] = call.scene(scene, {})
     call.flags(kwargs)
-    return _json_with_files(call)
+    return call.json()
 
 
 def sil(scene: Any = DEFAULT_SCENE, *, series: bool = False, **kwargs: Any) -> dict:
@@ -322,7 +315,7 @@ def map(scene: Any, sweeps: Iterable[str] | str, jobs: int | None = None, **kwar
     call = _Call("map")
     call.args.append(call.scene(scene, overrides))
     call.flags({"sweep": list(sweeps), "jobs": jobs, **flags})
-    out = _json_with_files(call)
+    out = call.json()
     rows = []
     for cell in out.get("cells", []):
         row: dict = {}
@@ -349,4 +342,4 @@ def fit(scene: Any, free: Iterable[str] | str, recordings: Mapping[str, Any] | N
     call.flags({"scene": call.scene(scene, overrides), "free": free, **flags})
     for case, path in (recordings or {}).items():
         call.args.append(f"{case}={os.fspath(path)}")
-    return _json_with_files(call)
+    return call.json()
