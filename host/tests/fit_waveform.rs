@@ -196,3 +196,44 @@ fn the_noise_is_estimated_from_the_stick_phases() {
     assert!((r.goodness.noise / NOISE - 1.0).abs() < 0.05, "noise {}", r.goodness.noise);
     assert!(r.time_domain);
 }
+
+/// A recording through a converter whose count (0.395 m/s^2, the rig's 12-bit ADC) is far
+/// above its noise: its stick phases are one count, exactly repeated, and its second
+/// differences mostly 0. Their spread is not the noise: the time-domain cost takes at least
+/// the quantisation's q / sqrt(12) (closed form), so that its residuals at the truth are finite
+/// and of order 1 (before: sigma_0 = 0, every residual infinite or NaN, and the search ended
+/// in the optimiser's internal error). Truth 1 (the longest sticks), quantised after the fact.
+#[test]
+fn a_quantised_recording_has_a_noise_of_at_least_its_count() {
+    const COUNT: f64 = 0.395;
+    let dir = scratch("fit-waveform-quantised");
+    let (truth, path) = truth_recording(&dir, 1);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    let mut out = String::from(lines.next().unwrap());
+    out.push('\n');
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let pad_x: f64 = f[2].parse().unwrap();
+        out.push_str(&format!("{},0,{},0,0\n", f[0], (pad_x / COUNT).round() * COUNT));
+    }
+    let quantised = dir.join("quantised.csv");
+    std::fs::write(&quantised, out).unwrap();
+    let tr = fit::waveform::read_trace("truth", 0, quantised.to_str().unwrap(), false, &Default::default()).expect("read");
+    let floor = COUNT / 12f64.sqrt();
+    assert!((tr.noise_floor / floor - 1.0).abs() < 1e-9, "noise floor {} against {floor}", tr.noise_floor);
+    assert!(tr.sigma0 >= floor * (1.0 - 1e-9), "sigma_0 {}", tr.sigma0);
+    let r = fit::waveform::residuals(&tr, &truth, None).expect("the truth's residuals");
+    assert!(r.iter().all(|x| x.is_finite()), "a residual that is not finite");
+    let chi2_per_sample = r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64;
+    assert!(chi2_per_sample > 0.05 && chi2_per_sample < 2.0, "chi^2 per sample at the truth {chi2_per_sample}");
+    // a constant recording has no noise to measure and nothing to fit: one line, no NaN
+    let flat = dir.join("flat.csv");
+    let mut f = String::from("t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2\n");
+    for i in 0..1000 {
+        f.push_str(&format!("{},0,0.395,0,0\n", i as f64 / RATE_HZ));
+    }
+    std::fs::write(&flat, f).unwrap();
+    let e = fit::waveform::read_trace("truth", 0, flat.to_str().unwrap(), false, &Default::default()).unwrap_err().to_string();
+    assert!(e.contains("pad_x is constant"), "{e}");
+}

@@ -165,6 +165,9 @@ pub struct FitReport {
     /// Each free key's 95 % profile-likelihood interval (`None` on a side where the profile
     /// does not close inside the bounds); empty where not computed.
     pub intervals: Vec<(Option<f64>, Option<f64>)>,
+    /// Each free key's profile points `(value, delta chi^2)` behind its interval (sorted by
+    /// value, the optimum at 0; 3.841 is the interval's threshold); empty where not computed.
+    pub profiles: Vec<Vec<(f64, f64)>>,
 }
 
 /// One horizon stage: each recording's start fitted up to its horizon.
@@ -207,7 +210,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let first_steps: Vec<f64> = (0..free.len()).map(|k| unc.cov_u[(k, k)].sqrt()).collect();
     // intervals where the model fits: a misfit's profile would measure the model's error, not
     // the data's (and not_converged has no one optimum to profile)
-    let intervals = if goodness.verdict == goodness::Verdict::Fits {
+    let profiles = if goodness.verdict == goodness::Verdict::Fits {
         solve::profile_intervals(&problem, &sol.u, sol.cost, chi2_scale, goodness.chi2_per_dof, &first_steps, req.max_iters)
     } else {
         if problem.time_domain() {
@@ -218,6 +221,8 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         }
         Vec::new()
     };
+    let intervals: Vec<(Option<f64>, Option<f64>)> = profiles.iter().map(|p| p.interval).collect();
+    let profiles: Vec<Vec<(f64, f64)>> = profiles.into_iter().map(|p| p.points).collect();
     let sources: Vec<String> = {
         let mut s: Vec<String> = problem.rows.iter().filter(|r| !r.windows.is_empty()).map(|r| r.source.clone()).collect();
         s.sort();
@@ -301,6 +306,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         time_domain: problem.time_domain(),
         goodness,
         intervals,
+        profiles,
     })
 }
 

@@ -90,6 +90,10 @@ pub struct Trace {
     pub dt: f64,
     /// sigma_0: the noise from the second differences [m/s^2].
     pub sigma0: f64,
+    /// The noise of the recording's quantisation, q / sqrt(12) for its smallest step q between
+    /// samples [m/s^2]: the floor of every noise estimate (a converter's counts in a stick
+    /// phase are often all equal: their spread, 0, is not the noise).
+    pub noise_floor: f64,
     /// Index of the first quiet sample after each slip (the recorded re-sticks).
     pub resticks: Vec<usize>,
     /// Index of the first loud sample of each slip (the recorded breakaways).
@@ -114,6 +118,18 @@ fn median(v: &mut [f64]) -> f64 {
     } else {
         0.5 * (v[n / 2 - 1] + v[n / 2])
     }
+}
+
+/// The noise of `a`'s quantisation, q / sqrt(12), where q is the smallest step between
+/// consecutive samples (above 1e-9 of the largest |sample|: the rounding of a calibration's
+/// scale is not a step); `None` when no sample differs from its neighbour. A recording through
+/// a converter has steps of one count and more (q the count); one without quantisation has a
+/// q far below its noise, and the floor is then negligible against the second differences'
+/// estimate.
+pub fn quantisation_noise(a: &[f64]) -> Option<f64> {
+    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let q = a.windows(2).map(|w| (w[1] - w[0]).abs()).filter(|d| *d > 1e-9 * scale).fold(f64::INFINITY, f64::min);
+    q.is_finite().then(|| q / 12f64.sqrt())
 }
 
 /// Reads pad_x of the recording at `path` (any format `analyze` reads, its channels mapped by
@@ -141,7 +157,10 @@ pub fn read_trace(case: &str, case_index: usize, path: &str, coulomb: bool, opts
         )));
     }
     let mut d2: Vec<f64> = a.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()).collect();
-    let sigma0 = 1.4826 * median(&mut d2) / 6f64.sqrt();
+    let floor = quantisation_noise(&a).ok_or_else(|| {
+        HostError::Input(format!("{path}: pad_x is constant over its {} rows: nothing for the time-domain cost to fit", a.len()))
+    })?;
+    let sigma0 = (1.4826 * median(&mut d2) / 6f64.sqrt()).max(floor);
     let mut tr = Trace {
         case: case.into(),
         path: path.into(),
@@ -150,6 +169,7 @@ pub fn read_trace(case: &str, case_index: usize, path: &str, coulomb: bool, opts
         a,
         dt,
         sigma0,
+        noise_floor: floor,
         resticks: Vec::new(),
         breakaways: Vec::new(),
         masked: Vec::new(),
@@ -565,12 +585,14 @@ pub fn feature_residuals(tr: &Trace, scene: &Scene) -> std::result::Result<Vec<f
 }
 
 /// The recording's noise from the samples where the fitted model is in stick (pad_x exactly 0,
-/// not left out), and their count: the honest yardstick of the fit's residuals.
+/// not left out), at least its quantisation's ([`Trace::noise_floor`]), and their count: the
+/// honest yardstick of the fit's residuals.
 pub fn stick_noise(tr: &Trace, model: &[f64]) -> (f64, usize) {
     let v: Vec<f64> = (0..tr.a.len()).filter(|&i| !tr.masked[i] && model[i] == 0.0).map(|i| tr.a[i]).collect();
     if v.len() < 16 {
         return (tr.sigma0, v.len());
     }
     let mean = v.iter().sum::<f64>() / v.len() as f64;
-    ((v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt(), v.len())
+    let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt();
+    (sd.max(tr.noise_floor), v.len())
 }

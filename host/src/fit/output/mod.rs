@@ -41,6 +41,18 @@ pub struct ParameterJson {
     /// close inside the bounds (not identifiable there); absent where not computed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interval: Option<[Option<f64>; 2]>,
+    /// The profile's points behind `interval`, by value: the optimum at delta_chi2 0, the
+    /// interval's ends where delta_chi2 crosses 3.841; absent where not computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profile: Option<Vec<ProfilePointDchi2Json>>,
+}
+
+/// A point of a key's profile: the key's value and the rise of chi^2 over the optimum (the
+/// other free keys refitted), scaled so that the 95 % threshold is 3.841.
+#[derive(Serialize)]
+pub struct ProfilePointDchi2Json {
+    pub value: f64,
+    pub delta_chi2: f64,
 }
 
 #[derive(Serialize)]
@@ -158,6 +170,9 @@ impl FitJson {
                         lo: f.lo,
                         hi: f.hi,
                         interval: r.intervals.get(k).map(|(a, b)| [*a, *b]),
+                        profile: r.profiles.get(k).map(|p| {
+                            p.iter().map(|(value, d)| ProfilePointDchi2Json { value: *value, delta_chi2: *d }).collect()
+                        }),
                     },
                 )
             })

@@ -172,10 +172,13 @@ impl CostFunction for &Problem {
     type Param = Vec<f64>;
     type Output = f64;
     fn cost(&self, u: &Vec<f64>) -> Result<f64, Error> {
+        // a residual that is not finite (a run the model could not finish as the cost needs)
+        // is a rejected point: a NaN cost would leave the simplex's ordering undefined
         let c = match self.residuals(u) {
             Ok(r) => cost_of(&r),
             Err(_) => OUTSIDE,
         };
+        let c = if c.is_finite() { c } else { OUTSIDE };
         self.note(c);
         Ok(c)
     }

@@ -80,6 +80,17 @@ pub(super) fn profile_point(p: &Problem, k: usize, uk: f64, w0: &[f64], max_iter
     (c < 0.5 * REJECTED_RESIDUAL * REJECTED_RESIDUAL).then(|| (c, done.w.iter().copied().collect()))
 }
 
+/// One key's profile: its 95 % interval (`None` on a side that does not close inside the
+/// bounds) and the points evaluated on the way, `(value, delta chi^2)` in the key's unit,
+/// sorted by value, the optimum `(value, 0)` among them. Delta chi^2 is the cost's rise over
+/// the optimum scaled so that the interval's threshold is [`PROFILE_DCHI2_95`] (a misfit's
+/// widened threshold included).
+#[derive(Clone, Debug, Default)]
+pub struct KeyProfile {
+    pub interval: (Option<f64>, Option<f64>),
+    pub points: Vec<(f64, f64)>,
+}
+
 /// Delta chi^2 of a 95 % interval of one parameter (chi-square, 1 degree of freedom).
 pub const PROFILE_DCHI2_95: f64 = 3.841;
 /// Largest first step of a profile in ln p (the first step is the Jacobian's standard error
@@ -94,7 +105,8 @@ pub(super) const PROFILE_BISECTIONS: usize = 5;
 /// threshold widened by a misfit, as the residual variance widens the Jacobian's errors);
 /// `chi2_scale` turns a cost into chi^2. A side where the profile stays below the threshold up
 /// to the bound (or to a scene rule) is `None`: not identifiable on that side. Only for the
-/// time-domain cost (its evaluations are cheap); empty otherwise.
+/// time-domain cost (its evaluations are cheap); empty otherwise. Each key's profile comes
+/// with the points it evaluated ([`KeyProfile`]), for the figure and the JSON.
 pub fn profile_intervals(
     p: &Problem,
     u: &[f64],
@@ -103,18 +115,20 @@ pub fn profile_intervals(
     chi2_per_dof: f64,
     first_steps: &[f64],
     max_iters: u64,
-) -> Vec<(Option<f64>, Option<f64>)> {
+) -> Vec<KeyProfile> {
     if !p.time_domain() {
         return Vec::new();
     }
     let t0 = std::time::Instant::now();
     let target = PROFILE_DCHI2_95 * chi2_per_dof.max(1.0) / chi2_scale;
+    // a cost above the optimum in units of the threshold's delta chi^2 (3.841 at the threshold)
+    let to_dchi2 = |c: f64| (c - cost) * PROFILE_DCHI2_95 / target;
     let n = u.len();
-    let out: Vec<(Option<f64>, Option<f64>)> = (0..n)
+    let out: Vec<KeyProfile> = (0..n)
         .into_par_iter()
         .map(|k| {
             let others = |uu: &[f64]| -> Vec<f64> { (0..n).filter(|j| *j != k).map(|j| uu[j]).collect() };
-            let side = |dir: f64| -> Option<f64> {
+            let side = |dir: f64, seen: &mut Vec<(f64, f64)>| -> Option<f64> {
                 let f = &p.free[k];
                 let limit = if dir > 0.0 { (f.hi / f.start).ln() } else { (f.lo / f.start).ln() };
                 let (mut inside, mut w) = (u[k], others(u));
@@ -129,12 +143,17 @@ pub fn profile_intervals(
                         uk = limit;
                     }
                     let (c, w1) = profile_point(p, k, uk, &w, max_iters)?;
+                    seen.push((f.start * uk.exp(), to_dchi2(c)));
                     if c - cost >= target {
                         // bisect between the last point inside and this one
                         let (mut a, mut b) = (inside, uk);
                         for _ in 0..PROFILE_BISECTIONS {
                             let mid = 0.5 * (a + b);
-                            match profile_point(p, k, mid, &w, max_iters) {
+                            let at = profile_point(p, k, mid, &w, max_iters);
+                            if let Some((cm, _)) = &at {
+                                seen.push((f.start * mid.exp(), to_dchi2(*cm)));
+                            }
+                            match at {
                                 Some((cm, wm)) if cm - cost < target => {
                                     a = mid;
                                     w = wm;
@@ -152,7 +171,11 @@ pub fn profile_intervals(
                     h *= 2.0;
                 }
             };
-            (side(-1.0), side(1.0))
+            let mut points = vec![(p.free[k].start * u[k].exp(), 0.0)];
+            let lo = side(-1.0, &mut points);
+            let hi = side(1.0, &mut points);
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            KeyProfile { interval: (lo, hi), points }
         })
         .collect();
     eprintln!("fit: profile-likelihood intervals of {n} keys in {:.1} s", t0.elapsed().as_secs_f64());
