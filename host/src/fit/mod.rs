@@ -364,7 +364,7 @@ fn judge(problem: &Problem, sol: &solve::Solution, r: &[f64], notes: &mut Vec<St
     let m = problem.rows.len();
     let source = match (from_windows, assumed) {
         (_, 0) => "the spread of each statistic over its recording's windows".to_string(),
-        (0, _) => format!("assumed: {} in ln(value) for every statistic (a table states no error)", goodness::ASSUMED_SIGMA_LN),
+        (0, _) => format!("assumed: {} in ln(value) for every statistic (a table states no error; a recording whose windows hold fewer than two slip onsets has no spread to measure)", goodness::ASSUMED_SIGMA_LN),
         _ => format!("the windows' spread for {from_windows} statistics, assumed {} in ln(value) for {assumed}", goodness::ASSUMED_SIGMA_LN),
     };
     if assumed > 0 {
