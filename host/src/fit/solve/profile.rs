@@ -175,6 +175,15 @@ pub fn profile_intervals(
             let lo = side(-1.0, &mut points);
             let hi = side(1.0, &mut points);
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let side = |x: Option<f64>| x.map_or("not closed".to_string(), |v| format!("{v:.6e}"));
+            eprintln!(
+                "fit: profile of {}: 95 % interval [{}, {}] from {} points, {:.1} s after the profiles' start",
+                p.free[k].key,
+                side(lo),
+                side(hi),
+                points.len(),
+                t0.elapsed().as_secs_f64()
+            );
             KeyProfile { interval: (lo, hi), points }
         })
         .collect();
