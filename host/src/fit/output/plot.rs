@@ -14,6 +14,25 @@ pub(super) const CASE_COLOURS: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
 ];
 
+/// The mesh of a fit figure's panel: axis descriptions, 11 px tick labels by
+/// [`style::tick_label`], faint grid lines at the ticks only (a macro: the panels' axes differ
+/// in type, log and linear).
+macro_rules! fit_mesh {
+    ($chart:expr, $x_desc:expr, $y_desc:expr, $path:expr) => {
+        $chart
+            .configure_mesh()
+            .x_desc($x_desc)
+            .y_desc($y_desc)
+            .label_style((style::FONT, 11))
+            .x_label_formatter(&|x| style::tick_label(*x))
+            .y_label_formatter(&|x| style::tick_label(*x))
+            .light_line_style(WHITE.mix(0.0))
+            .bold_line_style(BLACK.mix(0.08))
+            .draw()
+            .map_err(|e| style::draw_err($path, e))?
+    };
+}
+
 /// Draws a channel's marker at `at` on `area` in `colour` (filled: fitted; open: held out):
 /// disc_x a circle, pad_x a triangle, pad_trail a cross, pad_lead a square, a per-case
 /// statistic a diamond.
@@ -72,7 +91,8 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
     root.fill(&WHITE).map_err(|e| style::draw_err(path, e))?;
     let (top, bottom) = root.split_vertically(comparison_h);
     if !profiled.is_empty() {
-        draw_profiles(r, &profiled, &bottom.split_evenly((p_rows, p_cols)), path)?;
+        // panels as wide as the comparison's (the row's unused slots left blank)
+        draw_profiles(r, &profiled, &bottom.split_evenly((p_rows, p_cols.max(cols.min(4)))), path)?;
     }
     let (plots, legend) = top.split_horizontally(440 * cols as u32);
     let panels = plots.split_evenly((rows, cols));
@@ -98,17 +118,7 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
             .y_label_area_size(56)
             .build_cartesian_2d((lo..hi).log_scale().with_key_points(ticks.clone()), (lo..hi).log_scale().with_key_points(ticks))
             .map_err(|e| style::draw_err(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc(style::axis_label("measured", stat.unit()))
-            .y_desc(style::axis_label("model", stat.unit()))
-            .label_style((style::FONT, 11))
-            .x_label_formatter(&|x| style::tick_label(*x))
-            .y_label_formatter(&|x| style::tick_label(*x))
-            .light_line_style(WHITE.mix(0.0))
-            .bold_line_style(BLACK.mix(0.08))
-            .draw()
-            .map_err(|e| style::draw_err(path, e))?;
+        fit_mesh!(chart, style::axis_label("measured", stat.unit()), style::axis_label("model", stat.unit()), path);
         chart.draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.4))).map_err(|e| style::draw_err(path, e))?;
         let lrs: Vec<f64> = pts.iter().filter_map(|(c, _)| c.log_ratio()).collect();
         let rms = (lrs.iter().map(|x| x * x).sum::<f64>() / lrs.len().max(1) as f64).sqrt();
@@ -241,17 +251,7 @@ fn draw_profiles<DB: DrawingBackend>(r: &FitReport, keys: &[usize], panels: &[Dr
                 style::TickedAxis { range: -0.02 * y_hi..y_hi, ticks: y_ticks },
             )
             .map_err(|e| style::draw_err(path, e))?;
-        chart
-            .configure_mesh()
-            .x_desc(style::axis_label(key, key_unit(key)))
-            .y_desc(style::axis_label("delta chi^2", "-"))
-            .label_style((style::FONT, 11))
-            .x_label_formatter(&|x| style::tick_label(*x))
-            .y_label_formatter(&|x| style::tick_label(*x))
-            .light_line_style(WHITE.mix(0.0))
-            .bold_line_style(BLACK.mix(0.08))
-            .draw()
-            .map_err(|e| style::draw_err(path, e))?;
+        fit_mesh!(chart, style::axis_label(key, key_unit(key)), style::axis_label("delta chi^2", "-"), path);
         let blue = style::PALETTE[0];
         let shown: Vec<(f64, f64)> = pts.iter().map(|(x, d)| (*x, d.min(y_hi))).collect();
         chart.draw_series(LineSeries::new(shown.clone(), blue.stroke_width(1))).map_err(|e| style::draw_err(path, e))?;
