@@ -108,6 +108,10 @@ pub fn write_plot(r: &FitReport, path: &Path) -> Result<()> {
         let (lo, hi) = vals.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
         let (lo, hi) = (lo / 1.5, hi * 1.5);
         let mut ticks = style::ticks_log(lo, hi);
+        if ticks.len() < 2 {
+            // a span within one 1-2-5 step (points clustered): round linear ticks on the log axis
+            ticks = style::ticks_linear(lo, hi, 4).into_iter().filter(|x| *x > lo && *x < hi).collect();
+        }
         if ticks.len() > 9 {
             ticks.retain(|x| (x / 10f64.powf(x.log10().floor()) - 1.0).abs() < 1e-9);
         }
