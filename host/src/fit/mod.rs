@@ -200,6 +200,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         .map(|(st, result)| StageReport { cycles: st.cycles, horizons: st.horizons.clone(), statistics: st.problem.rows.len(), result })
         .collect();
     let stage_evals: usize = stage_problems.iter().map(|p| p.evals.load(std::sync::atomic::Ordering::Relaxed)).sum();
+    let (t_unc, r_unc) = (Instant::now(), problem.runs.load(std::sync::atomic::Ordering::Relaxed));
     let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
     let (goodness, chi2_scale) = judge(&problem, &sol, &r, &mut notes).map_err(HostError::Input)?;
     let j = solve::jacobian(&problem, &sol.u, &r);
@@ -218,6 +219,11 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         }
         Vec::new()
     };
+    eprintln!(
+        "fit: the Jacobian and the intervals: {} runs in {:.1} s",
+        problem.runs.load(std::sync::atomic::Ordering::Relaxed) - r_unc,
+        t_unc.elapsed().as_secs_f64()
+    );
     let sources: Vec<String> = {
         let mut s: Vec<String> = problem.rows.iter().filter(|r| !r.windows.is_empty()).map(|r| r.source.clone()).collect();
         s.sort();
