@@ -285,3 +285,18 @@ fn the_fitted_scene_file_runs() {
     assert_eq!(ns.scene.mu_k, mu_k);
     ok(&["simulate", out.to_str().unwrap()]);
 }
+
+/// The fit's model side (`fit::model::statistics`: model 2 stepped without the converter's
+/// counts) gives exactly the analysis `sil::run` gives on the ideal path without noise.
+#[test]
+fn the_fits_model_runs_are_the_virtual_rigs_ideal_runs() {
+    for name in ["rig_push_center", "rig_float_pull_lead"] {
+        let mut scene = stickslip::scenes::builtin::find(name).expect("built-in").scene;
+        scene.duration = 0.3;
+        scene.stats_from = 0.1;
+        let fast = fit::model::statistics(name, &scene, 8.0, None, false).expect("the run completes");
+        let opts = SilOptions { noise_m_s2: 0.0, seed: sil::DEFAULT_SEED, segment: None, figures: false, breakaway_jump_m_s2: Some(8.0), sensor: SensorPath::Ideal, spectra: false, quiet_s: 0.0, gain: sil::RIG_GAIN, oversample: 1, adc_noise_counts: 0.0, windows: false };
+        let slow = sil::run(&named(name, scene), Precision::F64, &opts, None).expect("the virtual rig runs").measured.expect("statistics");
+        assert_eq!(format!("{fast:?}"), format!("{slow:?}"), "{name}");
+    }
+}

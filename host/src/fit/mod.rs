@@ -203,6 +203,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         .map(|(st, result)| StageReport { cycles: st.cycles, horizons: st.horizons.clone(), statistics: st.problem.rows.len(), result })
         .collect();
     let stage_evals: usize = stage_problems.iter().map(|p| p.evals.load(std::sync::atomic::Ordering::Relaxed)).sum();
+    let (t_unc, r_unc) = (Instant::now(), problem.runs.load(std::sync::atomic::Ordering::Relaxed));
     let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
     let (goodness, chi2_scale) = judge(&problem, &sol, &r, &mut notes).map_err(HostError::Input)?;
     let j = solve::jacobian(&problem, &sol.u, &r);
@@ -221,6 +222,11 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         }
         Vec::new()
     };
+    eprintln!(
+        "fit: the Jacobian and the intervals: {} runs in {:.1} s",
+        problem.runs.load(std::sync::atomic::Ordering::Relaxed) - r_unc,
+        t_unc.elapsed().as_secs_f64()
+    );
     let intervals: Vec<(Option<f64>, Option<f64>)> = profiles.iter().map(|p| p.interval).collect();
     let profiles: Vec<Vec<(f64, f64)>> = profiles.into_iter().map(|p| p.points).collect();
     let sources: Vec<String> = {

@@ -490,3 +490,69 @@ pub fn pp_error_bound(cal: &stickslip_model::rig::calibration::Calibration, nois
     let b = stickslip_model::harness::prng::UNIT_NOISE_BOUND;
     std::array::from_fn(|c| (1.0 + 2.0 * b * adc_noise_counts) / cal.accel[c].counts_per_m_s2(&cal.adc) + 2.0 * b * noise_m_s2)
 }
+
+/// The statistics of a model-2 scene (Stribeck friction or the band) through the virtual
+/// rig's ideal sensor path without noise and without a quiet lead, the estimator's thresholds
+/// from the breakaway jump `jump_m_s2`: what [`run`] gives as `measured` for those options
+/// (the same samples into the same analysis), without the converter's counts, the truth's
+/// statistics and the report that the fit does not use. `Ok(None)`: nothing to analyse.
+/// An error names the outcome of a run that does not complete (over the work budget, a halt)
+/// as [`run`]'s report would: `(keyword, halt time)`.
+pub fn ideal_model2_statistics(
+    ns: &NamedScene,
+    jump_m_s2: f64,
+    segment: Option<usize>,
+    spectra: bool,
+) -> std::result::Result<Option<Analysis>, IdealRunError> {
+    let scene = &ns.scene;
+    let input = |m: String| IdealRunError::Input(m);
+    let motion = Model2Motion::<f64>::new(scene).map_err(|e| input(format!("{}: {e}", ns.origin_label())))?;
+    if let Some(b) = run::OverBudget::of(motion.stepper().substeps(), run::planned_steps(scene)) {
+        let o = Outcome::Budget(b);
+        return Err(IdealRunError::Outcome(o.keyword(), o.halt_time()));
+    }
+    let geometry = SensorModelConfig::RIG.geometry;
+    let (arm_trail, arm_lead) = geometry.arms(scene).map_err(|e| input(format!("virtual rig: {e}")))?;
+    let y_polarity = geometry.y_polarity;
+    let mut motion = motion;
+    let dt = scene.dt;
+    let from_eff = scene.stats_from - 0.25 * dt;
+    let mut acfg = analysis_config(scene, scene.stats_from, segment, false);
+    acfg.spectra = spectra;
+    acfg.windows = false;
+    acfg.breakaway_jump_m_s2 = jump_m_s2;
+    let mut analyzer = Analyzer::new(acfg);
+    let mut samples = 0u64;
+    for i in 0..run::planned_steps(scene) {
+        if let Err(halt) = motion.advance() {
+            let o = Outcome::halted(scene, halt);
+            return Err(IdealRunError::Outcome(o.keyword(), o.halt_time()));
+        }
+        // as SensorModel::next_frame: disc_x, pad_x, pad_trail, pad_lead
+        let (xdd, phidd, band) = motion.accelerations();
+        let mut a = [band, xdd, arm_trail * phidd, arm_lead * phidd];
+        if let Some(ydd) = motion.normal_acceleration() {
+            a[2] += y_polarity * ydd;
+            a[3] += y_polarity * ydd;
+        }
+        let t = (i + 1) as f64 * dt;
+        analyzer.push(i + 2, t, 0.0, &a).map_err(|m| input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
+        if t >= from_eff {
+            samples += 1;
+        }
+    }
+    match analyzer.finish() {
+        Ok(a) if samples > 0 => Ok(Some(a)),
+        Ok(_) => Ok(None),
+        Err(m) => Err(input(format!("virtual rig of {}: {m}", ns.origin_label()))),
+    }
+}
+
+/// Why [`ideal_model2_statistics`] gives no statistics.
+#[derive(Debug)]
+pub enum IdealRunError {
+    /// The run does not complete: its outcome's keyword and the halt's time.
+    Outcome(&'static str, Option<f64>),
+    /// A bad scene or analysis.
+    Input(String),
+}

@@ -100,10 +100,11 @@ pub struct StageResult {
 /// carried through them before `p`: a [`local_search`] of the first stage (short runs: cheap,
 /// and smooth in the parameters, where the whole record's statistics jump wherever the kind
 /// of stick-slip cycle changes), from its end a local search of the next stage, and so on to
-/// `p` itself: a continuation in the record's length. The starts run in parallel (each
-/// evaluation runs its cases in parallel too); the lowest cost on `p` wins, and its stages are
-/// returned.
+/// `p` itself: a continuation in the record's length. The starts run in parallel, stage by
+/// stage (each evaluation runs its cases in parallel too; stderr gives each stage's runs and
+/// time); the lowest cost on `p` wins, and its stages are returned.
 pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -> Result<(Solution, Vec<StageResult>), String> {
+    let t0 = std::time::Instant::now();
     let points = match stages.first() {
         Some(first) if first.features => screened_starts(first, starts, None, GLOBAL_POINTS_PER_KEY),
         Some(first) => screened_starts(first, starts, Some(SCREEN_FACTOR.ln()), SCREEN_POINTS_PER_KEY),
@@ -111,19 +112,33 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
         None => screened_starts(p, starts, None, TABLE_POINTS_PER_KEY),
     };
     let total = points.len();
-    type Run = (Vec<f64>, f64, bool, StartReport, Vec<StageResult>);
-    let runs: Vec<Result<Run, String>> = points
-        .into_par_iter()
-        .enumerate()
-        .map(|(k, u0)| {
-            let mut u = u0.clone();
-            let mut chain = Vec::new();
-            for (i, st) in stages.iter().enumerate() {
+    let runs_of = |q: &Problem| q.runs.load(Ordering::Relaxed);
+    if let Some(first) = stages.first() {
+        eprintln!("fit: the screen: {} runs in {:.1} s", runs_of(first), t0.elapsed().as_secs_f64());
+    }
+    // each start: its index, its first point, where it is, its stages' results
+    type Live = (usize, Vec<f64>, Vec<f64>, f64, Vec<StageResult>);
+    let mut live: Vec<Live> = points.into_iter().enumerate().map(|(k, u0)| (k, u0.clone(), u0, f64::INFINITY, Vec::new())).collect();
+    let mut reports: Vec<(usize, StartReport)> = Vec::new();
+    for (i, st) in stages.iter().enumerate() {
+        let (t, r0) = (std::time::Instant::now(), runs_of(st));
+        let done: Vec<Result<Live, String>> = live
+            .into_par_iter()
+            .map(|(k, u0, u, _, mut chain)| {
                 let (su, c, conv) = local_search(st, &u, SIMPLEX_STEP, max_iters)?;
                 eprintln!("fit: start {} of {total}, horizon {}: cost {c:.6e}", k + 1, i + 1);
                 chain.push(StageResult { values: st.values(&su), cost: c, converged: conv });
-                u = su;
-            }
+                Ok((k, u0, su, c, chain))
+            })
+            .collect();
+        live = done.into_iter().collect::<Result<_, _>>()?;
+        eprintln!("fit: horizon {}: {} runs in {:.1} s", i + 1, runs_of(st) - r0, t.elapsed().as_secs_f64());
+    }
+    let (t, r0) = (std::time::Instant::now(), runs_of(p));
+    type Run = (usize, Vec<f64>, f64, bool, StartReport, Vec<StageResult>);
+    let runs: Vec<Result<Run, String>> = live
+        .into_par_iter()
+        .map(|(k, u0, u, _, chain)| {
             let (u, cost, converged) = local_search(p, &u, SIMPLEX_STEP, max_iters)?;
             let values = p.values(&u);
             eprintln!(
@@ -133,14 +148,20 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
                 p.free.iter().zip(&values).map(|(f, v)| format!("{} = {v:.6e}", f.key)).collect::<Vec<_>>().join(", ")
             );
             let report = StartReport { from: p.values(&u0), values, cost, converged };
-            Ok((u, cost, converged, report, chain))
+            Ok((k, u, cost, converged, report, chain))
         })
         .collect();
-    let mut reports = Vec::new();
-    let mut best: Option<(Vec<f64>, f64, bool, Vec<StageResult>)> = None;
+    let mut ends = Vec::new();
     for r in runs {
-        let (u, cost, converged, report, chain) = r?;
-        reports.push(report);
+        let (k, u, cost, converged, report, chain) = r?;
+        reports.push((k, report));
+        ends.push((u, cost, converged, chain));
+    }
+    eprintln!("fit: the whole record from the starts: {} runs in {:.1} s", runs_of(p) - r0, t.elapsed().as_secs_f64());
+    reports.sort_by_key(|(k, _)| *k);
+    let reports: Vec<StartReport> = reports.into_iter().map(|(_, r)| r).collect();
+    let mut best: Option<(Vec<f64>, f64, bool, Vec<StageResult>)> = None;
+    for (u, cost, converged, chain) in ends {
         if best.as_ref().is_none_or(|b| cost < b.1) {
             best = Some((u, cost, converged, chain));
         }
@@ -149,6 +170,7 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
     if cost >= OUTSIDE {
         return Err("no start reached a valid scene inside the bounds: every evaluation was rejected".into());
     }
+    let (t, r0) = (std::time::Instant::now(), runs_of(p));
     // the polish: a simplex stalls early where the parameters are correlated and the cost is
     // not smooth at the sample scale (statistics such as the first slip's time move in steps
     // of a sample); restarted from its best point with a fresh, smaller simplex it goes on down
@@ -173,6 +195,7 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
         }
         break;
     }
+    eprintln!("fit: the polish: {} runs in {:.1} s", runs_of(p) - r0, t.elapsed().as_secs_f64());
     Ok((Solution { u, cost, converged, starts: reports }, chain))
 }
 

@@ -26,6 +26,9 @@ pub struct Problem {
     /// Whether a statistic needs the spectra (peak_hz weighted).
     pub spectra: bool,
     pub evals: AtomicUsize,
+    /// Every run of the cases (the Jacobians' and the screens' too, which [`Self::evals`] does
+    /// not count): what the search costs.
+    pub runs: AtomicUsize,
     pub(super) best: Mutex<f64>,
     pub(super) progress: Option<ProgressBar>,
     /// The recordings' pad_x series when the cost is the time-domain one
@@ -56,6 +59,7 @@ impl Problem {
             segment,
             spectra,
             evals: AtomicUsize::new(0),
+            runs: AtomicUsize::new(0),
             best: Mutex::new(f64::INFINITY),
             progress,
             traces: Vec::new(),
@@ -140,6 +144,7 @@ impl Problem {
                 return Err(format!("{} = {v} outside [{}, {}]", f.key, f.lo, f.hi));
             }
         }
+        self.runs.fetch_add(1, Ordering::Relaxed);
         if self.time_domain() {
             return self.trace_residuals(&values);
         }
