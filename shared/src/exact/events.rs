@@ -178,8 +178,8 @@ impl<T: Real> ExactTables<T> {
                 touched = None;
                 let tr = Transition { t: self.time_at(s, sub, at), from: regime, to: next, state: State::from_array(zn) };
                 obs.transition(&tr);
-                if s.n_reported < TRANSITIONS_PER_STEP {
-                    s.reported[s.n_reported] = tr;
+                if (s.n_reported as usize) < TRANSITIONS_PER_STEP {
+                    s.reported[s.n_reported as usize] = tr;
                     s.n_reported += 1;
                 } else {
                     s.dropped += 1;

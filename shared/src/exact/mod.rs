@@ -55,6 +55,7 @@ pub use pair::ExactStepper;
 /// Transitions kept per step for [`ExactStepper::transitions`]; more are counted in
 /// [`ExactStepper::transitions_dropped`] (an observer still sees every one).
 pub const TRANSITIONS_PER_STEP: usize = 8;
+const _: () = assert!(TRANSITIONS_PER_STEP <= u8::MAX as usize);
 /// More transitions than this inside one substep halt the run ([`Halt::TransitionStorm`]).
 pub const MAX_TRANSITIONS_PER_SUBSTEP: u32 = 64;
 
@@ -169,7 +170,10 @@ pub struct ExactState<T: Real> {
     /// sticking at 25.6 kHz, long after x has left its range.
     anchor_subs: u32,
     reported: [Transition<T>; TRANSITIONS_PER_STEP],
-    n_reported: usize,
+    /// How many of `reported` the last step filled (a byte: the state's size is a multiple of
+    /// 8 B without padding for it, and the stepper, tables and state, no larger than before
+    /// their split).
+    n_reported: u8,
     dropped: u64,
     halted: Option<Halt>,
 }
@@ -188,7 +192,7 @@ impl<T: Real> ExactState<T> {
     }
     /// The transitions of the last step (at most [`TRANSITIONS_PER_STEP`]).
     pub fn transitions(&self) -> &[Transition<T>] {
-        &self.reported[..self.n_reported]
+        &self.reported[..self.n_reported as usize]
     }
     /// Transitions not kept because a step had more than [`TRANSITIONS_PER_STEP`].
     pub fn transitions_dropped(&self) -> u64 {

@@ -343,8 +343,8 @@ pub struct Model2Tables<T: Real, C: Composition> {
     float_limits: [T; 6],
 }
 
-/// What a model-2 step writes: the state of one run on a set of [`Model2Tables`] (about 100 B
-/// in f32). Starting or restarting a run is writing this ([`Model2Tables::start_state`]).
+/// What a model-2 step writes: the state of one run on a set of [`Model2Tables`] (120 B in
+/// f32). Starting or restarting a run is writing this ([`Model2Tables::start_state`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Model2State<T: Real> {
     /// The state vector z (see [`crate::model2::system`]; SI units).
