@@ -46,8 +46,17 @@
 //! The thesis model (every option off) never runs here: it keeps [`crate::ExactStepper`],
 //! bit for bit.
 //!
-//! Files: this one holds the types, the stepper's fields and its accessors and friction
-//! evaluation; [`setup`] the set-up and the dyadic tables; [`etd`] the exponential time
+//! **Tables apart from state.** [`Model2Tables`] holds everything the set-up fixes for one
+//! scene and step (the dyadic flows, the ETDRK4 vectors, the guards' rows and rates, the
+//! friction's constants, the limits: kilobytes), read-only while it steps; [`Model2State`] what
+//! a step writes (z, the regime, the friction's falling part carried between chunks, the step
+//! and substep counts, the stick anchor, the halt, the slip's arming: 120 B in f32). The step
+//! is [`Model2Tables::step`] on a `&mut Model2State`, so one set of tables serves any number of
+//! runs; [`Model2Stepper`] is the two together, the tables owned or borrowed.
+//!
+//! Files: this one holds the types, the tables' and the state's fields, the tables' accessors,
+//! start and restart of a state, and friction evaluation; [`pair`] [`Model2Stepper`];
+//! [`setup`] the set-up and the dyadic tables; [`etd`] the exponential time
 //! differencing of Stribeck slip (ETDRK4 chunks, near operators, chunk levels); [`events`] the
 //! location of transitions (guards, binary lifting, crests, entry to stick); [`substep`] the
 //! step and its substeps (the short path and the general one); [`checks`] the range and
