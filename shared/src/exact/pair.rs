@@ -117,7 +117,7 @@ impl<T: Real, Tb: Borrow<ExactTables<T>>> ExactStepper<T, Tb> {
 
     /// One step of `dt`, with no observer ([`ExactTables::step`]: a short path for the common
     /// step).
-    #[inline]
+    #[inline(always)]
     pub fn step(&mut self) -> Result<usize, Halt> {
         let (tables, state) = self.parts_mut();
         tables.step(state)

@@ -8,7 +8,7 @@ impl<T: Real> ExactTables<T> {
     /// One step of `dt` of the run in `s` (its state: what a step writes), with no observer.
     /// The common step (one substep, no guard fired, the state in range) takes a short path;
     /// anything else goes through [`Self::step_observed`].
-    #[inline]
+    #[inline(always)]
     pub fn step(&self, s: &mut ExactState<T>) -> Result<usize, Halt> {
         if self.prop.n_sub == 1 && s.halted.is_none() {
             let regime = s.regime;
