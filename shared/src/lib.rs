@@ -46,7 +46,7 @@ pub mod stats;
 pub mod stickslip;
 
 pub use coefficients::Coefficients;
-pub use exact::{ExactStepper, Halt, Observer, Segment, State, Transition};
+pub use exact::{ExactState, ExactStepper, ExactTables, Halt, Observer, Segment, State, Transition};
 pub use real::Real;
 pub use catalogue::{rig_set, DEFAULT_SCENE};
 pub use scene::{Caliper, FrictionLaw, Scene, SceneError};

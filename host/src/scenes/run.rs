@@ -3,9 +3,9 @@
 
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
-use stickslip_model::model2::{AnyModel2Stepper, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition};
+use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition};
 use stickslip_model::{
-    Coefficients, ExactStepper, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
+    Coefficients, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
 };
 
 use crate::scenes::cycles::{CycleObserver, CycleStats};
@@ -290,7 +290,8 @@ pub fn run_from<S: Sink + ?Sized>(
 }
 
 /// [`run_from`] from each start in turn, the stepper set up once (its tables are most of a
-/// short run's cost) and copied for each: the maps' two runs of a cell.
+/// short run's cost) and its tables shared by every run, each run its own copy of the state
+/// only: the maps' two runs of a cell.
 pub fn run_starts<S: Sink + ?Sized>(
     scene: &Scene,
     precision: Precision,
@@ -316,20 +317,17 @@ fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, f
     // The caller validated the scene; a failure here still gets a message, not a panic.
     let proto = ExactStepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     let budget = OverBudget::of(proto.propagator().n_sub, planned_steps(scene));
-    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, proto.clone(), *z0, full, budget, &mut **sink)).collect()
+    // each run on the set-up's tables, from a copy of its state
+    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, proto.shared(), *z0, full, budget, &mut **sink)).collect()
 }
 
 fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
     let proto = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
     let budget = OverBudget::of(proto.substeps(), planned_steps(scene));
     let mut reports = Vec::with_capacity(starts.len());
-    let last = starts.len().saturating_sub(1);
-    let mut proto = Some(proto);
-    for (i, (z0, sink)) in starts.iter_mut().enumerate() {
-        // each run its own copy of the stepper, the last the set-up itself (its tables are
-        // tens of KB)
-        let stepper = if i == last { proto.take() } else { proto.clone() };
-        let Some(stepper) = stepper else { break };
+    for (z0, sink) in starts.iter_mut() {
+        // each run on the set-up's tables (tens of KB), from a copy of its state
+        let stepper = proto.shared();
         reports.push(if full {
             run_model2_in::<T, S, true>(scene, precision, stepper, *z0, budget, &mut **sink)?
         } else {
@@ -397,7 +395,7 @@ impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
 fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     scene: &Scene,
     precision: Precision,
-    mut stepper: AnyModel2Stepper<T>,
+    mut stepper: AnyModel2Stepper<T, Shared<'_>>,
     z0: Option<[f64; 8]>,
     budget: Option<OverBudget>,
     sink: &mut S,
@@ -473,7 +471,7 @@ pub fn planned_steps(scene: &Scene) -> u64 {
 fn run_in<T: Real, S: Sink + ?Sized>(
     scene: &Scene,
     precision: Precision,
-    mut stepper: ExactStepper<T>,
+    mut stepper: ExactStepper<T, &ExactTables<T>>,
     z0: Option<[f64; 8]>,
     full: bool,
     budget: Option<OverBudget>,

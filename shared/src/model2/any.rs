@@ -1,33 +1,59 @@
 //! A model-2 stepper whose composition is chosen from the scene at run time (the host's
 //! commands, which read any scene file). Each variant is the compile-time specialised
-//! [`Model2Stepper`] of one [`Composition`]; a call costs one match on the variant.
+//! [`Model2Stepper`] of one [`Composition`]; a call costs one match on the variant. Its
+//! tables are owned ([`Owned`], the default) or borrowed from another ([`Shared`]: the runs of
+//! one scene share one set, [`AnyModel2Stepper::shared`]).
+
+use core::borrow::Borrow;
+use core::marker::PhantomData;
 
 use crate::halt::Halt;
 use crate::model2::composition::{
     Band, BandFace, Composition, Coulomb, CoulombFace, FloatFace, Stribeck, StribeckBand, StribeckBandFace,
     StribeckFace, StribeckFloatFace,
 };
-use crate::model2::stepper::{Model2Stepper, Model2Observer};
+use crate::model2::stepper::{Model2Observer, Model2Stepper, Model2Tables};
 use crate::model2::system::NS;
 use crate::real::Real;
 use crate::scene::{FrictionLaw, Scene, SceneError};
 use crate::stickslip::Regime;
 
-/// [`Model2Stepper`] of the composition a scene asks for.
+/// How an [`AnyModel2Stepper`] holds its tables: `Of<C>` for composition `C`.
+pub trait TableStore<T: Real> {
+    type Of<C: Composition>: Borrow<Model2Tables<T, C>> + Clone + core::fmt::Debug;
+}
+
+/// The stepper owns its tables.
+#[derive(Clone, Copy, Debug)]
+pub struct Owned;
+
+/// The stepper borrows its tables (`&'a Model2Tables`) from a stepper that owns them.
+#[derive(Clone, Copy, Debug)]
+pub struct Shared<'a>(PhantomData<&'a ()>);
+
+impl<T: Real> TableStore<T> for Owned {
+    type Of<C: Composition> = Model2Tables<T, C>;
+}
+
+impl<'a, T: Real> TableStore<T> for Shared<'a> {
+    type Of<C: Composition> = &'a Model2Tables<T, C>;
+}
+
+/// [`Model2Stepper`] of the composition a scene asks for, its tables held as `K` says.
 #[derive(Clone, Debug)]
-pub enum AnyModel2Stepper<T: Real> {
+pub enum AnyModel2Stepper<T: Real, K: TableStore<T> = Owned> {
     /// The thesis model in model 2's matrices (a cross-check; the host runs such scenes on
     /// [`crate::ExactStepper`]).
-    Coulomb(Model2Stepper<T, Coulomb>),
-    Band(Model2Stepper<T, Band>),
-    Stribeck(Model2Stepper<T, Stribeck>),
-    StribeckBand(Model2Stepper<T, StribeckBand>),
-    CoulombFace(Model2Stepper<T, CoulombFace>),
-    BandFace(Model2Stepper<T, BandFace>),
-    StribeckFace(Model2Stepper<T, StribeckFace>),
-    StribeckBandFace(Model2Stepper<T, StribeckBandFace>),
-    FloatFace(Model2Stepper<T, FloatFace>),
-    StribeckFloatFace(Model2Stepper<T, StribeckFloatFace>),
+    Coulomb(Model2Stepper<T, Coulomb, K::Of<Coulomb>>),
+    Band(Model2Stepper<T, Band, K::Of<Band>>),
+    Stribeck(Model2Stepper<T, Stribeck, K::Of<Stribeck>>),
+    StribeckBand(Model2Stepper<T, StribeckBand, K::Of<StribeckBand>>),
+    CoulombFace(Model2Stepper<T, CoulombFace, K::Of<CoulombFace>>),
+    BandFace(Model2Stepper<T, BandFace, K::Of<BandFace>>),
+    StribeckFace(Model2Stepper<T, StribeckFace, K::Of<StribeckFace>>),
+    StribeckBandFace(Model2Stepper<T, StribeckBandFace, K::Of<StribeckBandFace>>),
+    FloatFace(Model2Stepper<T, FloatFace, K::Of<FloatFace>>),
+    StribeckFloatFace(Model2Stepper<T, StribeckFloatFace, K::Of<StribeckFloatFace>>),
 }
 
 macro_rules! each {
@@ -48,6 +74,22 @@ macro_rules! each {
 }
 
 impl<T: Real> AnyModel2Stepper<T> {
+    /// A run that borrows these tables, in this stepper's state ([`Model2Stepper::shared`]).
+    pub fn shared(&self) -> AnyModel2Stepper<T, Shared<'_>> {
+        match self {
+            AnyModel2Stepper::Coulomb(s) => AnyModel2Stepper::Coulomb(s.shared()),
+            AnyModel2Stepper::Band(s) => AnyModel2Stepper::Band(s.shared()),
+            AnyModel2Stepper::Stribeck(s) => AnyModel2Stepper::Stribeck(s.shared()),
+            AnyModel2Stepper::StribeckBand(s) => AnyModel2Stepper::StribeckBand(s.shared()),
+            AnyModel2Stepper::CoulombFace(s) => AnyModel2Stepper::CoulombFace(s.shared()),
+            AnyModel2Stepper::BandFace(s) => AnyModel2Stepper::BandFace(s.shared()),
+            AnyModel2Stepper::StribeckFace(s) => AnyModel2Stepper::StribeckFace(s.shared()),
+            AnyModel2Stepper::StribeckBandFace(s) => AnyModel2Stepper::StribeckBandFace(s.shared()),
+            AnyModel2Stepper::FloatFace(s) => AnyModel2Stepper::FloatFace(s.shared()),
+            AnyModel2Stepper::StribeckFloatFace(s) => AnyModel2Stepper::StribeckFloatFace(s.shared()),
+        }
+    }
+
     /// The stepper of `scene`'s composition.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
         let stribeck = scene.friction == FrictionLaw::Stribeck;
@@ -69,12 +111,12 @@ impl<T: Real> AnyModel2Stepper<T> {
             (false, false, true) => AnyModel2Stepper::CoulombFace(Model2Stepper::new(scene)?),
         })
     }
+}
+
+impl<T: Real, K: TableStore<T>> AnyModel2Stepper<T, K> {
     /// The composition's name.
     pub fn composition(&self) -> &'static str {
-        fn name<T: Real, C: Composition>(_: &Model2Stepper<T, C>) -> &'static str {
-            C::NAME
-        }
-        each!(self, s => name(s))
+        each!(self, s => s.composition())
     }
     pub fn table_bytes(&self) -> usize {
         each!(self, s => s.table_bytes())

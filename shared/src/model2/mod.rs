@@ -20,11 +20,11 @@ pub mod stats;
 pub mod stepper;
 pub mod system;
 
-pub use any::AnyModel2Stepper;
+pub use any::{AnyModel2Stepper, Owned, Shared, TableStore};
 pub use composition::{
     Band, BandFace, Composition, Coulomb, CoulombFace, FloatFace, Stribeck, StribeckBand, StribeckBandFace, StribeckFace,
     StribeckFloatFace,
 };
 pub use stats::{Model2Stats, Model2StatsObserver};
-pub use stepper::{Model2Stepper, Model2Observer, Model2Segment, Model2Transition};
+pub use stepper::{Model2Observer, Model2Segment, Model2State, Model2Stepper, Model2Tables, Model2Transition};
 pub use system::{System, NA, NS, Y};

@@ -34,8 +34,8 @@
 //! At most one of the three features may be on.
 
 use super::pneumatics::normal_load_n;
-use crate::exact::{ExactStepper, Halt};
-use crate::model2::{Composition, Model2Stepper, Model2Observer, Model2Transition};
+use crate::exact::{ExactState, ExactStepper, ExactTables, Halt};
+use crate::model2::{Composition, Model2Observer, Model2State, Model2Stepper, Model2Tables, Model2Transition};
 use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
 
@@ -75,31 +75,42 @@ pub fn default_template() -> Scene {
     }
 }
 
-/// What the lockstep model needs of a stepper (f32).
+/// What the lockstep model needs of a stepper (f32): its tables (built once, read-only) and
+/// its state (what a step or a restart writes), apart.
 pub trait LockstepStepper: Sized {
     /// The model-2 composition ([`crate::model2::Coulomb`] for the thesis stepper).
     type Composition: Composition;
-    /// What a restart returns to: the stepper's initial state, taken when it is built
+    /// The stepper's tables: fixed at the build.
+    type Tables;
+    /// The stepper's state: what a step writes.
+    type State;
+    /// What a restart returns to: the stepper's initial state vector, taken when it is built
     /// ([`Self::start_point`]): a few words, not the tables.
     type Start: Copy + core::fmt::Debug;
     /// Builds the stepper for `scene` in `slot` (in place: see [`LockstepModel`]).
     fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError>;
-    /// The state a freshly built stepper is in.
+    /// The state vector a freshly built stepper is in.
     fn start_point(&self) -> Self::Start;
-    /// Back to `start` (its [`Self::start_point`]), the tables kept: the same state a fresh
-    /// build leaves, bit for bit.
-    fn restart(&mut self, start: &Self::Start);
+    /// The tables, read-only, and the state, to write.
+    fn parts_mut(&mut self) -> (&Self::Tables, &mut Self::State);
+    /// The tables and the state, to read.
+    fn parts(&self) -> (&Self::Tables, &Self::State);
+    /// Back to `start` (its [`Self::start_point`]): the same state a fresh build leaves, bit
+    /// for bit, written into `state` alone (the tables are read).
+    fn restart(tables: &Self::Tables, state: &mut Self::State, start: &Self::Start);
     /// One step; whether a stick-to-slip transition happened in it.
-    fn advance(&mut self) -> Result<bool, Halt>;
-    fn current_regime(&self) -> Regime;
+    fn advance(tables: &Self::Tables, state: &mut Self::State) -> Result<bool, Halt>;
+    fn current_regime(state: &Self::State) -> Regime;
     /// The pad's acceleration x'' at the current state [m/s^2].
-    fn pad_acceleration(&self) -> f32;
+    fn pad_acceleration(tables: &Self::Tables, state: &Self::State) -> f32;
     /// The normal force at the current state [N].
-    fn current_normal_force(&self) -> f32;
+    fn current_normal_force(tables: &Self::Tables, state: &Self::State) -> f32;
 }
 
 impl LockstepStepper for ExactStepper<f32> {
     type Composition = crate::model2::Coulomb;
+    type Tables = ExactTables<f32>;
+    type State = ExactState<f32>;
     type Start = [f32; 4];
     fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError> {
         *slot = Some(ExactStepper::new(scene)?);
@@ -108,25 +119,33 @@ impl LockstepStepper for ExactStepper<f32> {
     fn start_point(&self) -> [f32; 4] {
         self.state().to_array()
     }
-    fn restart(&mut self, start: &[f32; 4]) {
-        ExactStepper::restart(self, *start);
+    #[inline(always)]
+    fn parts_mut(&mut self) -> (&ExactTables<f32>, &mut ExactState<f32>) {
+        ExactStepper::parts_mut(self)
     }
     #[inline(always)]
-    fn advance(&mut self) -> Result<bool, Halt> {
-        self.step()?;
-        Ok(self.transitions().iter().any(|t| t.from == Regime::Stick))
+    fn parts(&self) -> (&ExactTables<f32>, &ExactState<f32>) {
+        (self.tables(), self.run_state())
+    }
+    fn restart(tables: &ExactTables<f32>, state: &mut ExactState<f32>, start: &[f32; 4]) {
+        tables.restart(state, *start);
     }
     #[inline(always)]
-    fn current_regime(&self) -> Regime {
-        self.regime()
+    fn advance(tables: &ExactTables<f32>, state: &mut ExactState<f32>) -> Result<bool, Halt> {
+        tables.step(state)?;
+        Ok(state.transitions().iter().any(|t| t.from == Regime::Stick))
     }
     #[inline(always)]
-    fn pad_acceleration(&self) -> f32 {
-        let z = self.state().to_array();
-        self.propagator().accelerations(self.regime(), &z).0
+    fn current_regime(state: &ExactState<f32>) -> Regime {
+        state.regime()
     }
-    fn current_normal_force(&self) -> f32 {
-        self.normal_force()
+    #[inline(always)]
+    fn pad_acceleration(tables: &ExactTables<f32>, state: &ExactState<f32>) -> f32 {
+        let z = state.state().to_array();
+        tables.propagator().accelerations(state.regime(), &z).0
+    }
+    fn current_normal_force(tables: &ExactTables<f32>, state: &ExactState<f32>) -> f32 {
+        tables.normal_force(state)
     }
 }
 
@@ -145,6 +164,8 @@ impl Model2Observer<f32> for SlipOnset {
 
 impl<C: Composition> LockstepStepper for Model2Stepper<f32, C> {
     type Composition = C;
+    type Tables = Model2Tables<f32, C>;
+    type State = Model2State<f32>;
     type Start = [f32; crate::model2::NS];
     fn build_in(slot: &mut Option<Self>, scene: &Scene) -> Result<(), SceneError> {
         Model2Stepper::init_in(slot, scene).map(|_| ())
@@ -152,25 +173,33 @@ impl<C: Composition> LockstepStepper for Model2Stepper<f32, C> {
     fn start_point(&self) -> [f32; crate::model2::NS] {
         self.state()
     }
-    fn restart(&mut self, start: &[f32; crate::model2::NS]) {
-        Model2Stepper::restart(self, *start);
+    #[inline(always)]
+    fn parts_mut(&mut self) -> (&Model2Tables<f32, C>, &mut Model2State<f32>) {
+        Model2Stepper::parts_mut(self)
     }
     #[inline(always)]
-    fn advance(&mut self) -> Result<bool, Halt> {
+    fn parts(&self) -> (&Model2Tables<f32, C>, &Model2State<f32>) {
+        (self.tables(), self.run_state())
+    }
+    fn restart(tables: &Model2Tables<f32, C>, state: &mut Model2State<f32>, start: &[f32; crate::model2::NS]) {
+        tables.restart(state, *start);
+    }
+    #[inline(always)]
+    fn advance(tables: &Model2Tables<f32, C>, state: &mut Model2State<f32>) -> Result<bool, Halt> {
         let mut onset = SlipOnset(false);
-        self.step_observed(&mut onset)?;
+        tables.step(state, &mut onset)?;
         Ok(onset.0)
     }
     #[inline(always)]
-    fn current_regime(&self) -> Regime {
-        self.regime()
+    fn current_regime(state: &Model2State<f32>) -> Regime {
+        state.regime()
     }
     #[inline(always)]
-    fn pad_acceleration(&self) -> f32 {
-        self.derivative(self.regime(), &self.state())[1]
+    fn pad_acceleration(tables: &Model2Tables<f32, C>, state: &Model2State<f32>) -> f32 {
+        tables.derivative(state.regime(), &state.z())[1]
     }
-    fn current_normal_force(&self) -> f32 {
-        self.normal_force(&self.state())
+    fn current_normal_force(tables: &Model2Tables<f32, C>, state: &Model2State<f32>) -> f32 {
+        tables.normal_force(&state.z())
     }
 }
 
@@ -189,10 +218,12 @@ pub struct ModelSample {
 }
 
 /// The stepper in lockstep with the samples ([`RigStepper`] unless named), or no model
-/// (stopped). The stepper is built in its slot ([`LockstepStepper::build_in`]) and never
-/// moved. Stopping keeps it (its tables: kilobytes, built in f64 once): [`Self::restart`] puts
-/// it back at its initial state, a few words written, no tables copied (the rig's record start,
-/// [`super::pipeline`]). (Its value may still be assembled on the stack first: a model-2 stepper
+/// (stopped): one set of tables and the state stepped on them
+/// ([`LockstepStepper::Tables`], [`LockstepStepper::State`]). The stepper is built in its slot
+/// ([`LockstepStepper::build_in`]) and never moved. Stopping keeps it (its tables: kilobytes,
+/// built in f64 once): [`Self::restart`] puts it back at its initial state by writing the
+/// state alone (the tables are passed to it read-only: [`LockstepStepper::restart`]), no
+/// tables copied (the rig's record start, [`super::pipeline`]). (Its value may still be assembled on the stack first: a model-2 stepper
 /// in f32 takes kilobytes (`core::mem::size_of`), and the optimiser decides whether
 /// `Option::insert` builds it in place; `Estimator::start_model`'s frame with the `model2`
 /// stepper is read off `arm-none-eabi-objdump -d` of bin `rig` of `tests/on-target` built
@@ -269,12 +300,14 @@ impl<S: LockstepStepper> LockstepModel<S> {
     }
 
     /// Runs the model again from its initial state (the state [`Self::start`] built it in),
-    /// its tables kept: a few words written, nothing rebuilt. Nothing happens without a
-    /// stepper (never started, or its scene refused).
+    /// its tables kept: its state written (120 B of model 2's in f32, 328 B of the thesis
+    /// stepper's), its tables only read, nothing rebuilt. Nothing happens without a stepper
+    /// (never started, or its scene refused).
     #[inline]
     pub fn restart(&mut self) {
         if let (Some(stepper), Some(start)) = (self.stepper.as_mut(), self.start.as_ref()) {
-            stepper.restart(start);
+            let (tables, state) = stepper.parts_mut();
+            S::restart(tables, state, start);
             self.running = true;
         }
         self.halt = None;
@@ -293,7 +326,10 @@ impl<S: LockstepStepper> LockstepModel<S> {
     }
     /// The model's normal force now [N] (0 when stopped).
     pub fn normal_force(&self) -> f32 {
-        self.stepper().map_or(0.0, |s| s.current_normal_force())
+        self.stepper().map_or(0.0, |s| {
+            let (tables, state) = s.parts();
+            S::current_normal_force(tables, state)
+        })
     }
     pub fn halt(&self) -> Option<Halt> {
         self.halt
@@ -313,19 +349,19 @@ impl<S: LockstepStepper> LockstepModel<S> {
     /// it folds with the estimator's own: this body is the step as it was before the restart).
     #[inline]
     fn step_running(&mut self, pad_x_m_s2: f32) -> Option<ModelSample> {
-        let stepper = self.stepper.as_mut()?;
+        let (tables, state) = self.stepper.as_mut()?.parts_mut();
         let mut slip_onset = false;
         if self.halt.is_none() {
-            match stepper.advance() {
+            match S::advance(tables, state) {
                 Ok(onset) => slip_onset = onset,
                 Err(h) => self.halt = Some(h),
             }
         }
-        let regime = stepper.current_regime();
+        let regime = S::current_regime(state);
         if self.halt.is_some() {
             return Some(ModelSample { xdd_m_s2: 0.0, residual_m_s2: 0.0, regime, slip_onset: false, halted: true });
         }
-        let xdd = stepper.pad_acceleration();
+        let xdd = S::pad_acceleration(tables, state);
         Some(ModelSample { xdd_m_s2: xdd, residual_m_s2: pad_x_m_s2 - xdd, regime, slip_onset, halted: false })
     }
 }

@@ -3,17 +3,17 @@
 
 use super::*;
 
-impl<T: Real, C: Composition> Model2Stepper<T, C> {
+impl<T: Real, C: Composition> Model2Tables<T, C> {
     /// Finite, in range, in contact; the band within its range. The common case is one
     /// branch; the halt's classification (and its time, in f64) is out of line.
     #[inline(always)]
-    pub(super) fn check(&self, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
+    pub(super) fn check(&self, s: &Model2State<T>, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
         let pad = [z[0], z[1], z[2], z[3]];
         let band_ok = !C::BAND || ((z[4].abs() <= self.u_limit) & (z[5].abs() <= self.udot_limit));
         if self.limits.in_range(&pad) & band_ok & self.float_ok(z) {
             return Ok(());
         }
-        self.check_failed(z, regime, sub, unit)
+        self.check_failed(s, z, regime, sub, unit)
     }
 
     /// The floating pad: both contact springs compressed (y + d phi >= 0, to round-off), y and
@@ -29,11 +29,11 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
 
     #[cold]
     #[inline(never)]
-    pub(super) fn check_failed(&self, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
+    pub(super) fn check_failed(&self, s: &Model2State<T>, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
         let pad = [z[0], z[1], z[2], z[3]];
-        self.limits.check(&pad, regime, || self.time_at(sub, unit))?;
+        self.limits.check(&pad, regime, || self.time_at(s, sub, unit))?;
         if C::FLOAT && !self.float_ok(z) {
-            let t = self.time_at(sub, unit);
+            let t = self.time_at(s, sub, unit);
             if !(z[Y].is_finite() && z[Y + 1].is_finite()) {
                 return Err(Halt::NonFinite { t });
             }
@@ -48,7 +48,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             return Err(Halt::Diverged { t, regime, stiffness_margin: self.limits.margins[regime.index()] });
         }
         if C::BAND && (!(z[4].abs() <= self.u_limit) || !(z[5].abs() <= self.udot_limit)) {
-            let t = self.time_at(sub, unit);
+            let t = self.time_at(s, sub, unit);
             if !(z[4].is_finite() && z[5].is_finite()) {
                 return Err(Halt::NonFinite { t });
             }

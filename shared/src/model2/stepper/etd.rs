@@ -5,7 +5,7 @@
 
 use super::*;
 
-impl<T: Real, C: Composition> Model2Stepper<T, C> {
+impl<T: Real, C: Composition> Model2Tables<T, C> {
     /// The flow over 2^j units in `regime` from `z` (exact in linear regimes; ETDRK4 in
     /// Stribeck slip, which needs j >= 1).
     pub(super) fn chunk(&self, regime: Regime, j: usize, z: &[T; NS]) -> [T; NS] {

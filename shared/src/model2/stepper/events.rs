@@ -4,7 +4,7 @@
 
 use super::*;
 
-impl<T: Real, C: Composition> Model2Stepper<T, C> {
+impl<T: Real, C: Composition> Model2Tables<T, C> {
     /// The guards of `regime` as rows (fire at row . z >= 0): stick, F_req -+ mu_s N; slip
     /// slower, v; slip faster, -v.
     #[inline(always)]

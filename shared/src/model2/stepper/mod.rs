@@ -46,8 +46,17 @@
 //! The thesis model (every option off) never runs here: it keeps [`crate::ExactStepper`],
 //! bit for bit.
 //!
-//! Files: this one holds the types, the stepper's fields and its accessors and friction
-//! evaluation; [`setup`] the set-up and the dyadic tables; [`etd`] the exponential time
+//! **Tables apart from state.** [`Model2Tables`] holds everything the set-up fixes for one
+//! scene and step (the dyadic flows, the ETDRK4 vectors, the guards' rows and rates, the
+//! friction's constants, the limits: kilobytes), read-only while it steps; [`Model2State`] what
+//! a step writes (z, the regime, the friction's falling part carried between chunks, the step
+//! and substep counts, the stick anchor, the halt, the slip's arming: 120 B in f32). The step
+//! is [`Model2Tables::step`] on a `&mut Model2State`, so one set of tables serves any number of
+//! runs; [`Model2Stepper`] is the two together, the tables owned or borrowed.
+//!
+//! Files: this one holds the types, the tables' and the state's fields, the tables' accessors,
+//! start and restart of a state, and friction evaluation; [`pair`] [`Model2Stepper`];
+//! [`setup`] the set-up and the dyadic tables; [`etd`] the exponential time
 //! differencing of Stribeck slip (ETDRK4 chunks, near operators, chunk levels); [`events`] the
 //! location of transitions (guards, binary lifting, crests, entry to stick); [`substep`] the
 //! step and its substeps (the short path and the general one); [`checks`] the range and
@@ -65,8 +74,11 @@ use crate::stickslip::Regime;
 mod checks;
 mod etd;
 mod events;
+mod pair;
 mod setup;
 mod substep;
+
+pub use pair::Model2Stepper;
 
 /// Deepest refinement of a Stribeck substep below the whole substep (2^-16).
 const STRIBECK_REFINE: usize = 16;
@@ -265,9 +277,12 @@ struct FirstChunk<T> {
     ex1: Option<Excess<T>>,
 }
 
-/// The model-2 stepper, generic over f32 and f64 and over its [`Composition`].
+/// The model-2 stepper's tables for one scene and step, generic over f32 and f64 and over its
+/// [`Composition`]: everything fixed at set-up (the dyadic flows, the ETDRK4 vectors, the rows
+/// and constants), read-only while it steps. Kilobytes (`table_bytes`); one set serves any
+/// number of runs, each its own [`Model2State`] ([`Self::step`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Model2Stepper<T: Real, C: Composition> {
+pub struct Model2Tables<T: Real, C: Composition> {
     /// flows[regime][level]
     flows: [T::PerLevel<C::Flow<T>>; 3],
     /// Stribeck slip: etd[slip regime - 1][level] (empty with Coulomb friction)
@@ -318,6 +333,30 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     h_sub: f64,
     n_sub: u32,
     dt: f64,
+    /// h_sub and h_sub / 2^L in T.
+    h_t: T,
+    hu_t: T,
+    /// The guards' rows ([`guard_slot`]; fire at row . z >= 0), in T.
+    guards: [[T; NA]; 4],
+    /// (mu_s - mu_k) delta / v_s (1/m + 1/m_b): the falling slope's rate per unit of N and of
+    /// the shape y^(delta-1) exp(-y^delta) [1/(N s)].
+    rate_coef: T,
+    /// The largest slope rate a chunk of 2^j units takes: STRIBECK_RATE_H / h_j [1/s].
+    rate_limit: T::PerLevel<T>,
+    /// Round-off level of the sliding velocity: 2^-(L-8) V [m/s].
+    v_round: T,
+    /// Every slip flow has slip's block zeros ([`increment_slip`] applies).
+    slip_sparse: bool,
+    /// The floating pad's contact and range checks: d_L, d_T [m], the springs' round-off
+    /// floors [m], |y| and |y'| limits [m, m/s] (unread without the floating pad).
+    float_limits: [T; 6],
+}
+
+/// What a model-2 step writes: the state of one run on a set of [`Model2Tables`] (120 B in
+/// f32). Starting or restarting a run is writing this ([`Model2Tables::start_state`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Model2State<T: Real> {
+    /// The state vector z (see [`crate::model2::system`]; SI units).
     z: [T; NS],
     regime: Regime,
     /// Stribeck slip: the friction's falling part at `z`, carried from the end of one chunk to
@@ -336,28 +375,11 @@ pub struct Model2Stepper<T: Real, C: Composition> {
     anchor_unit: T,
     /// Substeps completed since the start (the global index of the current substep).
     subs_done: u64,
-    /// h_sub and h_sub / 2^L in T.
-    h_t: T,
-    hu_t: T,
-    /// The guards' rows ([`guard_slot`]; fire at row . z >= 0), in T.
-    guards: [[T; NA]; 4],
     /// Whether the current slip's return to v = 0 is watched (see `substep`).
     armed: bool,
-    /// (mu_s - mu_k) delta / v_s (1/m + 1/m_b): the falling slope's rate per unit of N and of
-    /// the shape y^(delta-1) exp(-y^delta) [1/(N s)].
-    rate_coef: T,
-    /// The largest slope rate a chunk of 2^j units takes: STRIBECK_RATE_H / h_j [1/s].
-    rate_limit: T::PerLevel<T>,
-    /// Round-off level of the sliding velocity: 2^-(L-8) V [m/s].
-    v_round: T,
-    /// Every slip flow has slip's block zeros ([`increment_slip`] applies).
-    slip_sparse: bool,
-    /// The floating pad's contact and range checks: d_L, d_T [m], the springs' round-off
-    /// floors [m], |y| and |y'| limits [m, m/s] (unread without the floating pad).
-    float_limits: [T; 6],
 }
 
-impl<T: Real, C: Composition> Model2Stepper<T, C> {
+impl<T: Real, C: Composition> Model2Tables<T, C> {
     const LEVELS: usize = T::DYADIC_LEVELS;
 
     const UNITS: u64 = 1u64 << T::DYADIC_LEVELS;
@@ -392,85 +414,73 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             + core::mem::size_of::<C::NearEtd<T>>()
     }
 
-    pub fn state(&self) -> [T; NS] {
-        self.z
-    }
-
-    pub fn regime(&self) -> Regime {
-        self.regime
-    }
-
-    pub fn steps(&self) -> u64 {
-        self.step
-    }
-
-    pub fn time(&self) -> f64 {
-        self.step as f64 * self.dt
-    }
-
-    pub fn halted(&self) -> Option<Halt> {
-        self.halted
-    }
-
-    /// Transitions so far.
-    pub fn transitions(&self) -> u64 {
-        self.transitions
-    }
-
     /// Substeps per step.
     pub fn substeps(&self) -> u32 {
         self.n_sub
     }
 
-    /// Whether this stepper carries the floating pad (y, y').
+    /// The step dt [s].
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// Whether these tables carry the floating pad (y, y').
     pub fn floating(&self) -> bool {
         C::FLOAT
     }
 
-    /// Back to the initial state, the tables kept: `z0` is the state the stepper was built in
-    /// ([`Self::state`] right after [`Self::new`] or [`Self::init_in`]), in stick, at step 0,
-    /// no halt, no transitions: every field a step changes, as the set-up leaves it (the rig's
-    /// lockstep model restarts this way at each record's start, writing these few words instead
-    /// of copying a stepper).
-    pub fn restart(&mut self, z0: [T; NS]) {
-        self.z = z0;
-        self.regime = Regime::Stick;
-        self.head = None;
-        self.step = 0;
-        self.halted = None;
-        self.transitions = 0;
-        self.anchor_x = self.face_position(&z0);
-        self.anchor_sub = 0;
-        self.anchor_unit = T::zero();
-        self.subs_done = 0;
-        self.armed = false;
+    /// The state a run starts in: `z0` (the state the tables were built for: see
+    /// [`Self::init_in`]), in stick, at step 0, no halt, no transitions: every field a step
+    /// changes, as the set-up leaves it.
+    pub fn start_state(&self, z0: [T; NS]) -> Model2State<T> {
+        let mut s = Model2State::at(z0);
+        self.restart(&mut s, z0);
+        s
     }
 
-    /// Replaces the state and regime (e.g. to start from steady sliding). In stick the sliding
-    /// velocity is set to zero as on entry to stick. Without the band, u and u' are set to 0.
-    pub fn set_state(&mut self, z: [T; NS], regime: Regime) {
-        self.z = z;
+    /// Back to the initial state `z0` ([`Self::start_state`]), the tables untouched: the rig's
+    /// lockstep model restarts this way at each record's start, writing these few words of
+    /// state and nothing else.
+    pub fn restart(&self, s: &mut Model2State<T>, z0: [T; NS]) {
+        s.z = z0;
+        s.regime = Regime::Stick;
+        s.head = None;
+        s.step = 0;
+        s.halted = None;
+        s.transitions = 0;
+        s.anchor_x = self.face_position(&z0);
+        s.anchor_sub = 0;
+        s.anchor_unit = T::zero();
+        s.subs_done = 0;
+        s.armed = false;
+    }
+
+    /// Replaces the state and regime of `s` (e.g. to start from steady sliding). In stick the
+    /// sliding velocity is set to zero as on entry to stick. Without the band, u and u' are
+    /// set to 0.
+    pub fn set_state(&self, s: &mut Model2State<T>, z: [T; NS], regime: Regime) {
+        s.z = z;
         if !C::BAND || !self.scene_band {
-            self.z[4] = T::zero();
-            self.z[5] = T::zero();
+            s.z[4] = T::zero();
+            s.z[5] = T::zero();
         }
         if !C::FLOAT {
-            self.z[Y] = T::zero();
-            self.z[Y + 1] = T::zero();
+            s.z[Y] = T::zero();
+            s.z[Y + 1] = T::zero();
         }
-        self.regime = regime;
-        self.head = None;
+        s.regime = regime;
+        s.head = None;
         // a state set in slip is taken as a slip under way
-        self.armed = true;
+        s.armed = true;
         if regime == Regime::Stick {
-            let mut z = self.z;
+            let mut z = s.z;
             self.enter_stick(&mut z);
-            self.z = z;
-            self.anchor_x = self.face_position(&z);
-            self.anchor_sub = self.subs_done;
-            self.anchor_unit = T::zero();
+            s.z = z;
+            s.anchor_x = self.face_position(&z);
+            s.anchor_sub = s.subs_done;
+            s.anchor_unit = T::zero();
         }
-        self.halted = None;
+        s.halted = None;
     }
 
     /// Sliding velocity v = x' (+ s w phi' with the face) - V - u' [m/s].
@@ -554,15 +564,15 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         d
     }
 
-    /// The pad's acceleration x'' [m/s^2] at the current state and regime: row 1 of
+    /// The pad's acceleration x'' [m/s^2] at the state and regime of `s`: row 1 of
     /// [`Self::derivative`] bit for bit, with the friction's falling part the stepper carries
     /// from the last chunk (no exponential) when it has it (a run's per-step samples).
-    pub fn pad_acceleration(&self) -> T {
-        let z = &self.z;
-        let regime = self.regime;
+    pub fn pad_acceleration(&self, s: &Model2State<T>) -> T {
+        let z = &s.z;
+        let regime = s.regime;
         let mut d = dot::<T, C>(&self.a[regime.index()][1], z);
         if C::STRIBECK && regime != Regime::Stick {
-            let ex = match self.head {
+            let ex = match s.head {
                 Some(ex) => ex,
                 None => self.excess(z),
             };
@@ -574,5 +584,48 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     #[inline(always)]
     fn is_stribeck_slip(regime: Regime) -> bool {
         C::STRIBECK && regime != Regime::Stick
+    }
+}
+
+impl<T: Real> Model2State<T> {
+    /// A state at `z0` with every other field zero, in stick ([`Model2Tables::start_state`]
+    /// completes it).
+    pub(super) fn at(z0: [T; NS]) -> Self {
+        Model2State {
+            z: z0,
+            regime: Regime::Stick,
+            head: None,
+            step: 0,
+            halted: None,
+            transitions: 0,
+            anchor_x: T::zero(),
+            anchor_sub: 0,
+            anchor_unit: T::zero(),
+            subs_done: 0,
+            armed: false,
+        }
+    }
+
+    /// The state vector z (SI: m, m/s, rad, rad/s; see [`crate::model2::system`]).
+    pub fn z(&self) -> [T; NS] {
+        self.z
+    }
+
+    pub fn regime(&self) -> Regime {
+        self.regime
+    }
+
+    /// Steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+
+    pub fn halted(&self) -> Option<Halt> {
+        self.halted
+    }
+
+    /// Transitions so far.
+    pub fn transitions(&self) -> u64 {
+        self.transitions
     }
 }

@@ -4,24 +4,42 @@
 
 use super::*;
 
-impl<T: Real, C: Composition> Model2Stepper<T, C> {
-    /// Validates `scene` (and that it asks for composition `C`) and starts at rest in stick:
-    /// x = 0, x' = V, phi = F_N a_N / K, phi' = 0, u = u' = 0.
-    pub fn new(scene: &Scene) -> Result<Self, SceneError> {
+impl<T: Real, C: Composition> Model2Tables<T, C> {
+    /// Validates `scene` (and that it asks for composition `C`) and builds its tables, with the
+    /// state a run starts in: at rest in stick, x = 0, x' = V, phi = F_N a_N / K, phi' = 0,
+    /// u = u' = 0 ([`Self::start_state`]). The tables are kilobytes, returned by value: on a
+    /// small stack build them in place ([`Self::init_in`]).
+    pub fn new(scene: &Scene) -> Result<(Self, Model2State<T>), SceneError> {
         let mut slot = None;
-        Self::init_in(&mut slot, scene)?;
+        let (_, state) = Self::init_in(&mut slot, scene)?;
         match slot {
-            Some(s) => Ok(s),
+            Some(t) => Ok((t, state)),
             None => unreachable!("init_in returned Ok without filling the slot"),
         }
     }
 
     /// [`Self::new`] built in `slot` (e.g. a `static`): the dyadic tables (kilobytes in f32)
     /// are filled where they stay, not on the stack and then moved, which a Cortex-M4F's stack
-    /// cannot hold twice (tests/on-target bin `count_model2` prints the stack it takes). The
-    /// same values as [`Self::new`]. On an error `slot` is left as it was.
+    /// cannot hold twice. On an error `slot` is left as it was.
+    pub fn init_in<'a>(slot: &'a mut Option<Self>, scene: &Scene) -> Result<(&'a mut Self, Model2State<T>), SceneError> {
+        let (t, z0) = Self::build_in(slot, scene, |t, _| t, |t| t)?;
+        let state = t.start_state(z0);
+        Ok((t, state))
+    }
+
+    /// The set-up, building the tables inside a value `P` in `slot` (the tables alone, or a
+    /// [`Model2Stepper`] pair): `pack` makes the value from the tables (their dyadic tables
+    /// still zero) and the initial state vector, `tables` finds them in it again; the dyadic
+    /// tables are then filled in place (tests/on-target bin `count_model2` prints the stack it
+    /// takes). Returns the value and the initial state vector.
+    #[inline(always)]
     #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
-    pub fn init_in<'a>(slot: &'a mut Option<Self>, scene: &Scene) -> Result<&'a mut Self, SceneError> {
+    pub(super) fn build_in<'a, P>(
+        slot: &'a mut Option<P>,
+        scene: &Scene,
+        pack: impl FnOnce(Self, [T; NS]) -> P,
+        tables: impl FnOnce(&mut P) -> &mut Self,
+    ) -> Result<(&'a mut P, [T; NS]), SceneError> {
         scene.validate()?;
         C::matches(scene)?;
         let co = Coefficients::of(scene);
@@ -71,7 +89,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         let near_cn0: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(sys.n0 * k as f64 / NEAR_OPS as f64));
         let near_thr: [T; NEAR_OPS] = core::array::from_fn(|k| t(sys.n0 * (k as f64 + 0.5) / NEAR_OPS as f64));
         let near_ckv: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(k as f64 / NEAR_OPS as f64 * near_kv));
-        let s = slot.insert(Model2Stepper {
+        let p = slot.insert(pack(Model2Tables {
             flows: [T::per_level(C::zero_flow()); 3],
             etd: C::zero_etd(),
             near_flows: C::zero_near(),
@@ -104,16 +122,6 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             h_sub,
             n_sub,
             dt: scene.dt,
-            z,
-            regime: Regime::Stick,
-            head: None,
-            step: 0,
-            halted: None,
-            transitions: 0,
-            anchor_x: T::zero(),
-            anchor_sub: 0,
-            anchor_unit: T::zero(),
-            subs_done: 0,
             h_t: t(h_sub),
             hu_t: t(libm::ldexp(h_sub, -(Self::LEVELS as i32))),
             guards: core::array::from_fn(|k| {
@@ -131,7 +139,6 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     }
                 })
             }),
-            armed: false,
             v_round: t(libm::ldexp(scene.v, 8 - Self::LEVELS as i32)),
             rate_coef: t(sys.d_mu * scene.stribeck_exponent / scene.v_s * sys.inv_mass_v),
             rate_limit: T::per_level(T::zero()),
@@ -141,18 +148,17 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                 let floor = |d: f64| -(1e-6 * libm::fabs(sys.y0 + d * sys.phi0) + 1e-12);
                 [t(sys.d_l), t(sys.d_t), t(floor(sys.d_l)), t(floor(sys.d_t)), t(Y_LIMIT), t(YDOT_LIMIT)]
             },
-        });
+        }, z));
+        let s = tables(p);
         for (j, r) in s.rate_limit.as_mut().iter_mut().enumerate() {
             *r = t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)));
         }
-        // the stick anchor of the start (x = 0; with the face x + s w phi_0)
-        s.anchor_x = s.face_position(&s.z);
         s.fill_tables(scene, &sys);
         s.slip_sparse = !C::FLOAT
             && [Regime::SlipSlower, Regime::SlipFaster]
             .iter()
             .all(|r| s.flows[r.index()].as_ref().iter().all(|f| has_slip_zeros::<T, C>(f)));
-        Ok(s)
+        Ok((p, z))
     }
 
     /// Fills the dyadic tables (flows, ETDRK4 vectors, near operators) of a stepper whose

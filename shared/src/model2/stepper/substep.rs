@@ -4,38 +4,33 @@
 
 use super::*;
 
-impl<T: Real, C: Composition> Model2Stepper<T, C> {
-    pub(super) fn time_at(&self, sub: u32, unit: u64) -> f64 {
-        self.step as f64 * self.dt + (sub as f64 + unit as f64 / Self::UNITS as f64) * self.h_sub
+impl<T: Real, C: Composition> Model2Tables<T, C> {
+    pub(super) fn time_at(&self, s: &Model2State<T>, sub: u32, unit: u64) -> f64 {
+        s.step as f64 * self.dt + (sub as f64 + unit as f64 / Self::UNITS as f64) * self.h_sub
     }
 
     #[allow(clippy::too_many_arguments)] // a segment's regime, place and two ends
-    pub(super) fn emit<O: Model2Observer<T>>(&self, obs: &mut O, regime: Regime, sub: u32, p0: u64, p1: u64, z0: [T; NS], z1: [T; NS]) {
+    pub(super) fn emit<O: Model2Observer<T>>(&self, s: &Model2State<T>, obs: &mut O, regime: Regime, sub: u32, p0: u64, p1: u64, z0: [T; NS], z1: [T; NS]) {
         let (zd0, zd1) = if O::DERIVATIVES {
             (self.derivative(regime, &z0), self.derivative(regime, &z1))
         } else {
             ([T::zero(); NS], [T::zero(); NS])
         };
-        obs.segment(&Model2Segment { regime, t0: self.time_at(sub, p0), t1: self.time_at(sub, p1), z0, z1, zd0, zd1 });
+        obs.segment(&Model2Segment { regime, t0: self.time_at(s, sub, p0), t1: self.time_at(s, sub, p1), z0, z1, zd0, zd1 });
     }
 
-    /// One step of `dt` with no observer.
-    pub fn step(&mut self) -> Result<usize, Halt> {
-        self.step_observed(&mut ())
-    }
-
-    /// One step of `dt`; `obs` sees every segment and transition. Returns the number of
-    /// transitions in the step.
-    pub fn step_observed<O: Model2Observer<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
-        if let Some(h) = self.halted {
+    /// One step of `dt` of the run in `s` (its state: what a step writes); `obs` sees every
+    /// segment and transition. Returns the number of transitions in the step.
+    pub fn step<O: Model2Observer<T>>(&self, s: &mut Model2State<T>, obs: &mut O) -> Result<usize, Halt> {
+        if let Some(h) = s.halted {
             return Err(h);
         }
         let mut count = 0;
         for sub in 0..self.n_sub {
-            let short = if self.regime == Regime::Stick {
-                Some(self.short_substep::<false, O>(sub, obs))
-            } else if self.armed {
-                Some(self.short_substep::<true, O>(sub, obs))
+            let short = if s.regime == Regime::Stick {
+                Some(self.short_substep::<false, O>(s, sub, obs))
+            } else if s.armed {
+                Some(self.short_substep::<true, O>(s, sub, obs))
             } else {
                 None
             };
@@ -44,43 +39,43 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                     Ok(None) => continue,
                     Ok(Some(first)) => Some(first),
                     Err(h) => {
-                        self.halted = Some(h);
+                        s.halted = Some(h);
                         return Err(h);
                     }
                 }
             } else {
                 None
             };
-            match self.substep(sub, obs, first) {
+            match self.substep(s, sub, obs, first) {
                 Ok(n) => count += n,
                 Err(h) => {
-                    self.halted = Some(h);
+                    s.halted = Some(h);
                     return Err(h);
                 }
             }
         }
-        self.step += 1;
+        s.step += 1;
         Ok(count)
     }
 
-    /// [`Self::step_observed`] with every substep on the general path (`substep`), never the
+    /// [`Self::step`] with every substep on the general path (`substep`), never the
     /// short one (`short_substep`): for the test that the two agree bit for bit.
     #[doc(hidden)]
-    pub fn step_observed_general<O: Model2Observer<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
-        if let Some(h) = self.halted {
+    pub fn step_general<O: Model2Observer<T>>(&self, s: &mut Model2State<T>, obs: &mut O) -> Result<usize, Halt> {
+        if let Some(h) = s.halted {
             return Err(h);
         }
         let mut count = 0;
         for sub in 0..self.n_sub {
-            match self.substep(sub, obs, None) {
+            match self.substep(s, sub, obs, None) {
                 Ok(n) => count += n,
                 Err(h) => {
-                    self.halted = Some(h);
+                    s.halted = Some(h);
                     return Err(h);
                 }
             }
         }
-        self.step += 1;
+        s.step += 1;
         Ok(count)
     }
 
@@ -91,13 +86,13 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
     /// is not armed yet (`substep` handles the arming). `SLIP`: whether the regime is a slip
     /// (compiled apart for stick and slip: each has its own short path).
     #[inline(always)]
-    pub(super) fn short_substep<const SLIP: bool, O: Model2Observer<T>>(&mut self, sub: u32, obs: &mut O) -> Result<Option<FirstChunk<T>>, Halt> {
+    pub(super) fn short_substep<const SLIP: bool, O: Model2Observer<T>>(&self, s: &mut Model2State<T>, sub: u32, obs: &mut O) -> Result<Option<FirstChunk<T>>, Halt> {
         let units = Self::UNITS;
-        let regime = self.regime;
+        let regime = s.regime;
         let stribeck_slip = C::STRIBECK && SLIP;
-        let z = self.z;
+        let z = s.z;
         let ex0 = if stribeck_slip {
-            Some(match self.head {
+            Some(match s.head {
                 Some(ex) => ex,
                 None => self.excess(&z),
             })
@@ -123,27 +118,27 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
                 return Ok(Some(first));
             }
         }
-        self.anchor_stick_x(regime, &mut z1, units);
-        self.emit(obs, regime, sub, 0, units, z, z1);
-        if let Err(h) = self.check(&z1, regime, sub, units) {
-            self.head = None;
+        self.anchor_stick_x(s, regime, &mut z1, units);
+        self.emit(s, obs, regime, sub, 0, units, z, z1);
+        if let Err(h) = self.check(s, &z1, regime, sub, units) {
+            s.head = None;
             return Err(h);
         }
-        self.z = z1;
-        self.head = ex1;
-        self.subs_done += 1;
+        s.z = z1;
+        s.head = ex1;
+        s.subs_done += 1;
         Ok(None)
     }
 
     /// One substep: chunks, each tested for transitions, until the substep's end. `first`:
     /// the first chunk, when [`Self::short_substep`] has taken it already.
-    pub(super) fn substep<O: Model2Observer<T>>(&mut self, sub: u32, obs: &mut O, mut first: Option<FirstChunk<T>>) -> Result<usize, Halt> {
+    pub(super) fn substep<O: Model2Observer<T>>(&self, s: &mut Model2State<T>, sub: u32, obs: &mut O, mut first: Option<FirstChunk<T>>) -> Result<usize, Halt> {
         let units = Self::UNITS;
         let mut pos = 0u64;
-        let mut z = self.z;
-        let mut regime = self.regime;
+        let mut z = s.z;
+        let mut regime = s.regime;
         // the falling part at z (Stribeck slip), when known
-        let mut head = self.head.take();
+        let mut head = s.head.take();
         let mut transitions = 0usize;
         let mut events = 0u32;
         let mut touched: Option<(Regime, usize)> = None;
@@ -166,7 +161,7 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             // A slip starts at v = 0 (with Stribeck friction also at v' = 0): its guard is armed
             // once v has left zero by more than round-off in the slip's own direction. Until
             // then only a departure beyond round-off to the other side counts as a crossing.
-            let unarmed = regime != Regime::Stick && !self.armed;
+            let unarmed = regime != Regime::Stick && !s.armed;
             for which in 0..Self::guard_count(regime) {
                 if touched == Some((regime, which)) {
                     continue;
@@ -182,22 +177,22 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             }
             let Some((p, zp, which)) = best else {
                 if unarmed && dot::<T, C>(self.guard(regime, 0), &z1) < -self.v_round {
-                    self.armed = true;
+                    s.armed = true;
                 }
                 let mut z1 = z1;
-                self.anchor_stick_x(regime, &mut z1, pos + (1u64 << j));
-                self.emit(obs, regime, sub, pos, pos + (1u64 << j), z, z1);
+                self.anchor_stick_x(s, regime, &mut z1, pos + (1u64 << j));
+                self.emit(s, obs, regime, sub, pos, pos + (1u64 << j), z, z1);
                 pos += 1u64 << j;
                 z = z1;
                 head = ex1;
-                self.check(&z, regime, sub, pos)?;
+                self.check(s, &z, regime, sub, pos)?;
                 continue;
             };
             let lo = Self::min_level(regime);
             let at = (p + (1u64 << lo)).min(pos + (1u64 << j));
             let mut ze = if at == pos + (1u64 << j) { z1 } else { self.chunk(regime, lo, &zp) };
-            self.anchor_stick_x(regime, &mut ze, at);
-            self.emit(obs, regime, sub, pos, at, z, ze);
+            self.anchor_stick_x(s, regime, &mut ze, at);
+            self.emit(s, obs, regime, sub, pos, at, z, ze);
             let next = match regime {
                 Regime::Stick => {
                     if which == 0 {
@@ -211,45 +206,45 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
             let mut zn = ze;
             if next == Regime::Stick {
                 self.enter_stick(&mut zn);
-                self.anchor_x = self.face_position(&zn);
-                self.anchor_sub = self.subs_done;
-                self.anchor_unit = units_t(at);
+                s.anchor_x = self.face_position(&zn);
+                s.anchor_sub = s.subs_done;
+                s.anchor_unit = units_t(at);
             }
             if next == regime {
                 touched = Some((regime, which));
             } else {
                 touched = None;
-                self.armed = false;
-                obs.transition(&Model2Transition { t: self.time_at(sub, at), from: regime, to: next, z: zn });
+                s.armed = false;
+                obs.transition(&Model2Transition { t: self.time_at(s, sub, at), from: regime, to: next, z: zn });
                 transitions += 1;
-                self.transitions += 1;
+                s.transitions += 1;
             }
             events += 1;
             if events > MAX_TRANSITIONS_PER_SUBSTEP {
-                return Err(Halt::TransitionStorm { t: self.time_at(sub, at) });
+                return Err(Halt::TransitionStorm { t: self.time_at(s, sub, at) });
             }
             regime = next;
             pos = at;
             z = zn;
             head = None;
-            self.check(&z, regime, sub, pos)?;
+            self.check(s, &z, regime, sub, pos)?;
         }
-        self.z = z;
-        self.regime = regime;
-        self.head = head;
-        self.subs_done += 1;
+        s.z = z;
+        s.regime = regime;
+        s.head = head;
+        s.subs_done += 1;
         Ok(transitions)
     }
 
     /// In stick without the band, x from its anchor (see `anchor_x`) at `unit` of the current
     /// substep. With the face it is the face's position x + s w phi that moves at V.
     #[inline(always)]
-    pub(super) fn anchor_stick_x(&self, regime: Regime, z: &mut [T; NS], unit: u64) {
+    pub(super) fn anchor_stick_x(&self, s: &Model2State<T>, regime: Regime, z: &mut [T; NS], unit: u64) {
         if regime == Regime::Stick && (!C::BAND || (C::FLOAT && !self.scene_band)) {
-            let d = self.subs_done - self.anchor_sub;
+            let d = s.subs_done - s.anchor_sub;
             let d = if d > u32::MAX as u64 { u32::MAX } else { d as u32 };
-            let elapsed = T::from_u32(d) * self.h_t + (units_t::<T>(unit) - self.anchor_unit) * self.hu_t;
-            z[0] = self.anchor_x + self.v * elapsed;
+            let elapsed = T::from_u32(d) * self.h_t + (units_t::<T>(unit) - s.anchor_unit) * self.hu_t;
+            z[0] = s.anchor_x + self.v * elapsed;
             if C::FACE {
                 z[0] = z[0] - self.r_v[3] * z[2];
             }
