@@ -29,7 +29,7 @@ use stickslip_model::stats::{Extremes, OnsetRate};
 use stickslip_model::rig::contact::ContactThresholds;
 use stickslip_model::harness::prng::XorShift32;
 use stickslip_model::harness::sensor_model::{
-    Model2Motion, Motion, Noise, SensorGeometry, SensorModel, SensorModelConfig, SensorModelError,
+    sensed_accelerations, Model2Motion, Motion, Noise, SensorGeometry, SensorModel, SensorModelConfig, SensorModelError,
 };
 use stickslip_model::{Real, Regime};
 
@@ -506,7 +506,7 @@ pub fn ideal_model2_statistics(
 ) -> std::result::Result<Option<Analysis>, IdealRunError> {
     let scene = &ns.scene;
     let input = |m: String| IdealRunError::Input(m);
-    let motion = Model2Motion::<f64>::new(scene).map_err(|e| input(format!("{}: {e}", ns.origin_label())))?;
+    let mut motion = Model2Motion::<f64>::new(scene).map_err(|e| input(format!("{}: {e}", ns.origin_label())))?;
     if let Some(b) = run::OverBudget::of(motion.stepper().substeps(), run::planned_steps(scene)) {
         let o = Outcome::Budget(b);
         return Err(IdealRunError::Outcome(o.keyword(), o.halt_time()));
@@ -514,7 +514,6 @@ pub fn ideal_model2_statistics(
     let geometry = SensorModelConfig::RIG.geometry;
     let (arm_trail, arm_lead) = geometry.arms(scene).map_err(|e| input(format!("virtual rig: {e}")))?;
     let y_polarity = geometry.y_polarity;
-    let mut motion = motion;
     let dt = scene.dt;
     let from_eff = scene.stats_from - 0.25 * dt;
     let mut acfg = analysis_config(scene, scene.stats_from, segment, false);
@@ -528,13 +527,7 @@ pub fn ideal_model2_statistics(
             let o = Outcome::halted(scene, halt);
             return Err(IdealRunError::Outcome(o.keyword(), o.halt_time()));
         }
-        // as SensorModel::next_frame: disc_x, pad_x, pad_trail, pad_lead
-        let (xdd, phidd, band) = motion.accelerations();
-        let mut a = [band, xdd, arm_trail * phidd, arm_lead * phidd];
-        if let Some(ydd) = motion.normal_acceleration() {
-            a[2] += y_polarity * ydd;
-            a[3] += y_polarity * ydd;
-        }
+        let a = sensed_accelerations(&motion, arm_trail, arm_lead, y_polarity);
         let t = (i + 1) as f64 * dt;
         analyzer.push(i + 2, t, 0.0, &a).map_err(|m| input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
         if t >= from_eff {

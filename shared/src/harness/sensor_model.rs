@@ -53,6 +53,24 @@ pub trait Motion<T: Real> {
     fn slip_onsets(&self) -> &[f64];
 }
 
+/// The four accelerometers' true accelerations [m/s^2] at `motion`'s current state, in the
+/// channel order (disc_x = the band's x_b'', pad_x = x'', pad_trail and pad_lead = their lever
+/// arms [m] times phi'', plus `y_polarity` times the pivot's y'' for a pad that is not hinged).
+pub fn sensed_accelerations<T: Real, M: Motion<T>>(motion: &M, arm_trail: T, arm_lead: T, y_polarity: T) -> [T; ACCEL_CHANNELS] {
+    let (xdd, phidd, band) = motion.accelerations();
+    let mut accel = [T::zero(); ACCEL_CHANNELS];
+    accel[DISC_X] = band;
+    accel[PAD_X] = xdd;
+    accel[PAD_TRAIL] = arm_trail * phidd;
+    accel[PAD_LEAD] = arm_lead * phidd;
+    if let Some(ydd) = motion.normal_acceleration() {
+        // a pad that is not hinged: the pivot's own y'' adds to every point's
+        accel[PAD_TRAIL] = accel[PAD_TRAIL] + y_polarity * ydd;
+        accel[PAD_LEAD] = accel[PAD_LEAD] + y_polarity * ydd;
+    }
+    accel
+}
+
 /// The thesis model: the exact stepper, the band at constant speed (x_b'' = 0).
 #[derive(Clone, Debug)]
 pub struct ThesisMotion<T: Real> {
@@ -376,17 +394,7 @@ impl<T: Real, M: Motion<T>> SensorModel<T, M> {
     pub fn next_frame(&mut self) -> Result<Frame, Halt> {
         self.motion.advance()?;
         let regime = self.motion.regime();
-        let (xdd, phidd, band) = self.motion.accelerations();
-        let mut accel = [T::zero(); ACCEL_CHANNELS];
-        accel[DISC_X] = band;
-        accel[PAD_X] = xdd;
-        accel[PAD_TRAIL] = self.arm_trail * phidd;
-        accel[PAD_LEAD] = self.arm_lead * phidd;
-        if let Some(ydd) = self.motion.normal_acceleration() {
-            // a pad that is not hinged: the pivot's own y'' adds to every point's
-            accel[PAD_TRAIL] = accel[PAD_TRAIL] + self.y_polarity * ydd;
-            accel[PAD_LEAD] = accel[PAD_LEAD] + self.y_polarity * ydd;
-        }
+        let accel = sensed_accelerations(&self.motion, self.arm_trail, self.arm_lead, self.y_polarity);
         self.truth = Truth { accel_m_s2: accel, pressure_bar: self.pressure, regime: Some(regime) };
         Ok(self.counts_of_truth())
     }
