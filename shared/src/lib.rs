@@ -49,5 +49,5 @@ pub use coefficients::Coefficients;
 pub use exact::{ExactState, ExactStepper, ExactTables, Halt, Observer, Segment, State, Transition};
 pub use real::Real;
 pub use catalogue::{rig_set, DEFAULT_SCENE};
-pub use scene::{Caliper, FrictionLaw, Scene, SceneError};
+pub use scene::{Caliper, ContactLaw, FrictionLaw, Scene, SceneError};
 pub use stickslip::Regime;

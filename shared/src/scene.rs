@@ -44,6 +44,26 @@ impl FrictionLaw {
     }
 }
 
+/// How the edge contact springs of a pad that is not hinged act (model 3, option 2; issue 34).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactLaw {
+    /// Each spring pushes and pulls (model 2): a spring that would pull halts the run with
+    /// `contact_loss`.
+    Bilateral,
+    /// Each spring pushes and never pulls, F_i = k_i max(0, d_i): an edge opens (a regime with
+    /// its own linear flow) and closes again. Runs on the host's event-driven path in f64 only.
+    Unilateral,
+}
+
+impl ContactLaw {
+    pub const fn name(self) -> &'static str {
+        match self {
+            ContactLaw::Bilateral => "bilateral",
+            ContactLaw::Unilateral => "unilateral",
+        }
+    }
+}
+
 /// One scene: the pad, the contact, the load, the band and the run settings.
 ///
 /// Symbols follow docs/model.md. Pad length is `2 l`, thickness `2 w`.
@@ -112,6 +132,9 @@ pub struct Scene {
     /// Viscous damping on the pad's normal translation y, c_y [N s/m] (read only with a finite
     /// `k_pivot`).
     pub c_y: f64,
+    /// The edge springs' law ([`ContactLaw::Bilateral`], the default: model 2). Unilateral
+    /// contact needs a pad that is not hinged (finite `k_pivot`).
+    pub contact: ContactLaw,
     /// Fixed step dt [s].
     pub dt: f64,
     /// Run length [s].
@@ -148,6 +171,11 @@ impl Scene {
     /// freedom, friction-face kinematics or the floating pad. Damping is part of both steppers' exact flows.
     pub const fn uses_model2(&self) -> bool {
         matches!(self.friction, FrictionLaw::Stribeck) || self.band || self.face || self.floating()
+    }
+
+    /// Whether the edge springs push and never pull ([`ContactLaw::Unilateral`]).
+    pub const fn unilateral(&self) -> bool {
+        matches!(self.contact, ContactLaw::Unilateral)
     }
 
     /// Whether the pad is not hinged: a finite pivot stiffness k_pivot (the floating pad).
@@ -239,6 +267,12 @@ impl Scene {
                 self.inertia,
             )?;
         }
+        check(
+            !self.unilateral() || self.floating(),
+            "contact",
+            "unilateral contact needs a pad that is not hinged (a finite k_pivot): the hinge holds both edges",
+            self.k_pivot,
+        )?;
         if self.band {
             check(self.m_b > 0.0, "m_b", "band mass must be > 0 kg", self.m_b)?;
             check(self.k_b > 0.0, "k_b", "band drive stiffness must be > 0 N/m", self.k_b)?;

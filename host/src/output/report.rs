@@ -176,6 +176,12 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
             None => line(k, "n/a (the run halted before the window)".into()),
         }
     }
+    if let (Some(e), true) = (&r.edges, r.has_window()) {
+        use stickslip_model::model2::event_run::edges::{LEAD, TRAIL};
+        for (name, i) in [("trail edge open", TRAIL), ("lead edge open", LEAD)] {
+            line(name, format!("{:.4} of the window, {} openings (unilateral contact)", e.open_fraction(i), e.openings[i]));
+        }
+    }
     if let (Some(m2), true) = (&r.model2, r.has_window()) {
         line("pad x'' pp", format!("{} m/s^2 (the rig's pad_x)", sci(Some(m2.pad_acc_pp), 5)));
         if s.band {
@@ -308,6 +314,33 @@ pub struct CaseJson {
     /// Only when the run halted (documented in `cases --help`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub outcome: Option<&'static str>,
+    /// Unilateral contact only: each edge's open fraction and openings over the window.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub edges: Option<EdgesJson>,
+}
+
+/// `"edges": {"trail": {...}, "lead": {...}}` of a unilateral-contact run.
+#[derive(Serialize)]
+pub struct EdgesJson {
+    pub trail: EdgeJson,
+    pub lead: EdgeJson,
+}
+
+/// One edge: the fraction of the statistics window it was open, and its openings there (an
+/// edge open as the window starts counts one).
+#[derive(Serialize)]
+pub struct EdgeJson {
+    pub open_fraction: f64,
+    pub openings: u64,
+}
+
+impl EdgesJson {
+    pub fn of(r: &RunReport) -> Option<EdgesJson> {
+        use stickslip_model::model2::event_run::edges::{LEAD, TRAIL};
+        let e = r.edges?;
+        let one = |i: usize| EdgeJson { open_fraction: e.open_fraction(i), openings: e.openings[i] };
+        Some(EdgesJson { trail: one(TRAIL), lead: one(LEAD) })
+    }
 }
 
 impl CaseJson {
@@ -335,6 +368,7 @@ impl CaseJson {
                 Outcome::Completed => None,
                 o => Some(o.keyword()),
             },
+            edges: EdgesJson::of(r),
         }
     }
 }

@@ -44,6 +44,11 @@ pub fn covers(scene: &Scene, precision: Precision) -> bool {
     if !(precision == Precision::F64 && scene.uses_model2()) {
         return false;
     }
+    if scene.unilateral() {
+        // unilateral contact's runs are event-driven anyway, with their samples on the grid
+        // and the edges' statistics (`crate::scenes::unilateral`)
+        return false;
+    }
     true
 }
 
@@ -102,6 +107,7 @@ pub fn run(scene: &Scene, precision: Precision, rtol: f64) -> Result<Option<std:
         first_slip: obs.log.first_slip,
         transitions: obs.log.transitions,
         model2: Some(Model2Extra { pad_acc_pp: s2.pp(5), band_v_pp: s2.pp(4), band_acc_pp: s2.pp(6) }),
+        edges: None,
     };
     Ok(Some(Ok((report, EventRun { rtol, counts: runner.counts() }))))
 }

@@ -10,4 +10,5 @@ pub mod run;
 pub mod scene_file;
 pub mod scene_source;
 pub mod series;
+pub mod unilateral;
 pub mod sliding;

@@ -3,6 +3,7 @@
 
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
+use stickslip_model::model2::event_run::edges::EdgeStats;
 use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition};
 use stickslip_model::{
     Coefficients, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
@@ -158,6 +159,8 @@ pub struct RunReport {
     pub transitions: u64,
     /// Model 2's extra window statistics (a scene with Stribeck friction or the band).
     pub model2: Option<Model2Extra>,
+    /// Unilateral contact: each edge's open fraction and openings over the window.
+    pub edges: Option<EdgeStats>,
 }
 
 /// Peak-to-peak values only model 2 has, over the statistics window (SI units). Accelerations
@@ -303,6 +306,9 @@ pub fn run_starts<S: Sink + ?Sized>(
         starts.push((start_state(scene, *start)?, &mut **sink));
     }
     let full = detail == Detail::Full;
+    if scene.unilateral() {
+        return crate::scenes::unilateral::runs(scene, precision, full, &mut starts);
+    }
     match (precision, scene.uses_model2()) {
         (Precision::F32, false) => thesis_runs::<f32, S>(scene, precision, full, &mut starts),
         (Precision::F64, false) => thesis_runs::<f64, S>(scene, precision, full, &mut starts),
@@ -311,7 +317,7 @@ pub fn run_starts<S: Sink + ?Sized>(
     }
 }
 
-type Starts<'a, S> = [(Option<[f64; 8]>, &'a mut S)];
+pub(crate) type Starts<'a, S> = [(Option<[f64; 8]>, &'a mut S)];
 
 fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
     // The caller validated the scene; a failure here still gets a message, not a panic.
@@ -449,6 +455,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
         outcome,
         first_slip: obs.log.first_slip,
         transitions: obs.log.transitions,
+        edges: None,
         model2: Some(Model2Extra {
             pad_acc_pp: s2.pp(5),
             band_v_pp: s2.pp(4),
@@ -543,5 +550,6 @@ fn run_in<T: Real, S: Sink + ?Sized>(
         first_slip: obs.log.first_slip,
         transitions: obs.log.transitions,
         model2: None,
+        edges: None,
     })
 }

@@ -4,7 +4,7 @@
 //! comment giving its unit and meaning, in a form `parse` reads back to the same scene.
 
 use serde::Deserialize;
-use stickslip_model::{Caliper, Coefficients, FrictionLaw, Scene, DEFAULT_SCENE};
+use stickslip_model::{Caliper, Coefficients, ContactLaw, FrictionLaw, Scene, DEFAULT_SCENE};
 
 /// `caliper = "push" | "pull"`.
 #[derive(Clone, Copy, Debug, Deserialize)]
@@ -20,6 +20,14 @@ enum CaliperKey {
 enum FrictionKey {
     Coulomb,
     Stribeck,
+}
+
+/// `contact = "bilateral" | "unilateral"`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum ContactKey {
+    Bilateral,
+    Unilateral,
 }
 
 /// The file as written: every key optional.
@@ -56,6 +64,7 @@ struct SceneToml {
     face: Option<bool>,
     k_pivot: Option<f64>,
     c_y: Option<f64>,
+    contact: Option<ContactKey>,
     zeta_x: Option<f64>,
     zeta_phi: Option<f64>,
     zeta_b: Option<f64>,
@@ -73,7 +82,7 @@ pub struct ParsedScene {
 }
 
 /// Unit and meaning of each key, in file order (also used for `--help`).
-pub const KEYS: [(&str, &str); 36] = [
+pub const KEYS: [(&str, &str); 37] = [
     ("name", "scene name (reported in every output)"),
     ("description", "one line for `stickslip scenes` (optional)"),
     (
@@ -147,6 +156,12 @@ pub const KEYS: [(&str, &str); 36] = [
     ),
     ("c_y", "viscous damping on the pad's normal translation y c_y [N s/m] (finite k_pivot)"),
     (
+        "contact",
+        "\"bilateral\" (the default: the edge springs push and pull; one that would pull halts the run \
+         with contact_loss) or \"unilateral\": they push and never pull, an edge opens and closes \
+         again (finite k_pivot; runs event-driven in f64 on the host)",
+    ),
+    (
         "zeta_x",
         "instead of c_x: damping ratio of the x mode in slip, c_x = 2 zeta_x sqrt(k_g m) [-]",
     ),
@@ -216,6 +231,12 @@ pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
         m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi,
         rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, k_pivot, c_y, dt, duration, stats_from
     );
+    if let Some(c) = t.contact {
+        s.contact = match c {
+            ContactKey::Bilateral => ContactLaw::Bilateral,
+            ContactKey::Unilateral => ContactLaw::Unilateral,
+        };
+    }
     if let Some(f) = t.friction {
         s.friction = match f {
             FrictionKey::Coulomb => FrictionLaw::Coulomb,
@@ -337,6 +358,9 @@ fn values(s: &Scene) -> Vec<(&'static str, String)> {
     if s.floating() {
         v.push(("k_pivot", f(s.k_pivot)));
         v.push(("c_y", f(s.c_y)));
+    }
+    if s.unilateral() {
+        v.push(("contact", toml_string(s.contact.name())));
     }
     v.extend([
         ("dt", f(s.dt)),

@@ -7,7 +7,7 @@ pub mod rig_set;
 
 use crate::coefficients::Coefficients;
 use crate::design::SAMPLE_RATE_HZ;
-use crate::scene::{Caliper, FrictionLaw, Scene};
+use crate::scene::{Caliper, ContactLaw, FrictionLaw, Scene};
 
 /// The thesis-sized pad of docs/model.md (80 mm pad, 5 bar actuator, slow band).
 pub const DEFAULT_SCENE: Scene = Scene {
@@ -39,6 +39,7 @@ pub const DEFAULT_SCENE: Scene = Scene {
     face: false,
     k_pivot: f64::INFINITY,
     c_y: 0.0,
+    contact: ContactLaw::Bilateral,
     dt: 1.0 / SAMPLE_RATE_HZ,
     duration: 1.0,
     stats_from: 0.5,

@@ -125,6 +125,13 @@ pub trait Composition: Copy + Debug + 'static {
                 value: if stribeck { 1.0 } else { 0.0 },
             });
         }
+        if scene.unilateral() {
+            return Err(SceneError {
+                field: "contact",
+                rule: "unilateral contact runs on the host's event-driven path (f64), not on the fixed-step model-2 stepper, whose edge springs are bilateral",
+                value: 1.0,
+            });
+        }
         let floating = scene.k_pivot.is_finite();
         if floating != Self::FLOAT {
             return Err(SceneError {

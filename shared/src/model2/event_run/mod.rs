@@ -36,8 +36,11 @@ use crate::model2::system::{System, NA, NS, ONE, Y};
 use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
 
+pub mod edges;
 pub mod flow;
 pub mod rk;
+
+use edges::EdgeStats;
 
 /// The default tolerance of Stribeck slip (see the module comment).
 pub const DEFAULT_RTOL: f64 = 1e-10;
@@ -67,6 +70,9 @@ pub enum Fallback {
     StepUnderflow { t: f64 },
     /// Many events without time advancing at `t` [s].
     Stalled { t: f64 },
+    /// Unilateral contact: both edges open at `t` [s] (the pad in the air; no sampled path
+    /// carries this either: the run halts with `contact_loss`).
+    BothEdgesOpen { t: f64 },
 }
 
 /// The work an event run did.
@@ -80,6 +86,8 @@ pub struct EventCounts {
     /// Located events (extremes, crests and transitions) and transitions among them.
     pub events: u64,
     pub transitions: u64,
+    /// Unilateral contact: changes of an edge's state (openings and closings).
+    pub contact_changes: u64,
 }
 
 /// The state at one instant and its first two derivatives.
@@ -93,9 +101,19 @@ struct Point {
 /// An event run of one scene (f64).
 #[derive(Clone, Debug)]
 pub struct EventRunner {
-    sys: System,
-    /// Guard rows ([stick behind, stick ahead, slip slower, slip faster]; fire at row . z >= 0).
-    guards: [[f64; NA]; 4],
+    /// The system of each contact state ([`edges::systems`]; a bilateral scene uses only the
+    /// first) and the current one's index.
+    systems: [System; 3],
+    contact: usize,
+    /// Guard rows of each contact state ([stick behind, stick ahead, slip slower, slip
+    /// faster]; fire at row . z >= 0).
+    guard_sets: [[[f64; NA]; 4]; 3],
+    /// Unilateral contact: the edges' compression rows, which edges are open ([lead, trail]),
+    /// and their statistics.
+    unilateral: bool,
+    compression: [[f64; NA]; 2],
+    open: [bool; 2],
+    edge_stats: EdgeStats,
     limits: Limits<f64>,
     /// The floating pad's spring lever arms d_L, d_T [m] and their round-off floors [m].
     float_limits: [f64; 4],
@@ -117,9 +135,26 @@ impl EventRunner {
         scene.validate()?;
         let co = Coefficients::of(scene);
         let sys = System::of(scene, &co);
-        let rate = sys.linear_rate(scene, &co);
-        let g = |sign: f64, mu: f64| -> [f64; NA] { core::array::from_fn(|c| sign * sys.r_freq[c] - mu * sys.r_n[c]) };
-        let guards = [g(1.0, scene.mu_s), g(-1.0, scene.mu_s), sys.r_v, core::array::from_fn(|c| -sys.r_v[c])];
+        let unilateral = scene.unilateral();
+        let systems = if unilateral { edges::systems(scene) } else { [sys; 3] };
+        let mut rate = sys.linear_rate(scene, &co);
+        if unilateral {
+            // the open states' modes too (one spring: a softer, but other, pair of modes)
+            for lead_open in [true, false] {
+                let mut s = *scene;
+                if lead_open {
+                    s.k_l = 0.0;
+                } else {
+                    s.k_t = 0.0;
+                }
+                rate = rate.max(systems[0].linear_rate(&s, &Coefficients::of(&s)));
+            }
+        }
+        let guards_of = |sys: &System| {
+            let g = |sign: f64, mu: f64| -> [f64; NA] { core::array::from_fn(|c| sign * sys.r_freq[c] - mu * sys.r_n[c]) };
+            [g(1.0, scene.mu_s), g(-1.0, scene.mu_s), sys.r_v, core::array::from_fn(|c| -sys.r_v[c])]
+        };
+        let guard_sets = [guards_of(&systems[0]), guards_of(&systems[1]), guards_of(&systems[2])];
         let floor = |d: f64| -(1e-6 * libm::fabs(sys.y0 + d * sys.phi0) + 1e-12);
         let z = [0.0, scene.v, sys.phi0, 0.0, 0.0, 0.0, sys.y0, 0.0];
         let mut scale = [SCALE_FLOOR; NS];
@@ -127,8 +162,13 @@ impl EventRunner {
             scale[i] = scale[i].max(libm::fabs(z[i]));
         }
         Ok(EventRunner {
-            sys,
-            guards,
+            systems,
+            contact: 0,
+            guard_sets,
+            unilateral,
+            compression: edges::compression_rows(&sys),
+            open: [false; 2],
+            edge_stats: EdgeStats::default(),
             limits: Limits::new(scene, &co),
             float_limits: [sys.d_l, sys.d_t, floor(sys.d_l), floor(sys.d_t)],
             h_max: if rate > 0.0 { 1.0 / rate } else { scene.duration.max(1e-3) },
@@ -163,13 +203,64 @@ impl EventRunner {
         self.h_max
     }
 
+    /// The system of the current contact state.
+    #[inline(always)]
+    fn sys(&self) -> &System {
+        &self.systems[self.contact]
+    }
+
+    /// Unilateral contact: each edge's time open and openings over the window (None for
+    /// bilateral springs).
+    pub fn edges(&self) -> Option<EdgeStats> {
+        self.unilateral.then_some(self.edge_stats)
+    }
+
+    /// Which edges are open now ([lead, trail]).
+    pub fn open_edges(&self) -> [bool; 2] {
+        self.open
+    }
+
+    /// Starts from `z` in `regime` (both edges closed) instead of the rest start: the maps'
+    /// start from perturbed sliding.
+    pub fn set_state(&mut self, z: [f64; NS], regime: Regime) {
+        self.z = z;
+        self.regime = regime;
+        for i in 0..NS {
+            self.scale[i] = self.scale[i].max(libm::fabs(z[i]));
+        }
+    }
+
+    /// The normal force N at `z` in the current contact state [N].
+    pub fn normal_force(&self, z: &[f64; NS]) -> f64 {
+        dot(&self.sys().r_n, z)
+    }
+
+    /// The sliding velocity at `z` [m/s].
+    pub fn sliding_velocity(&self, z: &[f64; NS]) -> f64 {
+        dot(&self.sys().r_v, z)
+    }
+
+    /// The friction force on the pad at `z` in `regime` [N] (the stepper's
+    /// `friction_force`: F_req in stick, sigma mu(|v|) N in slip).
+    pub fn friction_force(&self, regime: Regime, z: &[f64; NS]) -> f64 {
+        let sys = self.sys();
+        match regime {
+            Regime::Stick => dot(&sys.r_freq, z),
+            _ => {
+                let n = dot(&sys.r_n, z);
+                let mu = if sys.stribeck { sys.mu_k + self.excess(regime, z).1 * sys.d_mu } else { sys.mu_k };
+                regime.friction_sign() * mu * n
+            }
+        }
+    }
+
     fn stribeck_slip(&self, regime: Regime) -> bool {
-        self.sys.stribeck && regime != Regime::Stick
+        self.sys().stribeck && regime != Regime::Stick
     }
 
     /// Stribeck forcing q = sigma (mu(|v|) - mu_k) N and the shape's parts (e, N, v).
     fn excess(&self, regime: Regime, z: &[f64; NS]) -> (f64, f64, f64, f64) {
-        let sys = &self.sys;
+        let sys = &self.sys();
         let v = dot(&sys.r_v, z);
         let n = dot(&sys.r_n, z);
         let y = libm::fabs(v) / sys.v_s;
@@ -185,12 +276,12 @@ impl EventRunner {
 
     /// z' in `regime` at `z`.
     fn derivative(&self, regime: Regime, z: &[f64; NS]) -> [f64; NS] {
-        let a = &self.sys.a[regime.index()];
+        let a = &self.sys().a[regime.index()];
         let mut d: [f64; NS] = core::array::from_fn(|r| dot(&a[r], z));
         if self.stribeck_slip(regime) {
             let q = self.excess(regime, z).0;
             for (r, v) in d.iter_mut().enumerate() {
-                *v += self.sys.b[r] * q;
+                *v += self.sys().b[r] * q;
             }
         }
         d
@@ -198,7 +289,7 @@ impl EventRunner {
 
     /// z'' in `regime` at `z` with z' = `d`.
     fn second(&self, regime: Regime, z: &[f64; NS], d: &[f64; NS]) -> [f64; NS] {
-        let sys = &self.sys;
+        let sys = &self.sys();
         let a = &sys.a[regime.index()];
         let mut s: [f64; NS] = core::array::from_fn(|r| rate(&a[r], d));
         if self.stribeck_slip(regime) {
@@ -255,7 +346,7 @@ impl EventRunner {
     /// the face, -v / (r_v . b), moves the state by b p, and x' then takes the constraint's
     /// value exactly (as the stepper's `enter_stick`).
     fn enter_stick(&self, z: &mut [f64; NS]) {
-        let sys = &self.sys;
+        let sys = &self.sys();
         let p = -dot(&sys.r_v, z) / sys.inv_mass_v;
         for (r, v) in z.iter_mut().enumerate() {
             *v += sys.b[r] * p;
@@ -268,8 +359,8 @@ impl EventRunner {
     fn after_velocity_match(&self, z: &[f64; NS]) -> Regime {
         let mut zs = *z;
         self.enter_stick(&mut zs);
-        let f_req = dot(&self.sys.r_freq, &zs);
-        let limit = self.sys.mu_s * dot(&self.sys.r_n, &zs);
+        let f_req = dot(&self.sys().r_freq, &zs);
+        let limit = self.sys().mu_s * dot(&self.sys().r_n, &zs);
         if f_req > limit {
             Regime::SlipSlower
         } else if -f_req > limit {
@@ -283,10 +374,9 @@ impl EventRunner {
     fn in_range(&self, z: &[f64; NS]) -> bool {
         let pad = [z[0], z[1], z[2], z[3]];
         let band = libm::fabs(z[4]) <= U_LIMIT && libm::fabs(z[5]) <= UDOT_LIMIT;
-        let float = !self.sys.floating || {
+        let float = !self.sys().floating || {
             let [d_l, d_t, floor_l, floor_t] = self.float_limits;
-            z[Y] + d_l * z[2] >= floor_l
-                && z[Y] + d_t * z[2] >= floor_t
+            (self.unilateral || (z[Y] + d_l * z[2] >= floor_l && z[Y] + d_t * z[2] >= floor_t))
                 && libm::fabs(z[Y]) <= Y_LIMIT
                 && libm::fabs(z[Y + 1]) <= YDOT_LIMIT
         };
@@ -350,11 +440,39 @@ impl EventRunner {
 
     /// The value of watched function `k` (guards of `regime` first, then the extremes' rates).
     fn watched(&self, regime: Regime, k: usize, p: &Point) -> f64 {
-        let (slot, n) = Self::guard_slots(regime);
+        let n = Self::guard_slots(regime).1 + self.contact_guards();
         if k < n {
-            dot(&self.guards[slot + k], &p.z)
+            dot(&self.guard_row(regime, k), &p.z)
         } else {
             Self::extreme_rate(p, k - n)
+        }
+    }
+
+    /// The contact guards watched beside the friction's: one per edge with unilateral
+    /// contact, none with bilateral springs.
+    #[inline(always)]
+    fn contact_guards(&self) -> usize {
+        if self.unilateral {
+            2
+        } else {
+            0
+        }
+    }
+
+    /// Guard `k` of `regime` (the friction's first, then the edges'): fires at row . z >= 0.
+    /// A closed edge fires as its compression falls through zero (row -d_i), an open one as
+    /// it rises through zero (row d_i).
+    fn guard_row(&self, regime: Regime, k: usize) -> [f64; NA] {
+        let (slot, n) = Self::guard_slots(regime);
+        if k < n {
+            return self.guard_sets[self.contact][slot + k];
+        }
+        let e = k - n;
+        let r = self.compression[e];
+        if self.open[e] {
+            r
+        } else {
+            core::array::from_fn(|c| -r[c])
         }
     }
 
@@ -408,14 +526,14 @@ impl EventRunner {
     /// The first event inside the step from `p0` to `p1` (length `h`): its fraction, point
     /// and whether it is a guard (its index) or an extreme (None).
     fn first_event(&mut self, regime: Regime, p0: &Point, p1: &Point, h: f64, taylor: Option<&flow::Taylor>) -> Option<(f64, Point, Option<usize>)> {
-        let (slot, n) = Self::guard_slots(regime);
+        let n = Self::guard_slots(regime).1 + self.contact_guards();
         let mut best: Option<(f64, Point, Option<usize>)> = None;
         for k in 0..n + EXTREMES {
             let f0 = self.watched(regime, k, p0);
             let f1 = self.watched(regime, k, p1);
             let guard = k < n;
             if guard {
-                let row = self.guards[slot + k];
+                let row = self.guard_row(regime, k);
                 let g = move |_: &Self, p: &Point| dot(&row, &p.z);
                 let gr = move |_: &Self, p: &Point| rate(&row, &p.d);
                 if !(f0 < 0.0) {
@@ -455,25 +573,82 @@ impl EventRunner {
 
     /// Runs to `t_end` [s], handing every segment and transition to `obs`; a segment ends at
     /// `t_from` [s] (the statistics window's start), at every event and at every step's end.
-    pub fn run<O: Model2Observer<f64>>(&mut self, t_from: f64, t_end: f64, obs: &mut O) -> Result<(), Fallback> {
+    pub fn run<O: Model2Observer<f64>>(
+        &mut self,
+        t_from: f64,
+        t_end: f64,
+        obs: &mut O,
+    ) -> Result<(), Fallback> {
+        self.run_grid(t_from, t_end, None, obs)
+    }
+
+    /// [`Self::run`] with samples on the grid k dt (k = 1, 2, ... up to `t_end`): every step
+    /// also ends at each grid time, where `on_sample` gets the state (the exact flow's, or a
+    /// Dormand-Prince step's, not an interpolation). `on_sample` returning false stops the run
+    /// there (Ok: the caller knows why).
+    pub fn run_sampled<O: Model2Observer<f64>>(
+        &mut self,
+        t_from: f64,
+        t_end: f64,
+        dt: f64,
+        obs: &mut O,
+        on_sample: &mut dyn FnMut(&GridSample) -> bool,
+    ) -> Result<(), Fallback> {
+        self.run_grid(t_from, t_end, Some((dt, on_sample)), obs)
+    }
+
+    fn run_grid<O: Model2Observer<f64>>(
+        &mut self,
+        t_from: f64,
+        t_end: f64,
+        mut grid: Option<(f64, &mut dyn FnMut(&GridSample) -> bool)>,
+        obs: &mut O,
+    ) -> Result<(), Fallback> {
         let mut regime = self.regime;
+        if self.unilateral && self.t == 0.0 && self.counts.steps == 0 {
+            // an edge in tension at the start opens at once
+            for e in 0..2 {
+                self.open[e] = edges::compression(&self.compression[e], &self.z) < 0.0;
+            }
+            self.contact =
+                edges::state_index(self.open).ok_or(Fallback::BothEdgesOpen { t: 0.0 })?;
+        }
         let mut p0 = self.point(regime, self.z);
         let (slot, n) = Self::guard_slots(regime);
-        if (0..n).any(|k| !(dot(&self.guards[slot + k], &p0.z) < 0.0)) && regime == Regime::Stick {
+        if (0..n).any(|k| !(dot(&self.guard_sets[self.contact][slot + k], &p0.z) < 0.0))
+            && regime == Regime::Stick
+        {
             return Err(Fallback::StartOnGuard);
         }
         if self.stribeck_slip(regime) && self.h_slip == 0.0 {
             self.h_slip = self.h_max * 1e-3;
         }
+        let mut k_next: u64 = match &grid {
+            Some((dt, _)) => libm::floor(self.t / dt) as u64 + 1,
+            None => 0,
+        };
         let mut stalls = 0u32;
+        let mut in_window = self.t >= t_from;
         while self.t < t_end {
-            let stop = if self.t < t_from && t_from < t_end { t_from } else { t_end };
+            let mut stop = if self.t < t_from && t_from < t_end {
+                t_from
+            } else {
+                t_end
+            };
+            let mut at_grid = false;
+            if let Some((dt, _)) = &grid {
+                let tg = k_next as f64 * *dt;
+                if tg <= stop {
+                    stop = tg;
+                    at_grid = true;
+                }
+            }
             let limit = stop - self.t;
             let (h, p1, taylor) = if self.stribeck_slip(regime) {
                 let (h, p1) = self.slip_step(regime, &p0, limit)?;
                 (h, p1, None)
             } else {
-                let tf = flow::Taylor::new(&self.sys.a[regime.index()], &p0.z);
+                let tf = flow::Taylor::new(&self.sys().a[regime.index()], &p0.z);
                 let mut h = self.h_max.min(limit);
                 while !tf.converged(h) {
                     h *= 0.5;
@@ -490,11 +665,36 @@ impl EventRunner {
                 Some(e) => e,
                 None => (1.0, p1, None),
             };
-            let t1 = if theta == 1.0 && h == limit { stop } else { self.t + theta * h };
+            let reached = theta == 1.0 && h == limit;
+            let t1 = if reached { stop } else { self.t + theta * h };
             if !pe.z.iter().all(|v| v.is_finite()) || !self.in_range(&pe.z) {
                 return Err(Fallback::Range { t: t1 });
             }
-            obs.segment(&Model2Segment { regime, t0: self.t, t1, z0: p0.z, z1: pe.z, zd0: p0.d, zd1: pe.d });
+            obs.segment(&Model2Segment {
+                regime,
+                t0: self.t,
+                t1,
+                z0: p0.z,
+                z1: pe.z,
+                zd0: p0.d,
+                zd1: pe.d,
+            });
+            if self.unilateral && t1 > t_from {
+                if !in_window {
+                    // an edge open as the window starts counts one opening
+                    in_window = true;
+                    for e in 0..2 {
+                        self.edge_stats.openings[e] += self.open[e] as u64;
+                    }
+                }
+                let span = t1 - self.t.max(t_from);
+                self.edge_stats.window_s += span;
+                for e in 0..2 {
+                    if self.open[e] {
+                        self.edge_stats.open_s[e] += span;
+                    }
+                }
+            }
             if t1 > self.t {
                 stalls = 0;
             } else {
@@ -510,39 +710,126 @@ impl EventRunner {
             if event.is_some() {
                 self.counts.events += 1;
             }
-            let Some(which) = guard else {
-                p0 = pe;
-                continue;
-            };
-            let next = match regime {
-                Regime::Stick => {
-                    if which == 0 {
-                        Regime::SlipSlower
-                    } else {
-                        Regime::SlipFaster
+            let sample_now = reached && at_grid;
+            if sample_now {
+                k_next += 1;
+            }
+            match guard {
+                None => p0 = pe,
+                Some(which) => {
+                    regime = self.after_guard(regime, which, t_from, t1, &pe, obs, &mut p0)?
+                }
+            }
+            if sample_now {
+                if let Some((_, on_sample)) = &mut grid {
+                    let sample = GridSample {
+                        t: t1,
+                        regime,
+                        z: p0.z,
+                        d: p0.d,
+                        n: self.normal_force(&p0.z),
+                        f_f: self.friction_force(regime, &p0.z),
+                        v_slide: self.sliding_velocity(&p0.z),
+                    };
+                    if !on_sample(&sample) {
+                        break;
                     }
                 }
-                _ => self.after_velocity_match(&pe.z),
-            };
-            let mut zn = pe.z;
-            if next == Regime::Stick {
-                self.enter_stick(&mut zn);
             }
-            if next != regime {
-                obs.transition(&Model2Transition { t: t1, from: regime, to: next, z: zn });
-                self.counts.transitions += 1;
-            }
-            if self.stribeck_slip(next) && !self.stribeck_slip(regime) {
-                // a slip starts where the friction's slope is steepest: start small
-                self.h_slip = self.h_max * 1e-3;
-            }
-            regime = next;
-            p0 = self.point(regime, zn);
         }
         self.z = p0.z;
         self.regime = regime;
         Ok(())
     }
+
+    /// After guard `which` of `regime` fired at `t1` in point `pe`: the regime that follows,
+    /// and its start point in `p0` (an edge's contact guard changes the contact state and
+    /// keeps the regime; a friction guard changes the regime).
+    #[allow(clippy::too_many_arguments)]
+    fn after_guard<O: Model2Observer<f64>>(
+        &mut self,
+        regime: Regime,
+        which: usize,
+        t_from: f64,
+        t1: f64,
+        pe: &Point,
+        obs: &mut O,
+        p0: &mut Point,
+    ) -> Result<Regime, Fallback> {
+        {
+            let n_friction = Self::guard_slots(regime).1;
+            if which >= n_friction {
+                // an edge's contact guard: the compression's rate (its curvature on a graze)
+                // decides whether the edge's state changes
+                let e = which - n_friction;
+                let r = self.compression[e];
+                let (dr, ddr) = (rate(&r, &pe.d), rate(&r, &pe.s));
+                let was_open = self.open[e];
+                let now_open = if was_open {
+                    !(dr > 0.0 || (dr == 0.0 && ddr > 0.0))
+                } else {
+                    dr < 0.0 || (dr == 0.0 && ddr < 0.0)
+                };
+                if now_open != was_open {
+                    self.open[e] = now_open;
+                    self.contact =
+                        edges::state_index(self.open).ok_or(Fallback::BothEdgesOpen { t: t1 })?;
+                    if now_open {
+                        self.edge_stats.openings_run[e] += 1;
+                        if t1 > t_from {
+                            self.edge_stats.openings[e] += 1;
+                        }
+                    }
+                    self.counts.contact_changes += 1;
+                }
+                *p0 = self.point(regime, pe.z);
+                return Ok(regime);
+            }
+        }
+        let next = match regime {
+            Regime::Stick => {
+                if which == 0 {
+                    Regime::SlipSlower
+                } else {
+                    Regime::SlipFaster
+                }
+            }
+            _ => self.after_velocity_match(&pe.z),
+        };
+        let mut zn = pe.z;
+        if next == Regime::Stick {
+            self.enter_stick(&mut zn);
+        }
+        if next != regime {
+            obs.transition(&Model2Transition {
+                t: t1,
+                from: regime,
+                to: next,
+                z: zn,
+            });
+            self.counts.transitions += 1;
+        }
+        if self.stribeck_slip(next) && !self.stribeck_slip(regime) {
+            // a slip starts where the friction's slope is steepest: start small
+            self.h_slip = self.h_max * 1e-3;
+        }
+        *p0 = self.point(next, zn);
+        Ok(next)
+    }
+}
+
+/// A sample on the grid: time [s], regime, state z and its rate z', and in the contact state
+/// of that instant the normal force N [N], the friction force on the pad [N] and the sliding
+/// velocity [m/s].
+#[derive(Clone, Copy, Debug)]
+pub struct GridSample {
+    pub t: f64,
+    pub regime: Regime,
+    pub z: [f64; NS],
+    pub d: [f64; NS],
+    pub n: f64,
+    pub f_f: f64,
+    pub v_slide: f64,
 }
 
 /// (z, 1) . row over every entry.
