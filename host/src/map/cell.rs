@@ -11,7 +11,11 @@
 //!   [`STEADY_PP`] times kick V (the perturbation's own peak-to-peak is 2 kick V: at most a
 //!   doubling of the kick's amplitude);
 //! - `sliding_oscillation`: never in stick, and the sliding velocity swings more than that
-//!   (unstable sliding that never reaches stick within the run, or an undamped transient).
+//!   (unstable sliding that never reaches stick within the run, or an undamped transient);
+//! - `edge_open` (unilateral contact only, `contact = "unilateral"`): an edge of the pad was
+//!   open for part of the window, whatever the friction did (the run's `stick_fraction` and
+//!   `stick_slip_hz` still say that; `open_fraction_trail` and `open_fraction_lead` how long).
+//!   `contact_loss` is then kept for runs in which both edges open (the pad leaves the band).
 //!
 //! Accelerations are sampled at every step end: `pad_x_pp` is the peak-to-peak of the pad's
 //! x'' (the rig's pad_x) over the window, `groan_rms` the RMS over the window of x'' through the
@@ -20,6 +24,7 @@
 //! exact window statistics (as `simulate` reports them).
 
 use serde::{Deserialize, Serialize};
+use stickslip_model::model2::event_run::edges::{LEAD, TRAIL};
 use stickslip_model::rig::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use stickslip_model::Scene;
 
@@ -64,7 +69,7 @@ pub struct LinearCell {
 /// One run of a cell.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunCell {
-    /// steady_sliding, stick_slip, sliding_oscillation, stuck, sprag, contact_loss,
+    /// steady_sliding, stick_slip, sliding_oscillation, stuck, edge_open, sprag, contact_loss,
     /// method_unstable.
     pub regime: String,
     /// Time in stick / window [-] (null: no window).
@@ -79,6 +84,11 @@ pub struct RunCell {
     pub slide_v_pp: Option<f64>,
     /// Time of the halt [s] (null: completed).
     pub halt_s: Option<f64>,
+    /// Unilateral contact only: the fraction of the window each edge was open [-].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub open_fraction_trail: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub open_fraction_lead: Option<f64>,
 }
 
 /// One cell.
@@ -184,7 +194,9 @@ pub fn classify(report: &RunReport, slide_v_pp: f64, steady_limit: f64) -> &'sta
         },
         Outcome::Completed => {
             let st = &report.stats;
-            if st.slip_onsets > 0 {
+            if report.edges.is_some_and(|e| e.open_s.iter().any(|&s| s > 0.0)) {
+                "edge_open"
+            } else if st.slip_onsets > 0 {
                 "stick_slip"
             } else if st.stick_fraction > 0.0 {
                 "stuck"
@@ -211,6 +223,8 @@ fn run_cell(scene: &Scene, report: &RunReport, sink: &CellSink, kick: f64) -> Ru
         groan_rms: if sink.groan.is_some() && window { fin((sink.groan_sq / sink.n as f64).sqrt()) } else { None },
         slide_v_pp: w(slide_v_pp),
         halt_s: report.outcome.halt_time(),
+        open_fraction_trail: report.edges.and_then(|e| w(e.open_fraction(TRAIL))),
+        open_fraction_lead: report.edges.and_then(|e| w(e.open_fraction(LEAD))),
     }
 }
 
@@ -256,6 +270,8 @@ pub fn cell(index: usize, params: &[(String, f64)], scene: std::result::Result<S
                 groan_rms: None,
                 slide_v_pp: None,
                 halt_s: None,
+                open_fraction_trail: None,
+                open_fraction_lead: None,
             };
             let (mut runs, steps) = run_cells(&scene, o.precision, &[rest], o.kick)?;
             (none, runs.remove(0), steps)

@@ -8,9 +8,10 @@ use crate::error::{HostError, Result};
 use crate::output::format::sig4;
 
 /// The regimes in the order the summary lists them, with their letter in the text grid.
-pub const REGIMES: [(&str, char); 9] = [
+pub const REGIMES: [(&str, char); 10] = [
     ("steady_sliding", 's'),
     ("stick_slip", 'x'),
+    ("edge_open", 'e'),
     ("sliding_oscillation", 'o'),
     ("stuck", 't'),
     ("sprag", 'p'),

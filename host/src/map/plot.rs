@@ -21,6 +21,7 @@ fn regime_color(r: &str) -> RGBColor {
     match r {
         "steady_sliding" => RGBColor(120, 190, 120),
         "stick_slip" => RGBColor(214, 39, 40),
+        "edge_open" => RGBColor(23, 190, 207),
         "sliding_oscillation" => RGBColor(255, 160, 60),
         "stuck" => RGBColor(150, 150, 150),
         "sprag" => RGBColor(148, 103, 189),

@@ -29,6 +29,11 @@ pub fn outcome_line(o: &Outcome) -> String {
                      the pad self-locks (K - s mu_s w c_N <= 0), the friction limit grows faster than the \
                      guide force and it never slips"
                 ),
+                Halt::ContactLoss { t, n } if n == 0.0 => format!(
+                    "at t = {t:.6} s the pad lost its contact with unilateral edges: both edges open (the pad \
+                     leaves the band), or one open and the pad tipping over about the other (the state left \
+                     the plausible range)"
+                ),
                 Halt::ContactLoss { t, n } => format!(
                     "at t = {t:.6} s the normal force went negative (N = {} N): the pad lifts off and the \
                      model no longer applies",

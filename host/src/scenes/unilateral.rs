@@ -117,6 +117,10 @@ fn halt_of(runner: &EventRunner, f: Fallback) -> Halt {
         Fallback::Range { t } => {
             if !runner.state().iter().all(|v| v.is_finite()) {
                 Halt::NonFinite { t }
+            } else if runner.open_edges().iter().any(|&o| o) {
+                // one edge open and the state out of range: the pad tips over about its
+                // closed edge, the open one never closing again
+                Halt::ContactLoss { t, n: 0.0 }
             } else {
                 Halt::Diverged { t, regime, stiffness_margin: f64::INFINITY }
             }
