@@ -40,8 +40,9 @@ impl Coefficients {
             Caliper::Push => (l + scene.l_cl, l - scene.l_ct, scene.beta, 1.0),
             Caliper::Pull => (l - scene.l_cl, l + scene.l_ct, 2.0 * l - scene.beta, -1.0),
         };
-        let k_rot = scene.k_l * d_l * d_l + scene.k_t * d_t * d_t;
-        let c_n = scene.k_l * d_l + scene.k_t * d_t;
+        let [k_l, k_t] = scene.contact_stiffnesses();
+        let k_rot = k_l * d_l * d_l + k_t * d_t * d_t;
+        let c_n = k_l * d_l + k_t * d_t;
         let phi0 = scene.f_n * a_n / k_rot;
         Coefficients { d_l, d_t, k_rot, c_n, a_n, s, phi0, n0: c_n * phi0 }
     }
@@ -71,7 +72,8 @@ impl Coefficients {
     /// The floating pad's rest under the load without friction, (y_0 [m], phi_0 [rad]):
     /// (k_L + k_T + k_pivot) y + c_N phi = F_N and c_N y + K phi = F_N a_N.
     pub fn floating_rest(&self, scene: &Scene) -> (f64, f64) {
-        let k_y = scene.k_l + scene.k_t + scene.k_pivot;
+        let [k_l, k_t] = scene.contact_stiffnesses();
+        let k_y = k_l + k_t + scene.k_pivot;
         let d = k_y * self.k_rot - self.c_n * self.c_n;
         let y0 = (scene.f_n * self.k_rot - self.c_n * scene.f_n * self.a_n) / d;
         let phi0 = (k_y * scene.f_n * self.a_n - self.c_n * scene.f_n) / d;
@@ -89,7 +91,8 @@ impl Coefficients {
             // the floating pad, statically: (k_L + k_T + k_pivot) y + c_N phi = F_N and
             // c_N y + K phi = F_N a_N + s w F, so d phi/dF = s w k_y / D, dN/dF = s w c_N k_pivot / D
             // (D = k_y K - c_N^2): N stays F_N-borne as the friction builds, exactly with k_pivot = 0
-            let k_s = scene.k_l + scene.k_t;
+            let [k_l, k_t] = scene.contact_stiffnesses();
+            let k_s = k_l + k_t;
             let k_y = k_s + scene.k_pivot;
             let d = k_y * self.k_rot - self.c_n * self.c_n;
             let s_w = self.s * scene.w;

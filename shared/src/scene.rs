@@ -135,6 +135,16 @@ pub struct Scene {
     /// The edge springs' law ([`ContactLaw::Bilateral`], the default: model 2). Unilateral
     /// contact needs a pad that is not hinged (finite `k_pivot`).
     pub contact: ContactLaw,
+    /// Exponent p of the edge springs' load law F = k0 d^p (model 3, option 3; 1, the default:
+    /// linear springs, the option off). With p > 1 each spring's stiffness is the law's tangent
+    /// at the static load it carries, k_i (F_i / F_ref)^((p - 1) / p) with k_i = `k_l`, `k_t`
+    /// the tangent at the reference load F_ref = `contact_ref_load`
+    /// ([`Scene::contact_stiffnesses`]): a contact that stiffens with load, linearised about
+    /// the static state.
+    pub contact_exponent: f64,
+    /// The reference load F_ref [N] at which `k_l` and `k_t` are the springs' tangent
+    /// stiffness (read only with `contact_exponent` > 1).
+    pub contact_ref_load: f64,
     /// Fixed step dt [s].
     pub dt: f64,
     /// Run length [s].
@@ -176,6 +186,54 @@ impl Scene {
     /// Whether the edge springs push and never pull ([`ContactLaw::Unilateral`]).
     pub const fn unilateral(&self) -> bool {
         matches!(self.contact, ContactLaw::Unilateral)
+    }
+
+    /// The edge springs' stiffnesses [k_L, k_T] [N/m] the equations use: `k_l`, `k_t` as given
+    /// with linear springs (`contact_exponent` = 1: exactly those values); with a load law
+    /// F = k0 d^p (p > 1), each spring's tangent stiffness at the static load it carries,
+    /// k_i (F_i / F_ref)^((p - 1) / p), the loads F_i those of the pad at rest under F_N with
+    /// these stiffnesses (a fixed point: the floating pad with k_pivot = 0 carries statically
+    /// determinate loads, found in one pass; otherwise iterated to round-off). A static load
+    /// below 1e-6 F_ref is taken as 1e-6 F_ref (a spring that carries nothing has a nearly
+    /// vanishing tangent). docs/model.md, "Model 3, part 2".
+    pub fn contact_stiffnesses(&self) -> [f64; 2] {
+        let p = self.contact_exponent;
+        if p == 1.0 {
+            return [self.k_l, self.k_t];
+        }
+        let q = (p - 1.0) / p;
+        let f_ref = self.contact_ref_load;
+        let (d_l, d_t, a_n) = match self.caliper {
+            Caliper::Push => (self.l + self.l_cl, self.l - self.l_ct, self.beta),
+            Caliper::Pull => (self.l - self.l_cl, self.l + self.l_ct, 2.0 * self.l - self.beta),
+        };
+        let mut k = [self.k_l, self.k_t];
+        for _ in 0..200 {
+            let k_rot = k[0] * d_l * d_l + k[1] * d_t * d_t;
+            let c_n = k[0] * d_l + k[1] * d_t;
+            let (y, phi) = if self.floating() {
+                let k_y = k[0] + k[1] + self.k_pivot;
+                let det = k_y * k_rot - c_n * c_n;
+                ((self.f_n * k_rot - c_n * self.f_n * a_n) / det, (k_y * self.f_n * a_n - c_n * self.f_n) / det)
+            } else {
+                (0.0, self.f_n * a_n / k_rot)
+            };
+            let load = |i: usize, d: f64| (k[i] * (y + d * phi)).max(1e-6 * f_ref);
+            let next = [self.k_l * libm::pow(load(0, d_l) / f_ref, q), self.k_t * libm::pow(load(1, d_t) / f_ref, q)];
+            let done = (next[0] - k[0]).abs() <= 1e-15 * next[0] && (next[1] - k[1]).abs() <= 1e-15 * next[1];
+            k = next;
+            if done {
+                break;
+            }
+        }
+        k
+    }
+
+    /// The scene with [`Self::contact_stiffnesses`] as its `k_l`, `k_t` and linear springs
+    /// (itself when `contact_exponent` = 1).
+    pub fn linearised_contact(&self) -> Scene {
+        let [k_l, k_t] = self.contact_stiffnesses();
+        Scene { k_l, k_t, contact_exponent: 1.0, ..*self }
     }
 
     /// Whether the pad is not hinged: a finite pivot stiffness k_pivot (the floating pad).
@@ -265,6 +323,20 @@ impl Scene {
                 "inertia",
                 "a pad that is not hinged needs I (about the pivot) > m l^2: its inertia about the centre of gravity, l from the pivot, must be > 0",
                 self.inertia,
+            )?;
+        }
+        check(
+            self.contact_exponent.is_finite() && self.contact_exponent >= 1.0 && self.contact_exponent <= 5.0,
+            "contact_exponent",
+            "the contact law's exponent must satisfy 1 <= p <= 5 (1: linear springs; 1.5: Hertz-like)",
+            self.contact_exponent,
+        )?;
+        if self.contact_exponent != 1.0 {
+            check(
+                self.contact_ref_load.is_finite() && self.contact_ref_load > 0.0,
+                "contact_ref_load",
+                "the reference load of the contact law must be a finite number > 0 N",
+                self.contact_ref_load,
             )?;
         }
         check(

@@ -65,6 +65,8 @@ struct SceneToml {
     k_pivot: Option<f64>,
     c_y: Option<f64>,
     contact: Option<ContactKey>,
+    contact_exponent: Option<f64>,
+    contact_ref_load: Option<f64>,
     zeta_x: Option<f64>,
     zeta_phi: Option<f64>,
     zeta_b: Option<f64>,
@@ -82,7 +84,7 @@ pub struct ParsedScene {
 }
 
 /// Unit and meaning of each key, in file order (also used for `--help`).
-pub const KEYS: [(&str, &str); 37] = [
+pub const KEYS: [(&str, &str); 39] = [
     ("name", "scene name (reported in every output)"),
     ("description", "one line for `stickslip scenes` (optional)"),
     (
@@ -162,6 +164,17 @@ pub const KEYS: [(&str, &str); 37] = [
          again (finite k_pivot; runs event-driven in f64 on the host)",
     ),
     (
+        "contact_exponent",
+        "exponent p of the edge springs' load law F = k0 d^p, 1 <= p <= 5 (1, the default: linear \
+         springs; 1.5: Hertz-like): each spring's stiffness becomes the law's tangent at its static \
+         load, k (F / contact_ref_load)^((p - 1) / p)",
+    ),
+    (
+        "contact_ref_load",
+        "reference load F_ref [N] at which k_l and k_t are the springs' tangent stiffness \
+         (contact_exponent > 1)",
+    ),
+    (
         "zeta_x",
         "instead of c_x: damping ratio of the x mode in slip, c_x = 2 zeta_x sqrt(k_g m) [-]",
     ),
@@ -229,7 +242,8 @@ pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
     }
     take!(
         m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi,
-        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, k_pivot, c_y, dt, duration, stats_from
+        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, k_pivot, c_y, contact_exponent, contact_ref_load, dt,
+        duration, stats_from
     );
     if let Some(c) = t.contact {
         s.contact = match c {
@@ -362,6 +376,10 @@ fn values(s: &Scene) -> Vec<(&'static str, String)> {
     if s.unilateral() {
         v.push(("contact", toml_string(s.contact.name())));
     }
+    if s.contact_exponent != 1.0 {
+        v.push(("contact_exponent", f(s.contact_exponent)));
+        v.push(("contact_ref_load", f(s.contact_ref_load)));
+    }
     v.extend([
         ("dt", f(s.dt)),
         ("duration", f(s.duration)),
@@ -427,9 +445,9 @@ pub fn to_toml(name: &str, description: &str, s: &Scene) -> String {
 }
 
 /// The numeric scene keys (those a sweep can set), in [`KEYS`] order.
-pub const NUMERIC_KEYS: [&str; 29] = [
+pub const NUMERIC_KEYS: [&str; 31] = [
     "m", "inertia", "l", "w", "l_cl", "l_ct", "k_l", "k_t", "k_g", "f_n", "beta", "v", "mu_s", "mu_k", "c_x", "c_phi",
-    "v_s", "stribeck_exponent", "m_b", "k_b", "c_b", "k_pivot", "c_y", "zeta_x", "zeta_phi", "zeta_b", "dt",
+    "v_s", "stribeck_exponent", "m_b", "k_b", "c_b", "k_pivot", "c_y", "contact_exponent", "contact_ref_load", "zeta_x", "zeta_phi", "zeta_b", "dt",
     "duration", "stats_from",
 ];
 
@@ -445,6 +463,9 @@ pub fn inert_key(s: &Scene, key: &str) -> Option<&'static str> {
             Some("the scene has no band (band = false): the band's keys do nothing; set band = true")
         }
         "c_y" if !s.floating() => Some("the pad is hinged (k_pivot = inf): c_y does nothing; give a finite k_pivot"),
+        "contact_ref_load" if s.contact_exponent == 1.0 => {
+            Some("the edge springs are linear (contact_exponent = 1): contact_ref_load does nothing; set contact_exponent > 1")
+        }
         _ => None,
     }
 }
@@ -462,7 +483,7 @@ pub fn set_numeric(s: &mut Scene, key: &str, value: f64) -> Result<(), String> {
             }
         };
     }
-    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, dt, duration, stats_from);
+    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, contact_exponent, contact_ref_load, dt, duration, stats_from);
     let km = match key {
         "zeta_x" => s.k_g * s.m,
         "zeta_phi" => Coefficients::of(s).k_rot * s.inertia,
@@ -493,7 +514,7 @@ pub fn get_numeric(s: &Scene, key: &str) -> Option<f64> {
             }
         };
     }
-    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, dt, duration, stats_from);
+    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, contact_exponent, contact_ref_load, dt, duration, stats_from);
     let (c, km) = match key {
         "zeta_x" => (s.c_x, s.k_g * s.m),
         "zeta_phi" => (s.c_phi, Coefficients::of(s).k_rot * s.inertia),

@@ -40,6 +40,8 @@ pub const DEFAULT_SCENE: Scene = Scene {
     k_pivot: f64::INFINITY,
     c_y: 0.0,
     contact: ContactLaw::Bilateral,
+    contact_exponent: 1.0,
+    contact_ref_load: 75.0,
     dt: 1.0 / SAMPLE_RATE_HZ,
     duration: 1.0,
     stats_from: 0.5,

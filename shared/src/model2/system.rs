@@ -242,8 +242,8 @@ impl System {
             n0: co.n0,
             d_l: co.d_l,
             d_t: co.d_t,
-            k_l: scene.k_l,
-            k_t: scene.k_t,
+            k_l: scene.contact_stiffnesses()[0],
+            k_t: scene.contact_stiffnesses()[1],
         }
     }
 
@@ -268,7 +268,7 @@ impl System {
         let band = scene.band;
         let (m, i) = (scene.m, scene.inertia);
         let s_w = co.s * scene.w;
-        let k_s = scene.k_l + scene.k_t;
+        let k_s = { let [k_l, k_t] = scene.contact_stiffnesses(); k_l + k_t };
         let k_y = k_s + scene.k_pivot;
         let ml = m * scene.l;
         // inverse of the (phi, y) mass block [[I, m l], [m l, m]]
@@ -369,8 +369,8 @@ impl System {
             n0: k_s * y0 + co.c_n * phi0,
             d_l: co.d_l,
             d_t: co.d_t,
-            k_l: scene.k_l,
-            k_t: scene.k_t,
+            k_l: scene.contact_stiffnesses()[0],
+            k_t: scene.contact_stiffnesses()[1],
         }
     }
 
@@ -381,7 +381,7 @@ impl System {
     /// A negative discriminant b^2 - 4 a c is flutter (the two modes merged).
     pub fn floating_mode_quadratic(scene: &Scene, co: &Coefficients, sigma_mu: f64) -> (f64, f64, f64) {
         let s_w = co.s * scene.w;
-        let k_s = scene.k_l + scene.k_t;
+        let k_s = { let [k_l, k_t] = scene.contact_stiffnesses(); k_l + k_t };
         let (m11, m12, m21, m22) = (scene.inertia, scene.m * scene.l, scene.m * scene.l, scene.m);
         let k11 = co.k_rot - s_w * sigma_mu * co.c_n;
         let k12 = co.c_n - s_w * sigma_mu * k_s;

@@ -39,6 +39,7 @@ pub fn state_index(open: [bool; 2]) -> Option<usize> {
 /// closed (model 2's own [`System::floating_pad`]), the lead spring open (k_L = 0), the trail
 /// spring open (k_T = 0). The static start (phi_0, y_0, N_0) stays the closed pad's in all three.
 pub fn systems(scene: &Scene) -> [System; 3] {
+    let scene = &scene.linearised_contact();
     let co = Coefficients::of(scene);
     let closed = System::floating_pad(scene, &co);
     let open = |lead: bool| {

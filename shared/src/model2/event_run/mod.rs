@@ -141,7 +141,7 @@ impl EventRunner {
         if unilateral {
             // the open states' modes too (one spring: a softer, but other, pair of modes)
             for lead_open in [true, false] {
-                let mut s = *scene;
+                let mut s = scene.linearised_contact();
                 if lead_open {
                     s.k_l = 0.0;
                 } else {

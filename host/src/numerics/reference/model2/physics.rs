@@ -36,8 +36,8 @@ impl Phys {
         Phys {
             pad,
             phi0: if sc.floating() {
-                let k_y = sc.k_l + sc.k_t + sc.k_pivot;
-                let c_n = sc.k_l * d_l + sc.k_t * d_t;
+                let k_y = (sc.contact_stiffnesses()[0] + sc.contact_stiffnesses()[1]) + sc.k_pivot;
+                let c_n = sc.contact_stiffnesses()[0] * d_l + sc.contact_stiffnesses()[1] * d_t;
                 (k_y * sc.f_n * a_n - c_n * sc.f_n) / (k_y * k_rot - c_n * c_n)
             } else {
                 sc.f_n * a_n / k_rot
@@ -54,11 +54,11 @@ impl Phys {
             k_pivot: sc.k_pivot,
             c_y: sc.c_y,
             l: sc.l,
-            k_s: sc.k_l + sc.k_t,
+            k_s: (sc.contact_stiffnesses()[0] + sc.contact_stiffnesses()[1]),
             f_n: sc.f_n,
             y0: if sc.floating() {
-                let k_y = sc.k_l + sc.k_t + sc.k_pivot;
-                let c_n = sc.k_l * d_l + sc.k_t * d_t;
+                let k_y = (sc.contact_stiffnesses()[0] + sc.contact_stiffnesses()[1]) + sc.k_pivot;
+                let c_n = sc.contact_stiffnesses()[0] * d_l + sc.contact_stiffnesses()[1] * d_t;
                 (sc.f_n * k_rot - c_n * sc.f_n * a_n) / (k_y * k_rot - c_n * c_n)
             } else {
                 0.0
