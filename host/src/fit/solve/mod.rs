@@ -243,7 +243,8 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
     // the polish: a simplex stalls early where the parameters are correlated and the cost is
     // not smooth at the sample scale (statistics such as the first slip's time move in steps
     // of a sample); restarted from its best point with a fresh, smaller simplex it goes on down
-    // the valley. Restarts while a restart lowers the cost by more than POLISH_GAIN.
+    // the valley. Restarts while a restart lowers the cost by more than POLISH_GAIN
+    // (POLISH_GAIN_STATISTICS with statistics).
     for _ in 0..POLISH_RESTARTS {
         // from the lowest of a small Halton screen around the best point (a dip a simplex
         // cannot leave is left here) or from the best point itself
@@ -258,7 +259,7 @@ pub fn search(p: &Problem, stages: &[&Problem], starts: usize, max_iters: u64) -
                 "fit: polish of the best start: cost {cost:.6e}: {}",
                 p.free.iter().zip(p.values(&u)).map(|(f, v)| format!("{} = {v:.6e}", f.key)).collect::<Vec<_>>().join(", ")
             );
-            if gain > POLISH_GAIN {
+            if gain > if p.time_domain() { POLISH_GAIN } else { POLISH_GAIN_STATISTICS } {
                 continue;
             }
         }
