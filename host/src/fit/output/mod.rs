@@ -105,6 +105,9 @@ pub struct StartJson {
     pub values: BTreeMap<String, f64>,
     pub cost: f64,
     pub converged: bool,
+    /// The horizon stage after which this start was left (its cost there far above the best
+    /// start's); null: searched to the end.
+    pub left_after_horizon: Option<usize>,
 }
 
 #[derive(Serialize)]
@@ -221,7 +224,7 @@ impl FitJson {
             starts: r
                 .starts
                 .iter()
-                .map(|s| StartJson { from: keyed(&s.from), values: keyed(&s.values), cost: s.cost, converged: s.converged })
+                .map(|s| StartJson { from: keyed(&s.from), values: keyed(&s.values), cost: s.cost, converged: s.converged, left_after_horizon: s.left_after })
                 .collect(),
             stages: r
                 .stages
@@ -372,7 +375,11 @@ pub fn markdown(r: &FitReport) -> String {
     let kv = |v: &[f64]| r.free.iter().zip(v).map(|(f, x)| format!("{} = {}", f.key, num(*x))).collect::<Vec<_>>().join(", ");
     s.push_str("\n## Starts\n\n| start | from | fitted | cost | converged |\n|---:|---|---|---:|---|\n");
     for (i, st) in r.starts.iter().enumerate() {
-        s.push_str(&format!("| {} | {} | {} | {:.4e} | {} |\n", i + 1, kv(&st.from), kv(&st.values), st.cost, st.converged));
+        let conv = match st.left_after {
+            Some(h) => format!("left after horizon {h}"),
+            None => st.converged.to_string(),
+        };
+        s.push_str(&format!("| {} | {} | {} | {:.4e} | {conv} |\n", i + 1, kv(&st.from), kv(&st.values), st.cost));
     }
     if !r.stages.is_empty() {
         s.push_str(
