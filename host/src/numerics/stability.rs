@@ -75,7 +75,7 @@ pub const MODEL2_SWEEPS: [Sweep; 4] = [
 /// Part 2's extremes, around the rig set's push_center with the face and the floating pad
 /// (`rig_float_push_center`): the pivot from floating to the hinge's stiffness, and the contact
 /// springs (both) from soft to 1e10 N/m, which the floating pad rides on.
-pub const FLOAT_SWEEPS: [Sweep; 2] = [
+pub const FLOAT_SWEEPS: [Sweep; 3] = [
     Sweep { key: "k_pivot", unit: "N/m", values: &[0.0, 1e4, 1e6, 1e8, 1e10], apply: |s, v| s.k_pivot = v },
     Sweep {
         key: "float_contact_stiffness",
@@ -83,7 +83,15 @@ pub const FLOAT_SWEEPS: [Sweep; 2] = [
         values: &[1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10],
         apply: set_contact,
     },
+    // model 3: the contact that stiffens with load (the springs' tangents at their static
+    // loads, reference load 75 N), from linear to the law's largest exponent
+    Sweep { key: "contact_exponent", unit: "-", values: &[1.0, 1.5, 2.0, 3.0, 5.0], apply: set_contact_exponent },
 ];
+
+fn set_contact_exponent(s: &mut Scene, p: f64) {
+    s.contact_exponent = p;
+    s.contact_ref_load = 75.0;
+}
 
 /// The method name of the model-2 rows.
 pub const MODEL2_METHOD: &str = "model2";
@@ -110,6 +118,8 @@ pub struct Row {
     pub m_b: Option<f64>,
     /// Floating-pad rows only (null elsewhere, and for the hinge): the pivot's stiffness [N/m].
     pub k_pivot: Option<f64>,
+    /// Floating-pad rows only: the contact law's exponent p (1: linear springs).
+    pub contact_exponent: Option<f64>,
     /// Fastest mode of the scene times dt [rad].
     pub omega_dt: f64,
     /// The method's stability limit on omega dt for an undamped oscillator; null: none.
@@ -145,6 +155,7 @@ impl Row {
             k_b: None,
             m_b: None,
             k_pivot: None,
+            contact_exponent: None,
             omega_dt: 0.0,
             omega_dt_limit: None,
             outcome: outcome.into(),
@@ -328,6 +339,7 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
                     k_b: Some(scene.k_b),
                     m_b: Some(scene.m_b),
                     k_pivot: scene.floating().then_some(scene.k_pivot),
+                    contact_exponent: scene.floating().then_some(scene.contact_exponent),
                     omega_dt: rate * scene.dt,
                     ..Row::of(sweep.key, &scene, &co, halt, outcome, detail)
                 });
@@ -348,6 +360,7 @@ pub fn all_finite(rep: &Report) -> bool {
             .chain(r.k_b.iter())
             .chain(r.m_b.iter())
             .chain(r.k_pivot.iter())
+            .chain(r.contact_exponent.iter())
             .chain(r.omega_dt_limit.iter())
             .all(|v| v.is_finite())
     })
@@ -431,6 +444,7 @@ pub fn value_of(r: &Row, key: &str) -> f64 {
     match key {
         "contact_stiffness" | "float_contact_stiffness" => r.contact_stiffness,
         "k_pivot" => r.k_pivot.unwrap_or(f64::NAN),
+        "contact_exponent" => r.contact_exponent.unwrap_or(f64::NAN),
         "k_g" => r.k_g,
         "mu_s" => r.mu_s,
         "v" => r.v,
