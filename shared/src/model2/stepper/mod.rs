@@ -31,7 +31,12 @@
 //!   located by binary lifting on the dyadic grid (to 2^-L of a substep, 2^-(L-1) in Stribeck
 //!   slip). A guard that rises and falls back inside a chunk (a crest) is found from the sign
 //!   change of its derivative: the derivative's zero is lifted, and the guard is evaluated
-//!   there.
+//!   there. In a linear regime (stick; Coulomb slip) a bound comes first (`crest_below`):
+//!   the cubic Hermite interpolant of the guard's values and rates at the chunk's ends, plus
+//!   weights fixed at set-up for its fourth derivative and for the lift's round-off
+//!   (`crest_weights`); where that bound is below zero the lift could only find the guard
+//!   below at the crest, and is skipped (the same result: stick's crests of the rig scenes
+//!   lie newtons below zero, a lift is 25 or 54 chunks).
 //! - **The short path**: most substeps are one chunk with no guard firing or cresting in it.
 //!   `short_substep` takes that chunk and tests the guards on a straight path, compiled apart
 //!   for stick and for slip; only a substep that splits, fires or crests goes on to the general
@@ -314,6 +319,11 @@ pub struct Model2Tables<T: Real, C: Composition> {
     /// the rate is row . A z + (row . b) q).
     guard_rate: [[T; NA]; 4],
     guard_rate_b: [T; 4],
+    /// The crest bound of a linear regime's guard ([`guard_slot`]; see `crest_below`): the
+    /// weights of (|z|, 1) whose sum bounds the guard's fourth-derivative term and the
+    /// round-off of the lift, and (4/27) h_sub.
+    crest_w: [[T; NA]; 4],
+    crest_c1: T,
     mu_s: T,
     d_mu: T,
     inv_v_s: T,

@@ -111,10 +111,13 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         }
         for which in 0..if SLIP { 1 } else { 2 } {
             // `crossing`'s tests: the guard still holds at z1 and does not crest in the chunk
-            if !(dot::<T, C>(self.guard(regime, which), &z1) < T::zero())
-                || (self.guard_slope(regime, which, &z, ex0.as_ref()) > T::zero()
-                    && self.guard_slope(regime, which, &z1, ex1.as_ref()) < T::zero())
-            {
+            let g = self.guard(regime, which);
+            let g1 = dot::<T, C>(g, &z1);
+            if !(g1 < T::zero()) {
+                return Ok(Some(first));
+            }
+            let (s0, s1) = (self.guard_slope(regime, which, &z, ex0.as_ref()), self.guard_slope(regime, which, &z1, ex1.as_ref()));
+            if self.may_crest(regime, which, &z, dot::<T, C>(g, &z), g1, s0, s1) {
                 return Ok(Some(first));
             }
         }
