@@ -239,8 +239,9 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
                     }
                     e
                 };
+                // by columns (see `increment`)
                 for (i, f) in flow.iter_mut().enumerate() {
-                    *f = t(e[i / C::COLS][cols[i % C::COLS]]);
+                    *f = t(e[i % C::ROWS][cols[i / C::ROWS]]);
                 }
                 if with_phi {
                     let v: &mut EtdVectors<C::Row<T>> = if k > 0 {
