@@ -286,6 +286,9 @@ const CREST_SAMPLES: usize = 64;
 /// doubled); the second, 2^10 ulps (L = the significand's bits) of the guard's terms and of the
 /// flow's, the round-off of the states a lift computes in T and of the guard's row products
 /// there (a few ulps per level, at most L levels).
+/// Out of line, so that its matrices (a few KB of f64) are not part of the set-up's frame on the
+/// Cortex-M4F's stack.
+#[inline(never)]
 #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
 fn crest_weights(sys: &System, h_sub: f64, stribeck: bool, levels: usize) -> [[f64; NA]; 4] {
     let mut w = [[0.0; NA]; 4];
