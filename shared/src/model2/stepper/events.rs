@@ -62,7 +62,7 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         let n = C::ROWS;
         let mut m = w[ONE];
         for c in 0..n {
-            m = m + w[c] * z[c].abs();
+            m += w[c] * z[c].abs();
         }
         let top = if g1 > g0 { g1 } else { g0 };
         (top + self.crest_c1 * (s0 - s1)) + m < T::zero()

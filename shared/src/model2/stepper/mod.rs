@@ -141,6 +141,7 @@ fn increment<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
 /// this skips are exact in the table (checked at set-up: `slip_sparse`), so the sum is the
 /// same as [`increment`]'s.
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
 fn increment_slip<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
     let f = f.as_ref();
     let mut out = [T::zero(); NS];
