@@ -91,7 +91,8 @@ pub trait Composition: Copy + Debug + 'static {
     };
     /// Columns of a flow row: the moved entries and the constant 1.
     const COLS: usize = Self::ROWS + 1;
-    /// One flow, ROWS x COLS entries row-major (increment form: z(t + h) - z(t) = F (z, 1)).
+    /// One flow, ROWS x COLS entries by columns, entry (r, c) at c ROWS + r (increment form:
+    /// z(t + h) - z(t) = F (z, 1)).
     type Flow<T: Real>: Copy + Debug + AsRef<[T]> + AsMut<[T]>;
     /// A vector over the moved entries as the ETDRK4 tables store it: 6 entries (the first 4 or
     /// 6 used), 8 with the floating pad.

@@ -34,6 +34,40 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         }
     }
 
+    /// Whether guard `which` of `regime` may crest inside a chunk from z (rate `s0`) to z1
+    /// (rate `s1`), where it holds at both ends (`g0`, `g1` < 0): its rate falls from
+    /// positive to negative, and in a linear regime the bound [`Self::crest_below`] does not
+    /// clear it. The short path and `crossing` both ask this, so they decide alike.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // a chunk's two ends and what is known at them
+    pub(super) fn may_crest(&self, regime: Regime, which: usize, z: &[T; NS], g0: T, g1: T, s0: T, s1: T) -> bool {
+        s0 > T::zero() && s1 < T::zero() && !self.crest_below(regime, which, z, g0, g1, s0, s1)
+    }
+
+    /// Whether guard `which` of a linear regime certainly stays below zero over a chunk of at
+    /// most a substep from z, so that the crest's lift (`crossing`) would find it below at its
+    /// crest and return nothing: with g0, g1 < 0 its values and s0 > 0 > s1 its rates at the
+    /// ends, the cubic Hermite interpolant of the four is at most
+    /// max(g0, g1) + (4/27) h (s0 - s1) (its basis functions: h00 + h01 = 1, 0 <= h10 <= 4/27,
+    /// -4/27 <= h11 <= 0), the guard exceeds it by at most h^4 / 384 sup |g''''|, and the lift's
+    /// states and row products carry round-off: the last two bounded by sum_c w_c |(z, 1)_c|
+    /// (`crest_weights`). Never true in Stribeck slip (nonlinear) or for NaN.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // a chunk's two ends and what is known at them
+    pub(super) fn crest_below(&self, regime: Regime, which: usize, z: &[T; NS], g0: T, g1: T, s0: T, s1: T) -> bool {
+        if Self::is_stribeck_slip(regime) {
+            return false;
+        }
+        let w = &self.crest_w[guard_slot(regime, which)];
+        let n = C::ROWS;
+        let mut m = w[ONE];
+        for c in 0..n {
+            m += w[c] * z[c].abs();
+        }
+        let top = if g1 > g0 { g1 } else { g0 };
+        (top + self.crest_c1 * (s0 - s1)) + m < T::zero()
+    }
+
     /// Binary lifting over [from, to): the last probed point p such that `holds` is true at
     /// every accepted point, starting from chunks of 2^top units. Never evaluated at `from`.
     pub(super) fn lift(&self, regime: Regime, z: &[T; NS], from: u64, to: u64, top: usize, mut holds: impl FnMut(&[T; NS]) -> bool) -> (u64, [T; NS]) {
@@ -83,7 +117,8 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         if j <= lo {
             return None;
         }
-        if !(self.guard_slope(regime, which, z, ex0) > T::zero() && self.guard_slope(regime, which, z1, ex1) < T::zero()) {
+        let (s0, s1) = (self.guard_slope(regime, which, z, ex0), self.guard_slope(regime, which, z1, ex1));
+        if !self.may_crest(regime, which, z, dot::<T, C>(&g, z), dot::<T, C>(&g, z1), s0, s1) {
             return None;
         }
         // the crest: the last point where the guard still rises

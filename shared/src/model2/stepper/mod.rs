@@ -31,7 +31,12 @@
 //!   located by binary lifting on the dyadic grid (to 2^-L of a substep, 2^-(L-1) in Stribeck
 //!   slip). A guard that rises and falls back inside a chunk (a crest) is found from the sign
 //!   change of its derivative: the derivative's zero is lifted, and the guard is evaluated
-//!   there.
+//!   there. In a linear regime (stick; Coulomb slip) a bound comes first (`crest_below`):
+//!   the cubic Hermite interpolant of the guard's values and rates at the chunk's ends, plus
+//!   weights fixed at set-up for its fourth derivative and for the lift's round-off
+//!   (`crest_weights`); where that bound is below zero the lift could only find the guard
+//!   below at the crest, and is skipped (the same result: stick's crests of the rig scenes
+//!   lie newtons below zero, a lift is 25 or 54 chunks).
 //! - **The short path**: most substeps are one chunk with no guard firing or cresting in it.
 //!   `short_substep` takes that chunk and tests the guards on a straight path, compiled apart
 //!   for stick and for slip; only a substep that splits, fires or crests goes on to the general
@@ -98,33 +103,33 @@ const Y_LIMIT: f64 = 0.1;
 const YDOT_LIMIT: f64 = 1e3;
 
 /// z(t + h) - z(t) = F (z, 1) for a flow F of composition `C` (rows and columns of the
-/// entries it moves; without the band, u and u' stay 0 and are not touched).
+/// entries it moves; without the band, u and u' stay 0 and are not touched). F is stored by
+/// columns ([`Composition::Flow`]), so that each column's term is added to every row at once
+/// (a vector operation on the host); each row's sum is the same, in the same order,
+/// F_r0 z_0 + F_r1 z_1 + ... + F_r,one, as by rows.
 #[inline(always)]
 fn increment<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
     let f = f.as_ref();
     let mut out = [T::zero(); NS];
     if C::FLOAT {
         for (r, o) in out.iter_mut().enumerate() {
-            let row = &f[r * 9..r * 9 + 9];
-            *o = row[0] * z[0]
-                + row[1] * z[1]
-                + row[2] * z[2]
-                + row[3] * z[3]
-                + row[4] * z[4]
-                + row[5] * z[5]
-                + row[6] * z[6]
-                + row[7] * z[7]
-                + row[8];
+            *o = f[r] * z[0]
+                + f[8 + r] * z[1]
+                + f[16 + r] * z[2]
+                + f[24 + r] * z[3]
+                + f[32 + r] * z[4]
+                + f[40 + r] * z[5]
+                + f[48 + r] * z[6]
+                + f[56 + r] * z[7]
+                + f[64 + r];
         }
     } else if C::BAND {
         for (r, o) in out.iter_mut().take(6).enumerate() {
-            let row = &f[r * 7..r * 7 + 7];
-            *o = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[4] * z[4] + row[5] * z[5] + row[6];
+            *o = f[r] * z[0] + f[6 + r] * z[1] + f[12 + r] * z[2] + f[18 + r] * z[3] + f[24 + r] * z[4] + f[30 + r] * z[5] + f[36 + r];
         }
     } else {
         for (r, o) in out.iter_mut().take(4).enumerate() {
-            let row = &f[r * 5..r * 5 + 5];
-            *o = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[4];
+            *o = f[r] * z[0] + f[4 + r] * z[1] + f[8 + r] * z[2] + f[12 + r] * z[3] + f[16 + r];
         }
     }
     out
@@ -136,23 +141,22 @@ fn increment<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
 /// this skips are exact in the table (checked at set-up: `slip_sparse`), so the sum is the
 /// same as [`increment`]'s.
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
 fn increment_slip<T: Real, C: Composition>(f: &C::Flow<T>, z: &[T; NS]) -> [T; NS] {
     let f = f.as_ref();
     let mut out = [T::zero(); NS];
-    let n = C::COLS;
-    let one = n - 1;
+    let n = C::ROWS;
+    let one = C::COLS - 1;
+    let e = |r: usize, c: usize| f[c * n + r];
     for r in 0..2 {
-        let row = &f[r * n..r * n + n];
-        out[r] = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + row[3] * z[3] + row[one];
+        out[r] = e(r, 0) * z[0] + e(r, 1) * z[1] + e(r, 2) * z[2] + e(r, 3) * z[3] + e(r, one);
     }
     for r in 2..4 {
-        let row = &f[r * n..r * n + n];
-        out[r] = row[2] * z[2] + row[3] * z[3] + row[one];
+        out[r] = e(r, 2) * z[2] + e(r, 3) * z[3] + e(r, one);
     }
     if C::BAND {
         for r in 4..6 {
-            let row = &f[r * n..r * n + n];
-            out[r] = row[2] * z[2] + row[3] * z[3] + row[4] * z[4] + row[5] * z[5] + row[one];
+            out[r] = e(r, 2) * z[2] + e(r, 3) * z[3] + e(r, 4) * z[4] + e(r, 5) * z[5] + e(r, one);
         }
     }
     out
@@ -165,8 +169,9 @@ fn has_slip_zeros<T: Real, C: Composition>(f: &C::Flow<T>) -> bool {
         return false;
     }
     let f = f.as_ref();
-    let n = C::COLS;
-    let zero = |r: usize, c: usize| f[r * n + c] == T::zero();
+    let n = C::ROWS;
+    let cols = C::COLS;
+    let zero = |r: usize, c: usize| f[c * n + r] == T::zero();
     let mut ok = true;
     for r in 0..C::ROWS {
         let skipped: &[usize] = match r {
@@ -175,7 +180,7 @@ fn has_slip_zeros<T: Real, C: Composition>(f: &C::Flow<T>) -> bool {
             _ => &[0, 1],
         };
         for &c in skipped {
-            if c < n - 1 {
+            if c < cols - 1 {
                 ok &= zero(r, c);
             }
         }
@@ -314,6 +319,11 @@ pub struct Model2Tables<T: Real, C: Composition> {
     /// the rate is row . A z + (row . b) q).
     guard_rate: [[T; NA]; 4],
     guard_rate_b: [T; 4],
+    /// The crest bound of a linear regime's guard ([`guard_slot`]; see `crest_below`): the
+    /// weights of (|z|, 1) whose sum bounds the guard's fourth-derivative term and the
+    /// round-off of the lift, and (4/27) h_sub.
+    crest_w: [[T; NA]; 4],
+    crest_c1: T,
     mu_s: T,
     d_mu: T,
     inv_v_s: T,

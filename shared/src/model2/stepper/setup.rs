@@ -89,6 +89,7 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         let near_cn0: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(sys.n0 * k as f64 / NEAR_OPS as f64));
         let near_thr: [T; NEAR_OPS] = core::array::from_fn(|k| t(sys.n0 * (k as f64 + 0.5) / NEAR_OPS as f64));
         let near_ckv: [T; NEAR_OPS + 1] = core::array::from_fn(|k| t(k as f64 / NEAR_OPS as f64 * near_kv));
+        let crest_w = crest_weights(&sys, h_sub, C::STRIBECK, Self::LEVELS);
         let p = slot.insert(pack(Model2Tables {
             flows: [T::per_level(C::zero_flow()); 3],
             etd: C::zero_etd(),
@@ -106,6 +107,8 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
             r_freq: tv(&sys.r_freq),
             guard_rate,
             guard_rate_b,
+            crest_w: core::array::from_fn(|k| tv(&crest_w[k])),
+            crest_c1: t(4.0 / 27.0 * h_sub),
             mu_s: t(scene.mu_s),
             d_mu: t(sys.d_mu),
             inv_v_s: t(1.0 / scene.v_s),
@@ -236,8 +239,9 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
                     }
                     e
                 };
+                // by columns (see `increment`)
                 for (i, f) in flow.iter_mut().enumerate() {
-                    *f = t(e[i / C::COLS][cols[i % C::COLS]]);
+                    *f = t(e[i % C::ROWS][cols[i / C::ROWS]]);
                 }
                 if with_phi {
                     let v: &mut EtdVectors<C::Row<T>> = if k > 0 {
@@ -264,4 +268,74 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
             }
         }
     }
+}
+
+/// Samples of a substep the crest bound's suprema are taken over (see `crest_weights`).
+const CREST_SAMPLES: usize = 64;
+
+/// The weights of the crest bound (`Model2Tables::crest_below`) of each guard slot of a linear
+/// regime (stick; slip with Coulomb friction; a Stribeck slip's slots stay 0 and unread): for
+/// the guard's row g and the regime's A, with E(t) = expm(A t), t in [0, h_sub],
+///
+/// ```text
+/// w_c = 2 sup_t |(g A^4 E(t))_c| h_sub^4 / 384 + 2^(11 - L) (|g_c| + sum_r |g_r| sup_t |(E(t) - I)_rc|)
+/// ```
+///
+/// The first term times |z_c|, summed, bounds the cubic Hermite interpolant's error
+/// h^4 / 384 sup |g''''| over any chunk of at most a substep (the suprema from 65 samples,
+/// doubled); the second, 2^10 ulps (L = the significand's bits) of the guard's terms and of the
+/// flow's, the round-off of the states a lift computes in T and of the guard's row products
+/// there (a few ulps per level, at most L levels).
+/// Out of line, so that its matrices (a few KB of f64) are not part of the set-up's frame on the
+/// Cortex-M4F's stack.
+#[inline(never)]
+#[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
+fn crest_weights(sys: &System, h_sub: f64, stribeck: bool, levels: usize) -> [[f64; NA]; 4] {
+    let mut w = [[0.0; NA]; 4];
+    let ulps = libm::ldexp(1.0, 11 - levels as i32);
+    let h4 = h_sub * h_sub * h_sub * h_sub / 384.0;
+    let row_times = |v: &[f64; NA], m: &MatN<NA>| -> [f64; NA] { core::array::from_fn(|c| (0..NA).map(|r| v[r] * m[r][c]).sum::<f64>()) };
+    for regime in Regime::ALL {
+        if stribeck && regime != Regime::Stick {
+            continue;
+        }
+        let a = &sys.a[regime.index()];
+        let step = linalg::expm_minus_identity(&linalg::scale(a, h_sub / CREST_SAMPLES as f64));
+        let step: MatN<NA> = core::array::from_fn(|r| core::array::from_fn(|c| step[r][c] + if r == c { 1.0 } else { 0.0 }));
+        let slots: &[usize] = if regime == Regime::Stick { &[0, 1] } else { &[guard_slot(regime, 0)] };
+        for &k in slots {
+            let g: [f64; NA] = match k {
+                0 => core::array::from_fn(|c| sys.r_freq[c] - sys.mu_s * sys.r_n[c]),
+                1 => core::array::from_fn(|c| -sys.r_freq[c] - sys.mu_s * sys.r_n[c]),
+                2 => sys.r_v,
+                _ => core::array::from_fn(|c| -sys.r_v[c]),
+            };
+            let mut v = g;
+            for _ in 0..4 {
+                v = row_times(&v, a);
+            }
+            // E(t) at the samples, from E(0) = I
+            let mut e: MatN<NA> = linalg::identity::<NA>();
+            let mut sup_v = [0.0f64; NA];
+            let mut sup_f = [[0.0f64; NA]; NA];
+            for i in 0..=CREST_SAMPLES {
+                if i > 0 {
+                    e = linalg::mul(&e, &step);
+                }
+                let ve = row_times(&v, &e);
+                for c in 0..NA {
+                    sup_v[c] = sup_v[c].max(libm::fabs(ve[c]));
+                    for r in 0..NA {
+                        let f = e[r][c] - if r == c { 1.0 } else { 0.0 };
+                        sup_f[r][c] = sup_f[r][c].max(libm::fabs(f));
+                    }
+                }
+            }
+            for c in 0..NA {
+                let flow: f64 = (0..NA).map(|r| libm::fabs(g[r]) * sup_f[r][c]).sum();
+                w[k][c] = 2.0 * sup_v[c] * h4 + ulps * (libm::fabs(g[c]) + flow);
+            }
+        }
+    }
+    w
 }

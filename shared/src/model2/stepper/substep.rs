@@ -27,26 +27,7 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         }
         let mut count = 0;
         for sub in 0..self.n_sub {
-            let short = if s.regime == Regime::Stick {
-                Some(self.short_substep::<false, O>(s, sub, obs))
-            } else if s.armed {
-                Some(self.short_substep::<true, O>(s, sub, obs))
-            } else {
-                None
-            };
-            let first = if let Some(short) = short {
-                match short {
-                    Ok(None) => continue,
-                    Ok(Some(first)) => Some(first),
-                    Err(h) => {
-                        s.halted = Some(h);
-                        return Err(h);
-                    }
-                }
-            } else {
-                None
-            };
-            match self.substep(s, sub, obs, first) {
+            match self.one_substep(s, sub, obs) {
                 Ok(n) => count += n,
                 Err(h) => {
                     s.halted = Some(h);
@@ -56,6 +37,25 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         }
         s.step += 1;
         Ok(count)
+    }
+
+    /// One substep of [`Self::step`]: the short path where the regime has one, else (or where
+    /// it hands its first chunk on) the general one. Out of line: inlined into the step's loop,
+    /// its table reads were hoisted out of that loop and spilled to the stack, a hundred and
+    /// more loads and stores per step for a loop that mostly runs once (one substep per step).
+    #[inline(never)]
+    fn one_substep<O: Model2Observer<T>>(&self, s: &mut Model2State<T>, sub: u32, obs: &mut O) -> Result<usize, Halt> {
+        let first = if s.regime == Regime::Stick {
+            self.short_substep::<false, O>(s, sub, obs)?
+        } else if s.armed {
+            self.short_substep::<true, O>(s, sub, obs)?
+        } else {
+            return self.substep(s, sub, obs, None);
+        };
+        match first {
+            None => Ok(0),
+            Some(first) => self.substep(s, sub, obs, Some(first)),
+        }
     }
 
     /// [`Self::step`] with every substep on the general path (`substep`), never the
@@ -111,10 +111,13 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         }
         for which in 0..if SLIP { 1 } else { 2 } {
             // `crossing`'s tests: the guard still holds at z1 and does not crest in the chunk
-            if !(dot::<T, C>(self.guard(regime, which), &z1) < T::zero())
-                || (self.guard_slope(regime, which, &z, ex0.as_ref()) > T::zero()
-                    && self.guard_slope(regime, which, &z1, ex1.as_ref()) < T::zero())
-            {
+            let g = self.guard(regime, which);
+            let g1 = dot::<T, C>(g, &z1);
+            if !(g1 < T::zero()) {
+                return Ok(Some(first));
+            }
+            let (s0, s1) = (self.guard_slope(regime, which, &z, ex0.as_ref()), self.guard_slope(regime, which, &z1, ex1.as_ref()));
+            if self.may_crest(regime, which, &z, dot::<T, C>(g, &z), g1, s0, s1) {
                 return Ok(Some(first));
             }
         }
