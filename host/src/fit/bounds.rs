@@ -28,6 +28,8 @@ pub fn physical(key: &str) -> Option<(f64, f64, &'static str)> {
         "k_b" => (1e3, 1e9, "band drive: an air column (k = gamma p A^2 / V, 2e3 to 2.3e4 N/m on this rig) to a steel drive"),
         "k_l" | "k_t" => (1e4, 1e10, "contact springs: a soft pad material to a metal contact"),
         "k_pivot" => (1e3, 1e10, "pivot normal to the band: a loose guide to a stiff hinge"),
+        "contact_exponent" => (1.0, 5.0, "contact law F = k0 d^p: linear (1), Hertz (1.5), to stiffness nearly in proportion to load"),
+        "contact_ref_load" => (1.0, 1e4, "the contact law's reference load: a light touch to a brake's clamp force"),
         "m" => (1e-3, 10.0, "pad mass: a tribometer pin to a heavy caliper piston"),
         "m_b" => (1e-2, 100.0, "band mass with what moves with it: a strip to a carriage and rod"),
         "inertia" => (1e-7, 1.0, "pad moment of inertia about its pivot"),
