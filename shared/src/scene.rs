@@ -134,6 +134,7 @@ pub struct Scene {
     pub c_y: f64,
     /// The edge springs' law ([`ContactLaw::Bilateral`], the default: model 2). Unilateral
     /// contact needs a pad that is not hinged (finite `k_pivot`).
+    #[cfg(feature = "model3")]
     pub contact: ContactLaw,
     /// Exponent p of the edge springs' load law F = k0 d^p (model 3, option 3; 1, the default:
     /// linear springs, the option off). With p > 1 each spring's stiffness is the law's tangent
@@ -141,9 +142,11 @@ pub struct Scene {
     /// the tangent at the reference load F_ref = `contact_ref_load`
     /// ([`Scene::contact_stiffnesses`]): a contact that stiffens with load, linearised about
     /// the static state.
+    #[cfg(feature = "model3")]
     pub contact_exponent: f64,
     /// The reference load F_ref [N] at which `k_l` and `k_t` are the springs' tangent
     /// stiffness (read only with `contact_exponent` > 1).
+    #[cfg(feature = "model3")]
     pub contact_ref_load: f64,
     /// Fixed step dt [s].
     pub dt: f64,
@@ -184,8 +187,12 @@ impl Scene {
     }
 
     /// Whether the edge springs push and never pull ([`ContactLaw::Unilateral`]).
+    /// (Always false without the crate's feature `model3`.)
     pub const fn unilateral(&self) -> bool {
-        matches!(self.contact, ContactLaw::Unilateral)
+        #[cfg(feature = "model3")]
+        return matches!(self.contact, ContactLaw::Unilateral);
+        #[cfg(not(feature = "model3"))]
+        false
     }
 
     /// The edge springs' stiffnesses [k_L, k_T] [N/m] the equations use: `k_l`, `k_t` as given
@@ -197,6 +204,14 @@ impl Scene {
     /// below 1e-6 F_ref is taken as 1e-6 F_ref (a spring that carries nothing has a nearly
     /// vanishing tangent). docs/model.md, "Model 3, part 2".
     pub fn contact_stiffnesses(&self) -> [f64; 2] {
+        #[cfg(not(feature = "model3"))]
+        return [self.k_l, self.k_t];
+        #[cfg(feature = "model3")]
+        self.load_law_stiffnesses()
+    }
+
+    #[cfg(feature = "model3")]
+    fn load_law_stiffnesses(&self) -> [f64; 2] {
         let p = self.contact_exponent;
         if p == 1.0 {
             return [self.k_l, self.k_t];
@@ -232,8 +247,13 @@ impl Scene {
     /// The scene with [`Self::contact_stiffnesses`] as its `k_l`, `k_t` and linear springs
     /// (itself when `contact_exponent` = 1).
     pub fn linearised_contact(&self) -> Scene {
-        let [k_l, k_t] = self.contact_stiffnesses();
-        Scene { k_l, k_t, contact_exponent: 1.0, ..*self }
+        #[cfg(not(feature = "model3"))]
+        return *self;
+        #[cfg(feature = "model3")]
+        {
+            let [k_l, k_t] = self.contact_stiffnesses();
+            Scene { k_l, k_t, contact_exponent: 1.0, ..*self }
+        }
     }
 
     /// Whether the pad is not hinged: a finite pivot stiffness k_pivot (the floating pad).
@@ -325,26 +345,8 @@ impl Scene {
                 self.inertia,
             )?;
         }
-        check(
-            self.contact_exponent.is_finite() && self.contact_exponent >= 1.0 && self.contact_exponent <= 5.0,
-            "contact_exponent",
-            "the contact law's exponent must satisfy 1 <= p <= 5 (1: linear springs; 1.5: Hertz-like)",
-            self.contact_exponent,
-        )?;
-        if self.contact_exponent != 1.0 {
-            check(
-                self.contact_ref_load.is_finite() && self.contact_ref_load > 0.0,
-                "contact_ref_load",
-                "the reference load of the contact law must be a finite number > 0 N",
-                self.contact_ref_load,
-            )?;
-        }
-        check(
-            !self.unilateral() || self.floating(),
-            "contact",
-            "unilateral contact needs a pad that is not hinged (a finite k_pivot): the hinge holds both edges",
-            self.k_pivot,
-        )?;
+        #[cfg(feature = "model3")]
+        self.validate_model3()?;
         if self.band {
             check(self.m_b > 0.0, "m_b", "band mass must be > 0 kg", self.m_b)?;
             check(self.k_b > 0.0, "k_b", "band drive stiffness must be > 0 N/m", self.k_b)?;
@@ -367,4 +369,31 @@ impl Scene {
         )?;
         Ok(())
     }
+
+    /// Model 3's keys (the crate's feature `model3`).
+    #[cfg(feature = "model3")]
+    fn validate_model3(&self) -> Result<(), SceneError> {
+        check(
+            self.contact_exponent.is_finite() && self.contact_exponent >= 1.0 && self.contact_exponent <= 5.0,
+            "contact_exponent",
+            "the contact law's exponent must satisfy 1 <= p <= 5 (1: linear springs; 1.5: Hertz-like)",
+            self.contact_exponent,
+        )?;
+        if self.contact_exponent != 1.0 {
+            check(
+                self.contact_ref_load.is_finite() && self.contact_ref_load > 0.0,
+                "contact_ref_load",
+                "the reference load of the contact law must be a finite number > 0 N",
+                self.contact_ref_load,
+            )?;
+        }
+        check(
+            !self.unilateral() || self.floating(),
+            "contact",
+            "unilateral contact needs a pad that is not hinged (a finite k_pivot): the hinge holds both edges",
+            self.k_pivot,
+        )?;
+        Ok(())
+    }
+
 }

@@ -7,7 +7,9 @@ pub mod rig_set;
 
 use crate::coefficients::Coefficients;
 use crate::design::SAMPLE_RATE_HZ;
-use crate::scene::{Caliper, ContactLaw, FrictionLaw, Scene};
+#[cfg(feature = "model3")]
+use crate::scene::ContactLaw;
+use crate::scene::{Caliper, FrictionLaw, Scene};
 
 /// The thesis-sized pad of docs/model.md (80 mm pad, 5 bar actuator, slow band).
 pub const DEFAULT_SCENE: Scene = Scene {
@@ -39,8 +41,11 @@ pub const DEFAULT_SCENE: Scene = Scene {
     face: false,
     k_pivot: f64::INFINITY,
     c_y: 0.0,
+    #[cfg(feature = "model3")]
     contact: ContactLaw::Bilateral,
+    #[cfg(feature = "model3")]
     contact_exponent: 1.0,
+    #[cfg(feature = "model3")]
     contact_ref_load: 75.0,
     dt: 1.0 / SAMPLE_RATE_HZ,
     duration: 1.0,
