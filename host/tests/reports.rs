@@ -18,10 +18,10 @@ fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
     let (code, v) = run(&["stability", "--quick", "--json", "--check"]);
     assert_eq!(code, 0);
     let rows = v["rows"].as_array().expect("rows");
-    // 8 sweeps, 5 methods, 2 precisions; then 4 model-2 sweeps and part 2's 2 (the floating
-    // pad: k_pivot, contact springs), the model-2 stepper, 2 precisions
+    // 8 sweeps, 5 methods, 2 precisions; then 4 model-2 sweeps and part 2's 3 (the floating
+    // pad: k_pivot, contact springs, model 3's contact exponent), the model-2 stepper, 2 precisions
     let values = 7 + 7 + 8 + 8 + 5 + 5 + 5 + 6;
-    let model2_values = 7 + 5 + 5 + 5 + 5 + 7;
+    let model2_values = 7 + 5 + 5 + 5 + 5 + 7 + 5;
     assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2);
     // model 2's extremes (v_s down to 1e-6 m/s, k_b to 1e10 N/m, m_b 1e-3 to 1e3 kg, damping to
     // critical) stay bounded on its stepper in both precisions
@@ -44,7 +44,11 @@ fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
     assert!(m2.iter().any(|r| r["sweep"] == "v_s" && r["v_s"] == 1e-6));
     // the floating pad's rows carry k_pivot (0 to 1e10 N/m), the others null
     let float: Vec<&&Value> = m2.iter().filter(|r| !r["k_pivot"].is_null()).collect();
-    assert_eq!(float.len(), (5 + 7) * 2);
+    assert_eq!(float.len(), (5 + 7 + 5) * 2);
+    // the contact law's rows carry their exponent, 1 (linear) to 5, and stay bounded
+    let law: Vec<&&&Value> = float.iter().filter(|r| r["sweep"] == "contact_exponent").collect();
+    assert_eq!(law.len(), 5 * 2);
+    assert!(law.iter().any(|r| r["contact_exponent"] == 5.0 && r["outcome"] == "bounded"));
     assert!(float.iter().any(|r| r["sweep"] == "k_pivot" && r["k_pivot"] == 1e10));
     assert!(float.iter().any(|r| r["sweep"] == "float_contact_stiffness" && r["contact_stiffness"] == 1e10));
     for r in rows {
