@@ -38,6 +38,8 @@ pub mod harness;
 pub mod linalg;
 pub mod methods;
 pub mod model2;
+#[cfg(feature = "model3")]
+pub mod model3;
 pub mod propagator;
 pub mod real;
 pub mod rig;
@@ -49,5 +51,5 @@ pub use coefficients::Coefficients;
 pub use exact::{ExactState, ExactStepper, ExactTables, Halt, Observer, Segment, State, Transition};
 pub use real::Real;
 pub use catalogue::{rig_set, DEFAULT_SCENE};
-pub use scene::{Caliper, ContactLaw, FrictionLaw, Scene, SceneError};
+pub use scene::{BandDrive, Caliper, ContactLaw, FrictionLaw, Scene, SceneError};
 pub use stickslip::Regime;

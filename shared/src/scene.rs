@@ -55,6 +55,27 @@ pub enum ContactLaw {
     Unilateral,
 }
 
+/// How the band is driven (model 3, option 1; issue 34).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BandDrive {
+    /// The band's drive point moves at exactly V (models 1 and 2; with `band`, through k_b and
+    /// c_b).
+    Velocity,
+    /// A throttled pneumatic cylinder pushes the band (a mass m_b) through its air column
+    /// against the cylinder's seal friction; the band's speed emerges (docs/model.md, "Model 3,
+    /// part 3"). Needs `band`; runs event-driven in f64 on the host.
+    Pneumatic,
+}
+
+impl BandDrive {
+    pub const fn name(self) -> &'static str {
+        match self {
+            BandDrive::Velocity => "velocity",
+            BandDrive::Pneumatic => "pneumatic",
+        }
+    }
+}
+
 impl ContactLaw {
     pub const fn name(self) -> &'static str {
         match self {
@@ -148,6 +169,42 @@ pub struct Scene {
     /// stiffness (read only with `contact_exponent` > 1).
     #[cfg(feature = "model3")]
     pub contact_ref_load: f64,
+    /// How the band is driven ([`BandDrive::Velocity`], the default). With
+    /// [`BandDrive::Pneumatic`] the cylinder's keys below act, `k_b` does not (the air column
+    /// is the drive's spring) and `c_b` is the band's viscous damping on its guides (to the
+    /// frame, -c_b x_b').
+    #[cfg(feature = "model3")]
+    pub drive: BandDrive,
+    /// Cylinder bore D [m]: piston area A = pi D^2 / 4.
+    #[cfg(feature = "model3")]
+    pub bore: f64,
+    /// Supply pressure p_s, absolute [Pa].
+    #[cfg(feature = "model3")]
+    pub supply_pressure: f64,
+    /// The throttle's sonic conductance C [m^3/(s Pa)] (ISO 6358: mass flow C p_s rho_0 when
+    /// choked); 0: solved from V, the band speed steady sliding should have.
+    #[cfg(feature = "model3")]
+    pub throttle_conductance: f64,
+    /// The throttle's critical pressure ratio b [-] (ISO 6358), 0 <= b < 1.
+    #[cfg(feature = "model3")]
+    pub throttle_critical_ratio: f64,
+    /// The air column's length at the start L_0 [m] (dead volume included: V_0 = A L_0).
+    #[cfg(feature = "model3")]
+    pub column_length: f64,
+    /// Polytropic exponent n [-] of the air column: 1 (isothermal) to 1.4 (adiabatic).
+    #[cfg(feature = "model3")]
+    pub polytropic_exponent: f64,
+    /// The cylinder seal's static friction F_ss [N] (the band sticks while the net force on it
+    /// stays within it).
+    #[cfg(feature = "model3")]
+    pub seal_static: f64,
+    /// The seal's kinetic friction F_sk [N], <= `seal_static`: sliding at speed w, the seal's
+    /// friction is F_sk + (F_ss - F_sk) exp(-|w| / `seal_v_s`).
+    #[cfg(feature = "model3")]
+    pub seal_kinetic: f64,
+    /// The seal's Stribeck velocity v_ss [m/s], > 0.
+    #[cfg(feature = "model3")]
+    pub seal_v_s: f64,
     /// Fixed step dt [s].
     pub dt: f64,
     /// Run length [s].
@@ -155,6 +212,10 @@ pub struct Scene {
     /// Start of the statistics window [s]; the window runs to `duration`.
     pub stats_from: f64,
 }
+
+/// The atmosphere's pressure [Pa] (on the cylinder's rod side, and where the throttle's
+/// conductance is referred).
+pub const ATMOSPHERE_PA: f64 = 101_325.0;
 
 /// A scene value that breaks a rule: which field, which rule, what value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -191,6 +252,15 @@ impl Scene {
     pub const fn unilateral(&self) -> bool {
         #[cfg(feature = "model3")]
         return matches!(self.contact, ContactLaw::Unilateral);
+        #[cfg(not(feature = "model3"))]
+        false
+    }
+
+    /// Whether a pneumatic cylinder drives the band ([`BandDrive::Pneumatic`]).
+    /// (Always false without the crate's feature `model3`.)
+    pub const fn pneumatic(&self) -> bool {
+        #[cfg(feature = "model3")]
+        return matches!(self.drive, BandDrive::Pneumatic);
         #[cfg(not(feature = "model3"))]
         false
     }
@@ -393,6 +463,65 @@ impl Scene {
             "unilateral contact needs a pad that is not hinged (a finite k_pivot): the hinge holds both edges",
             self.k_pivot,
         )?;
+        if self.pneumatic() {
+            self.validate_cylinder()?;
+        }
+        Ok(())
+    }
+
+    /// The pneumatic drive's keys (model 3, option 1).
+    #[cfg(feature = "model3")]
+    fn validate_cylinder(&self) -> Result<(), SceneError> {
+        check(self.band, "drive", "a pneumatic drive pushes the band: it needs band = true", 0.0)?;
+        check(
+            !self.unilateral(),
+            "drive",
+            "a pneumatic drive with unilateral contact is not built yet: give one of the two",
+            0.0,
+        )?;
+        let finite = [
+            ("bore", self.bore),
+            ("supply_pressure", self.supply_pressure),
+            ("throttle_conductance", self.throttle_conductance),
+            ("throttle_critical_ratio", self.throttle_critical_ratio),
+            ("column_length", self.column_length),
+            ("polytropic_exponent", self.polytropic_exponent),
+            ("seal_static", self.seal_static),
+            ("seal_kinetic", self.seal_kinetic),
+            ("seal_v_s", self.seal_v_s),
+        ];
+        for (field, value) in finite {
+            check(value.is_finite(), field, "must be a finite number", value)?;
+        }
+        check(self.bore > 0.0, "bore", "cylinder bore must be > 0 m", self.bore)?;
+        check(
+            self.supply_pressure > ATMOSPHERE_PA,
+            "supply_pressure",
+            "supply pressure (absolute) must exceed the atmosphere's 101325 Pa",
+            self.supply_pressure,
+        )?;
+        check(self.throttle_conductance >= 0.0, "throttle_conductance", "must be >= 0 m^3/(s Pa) (0: solved from v)", self.throttle_conductance)?;
+        check(
+            self.throttle_critical_ratio >= 0.0 && self.throttle_critical_ratio < 1.0,
+            "throttle_critical_ratio",
+            "the throttle's critical pressure ratio must satisfy 0 <= b < 1",
+            self.throttle_critical_ratio,
+        )?;
+        check(self.column_length > 0.0, "column_length", "the air column's length must be > 0 m", self.column_length)?;
+        check(
+            self.polytropic_exponent >= 1.0 && self.polytropic_exponent <= 1.4,
+            "polytropic_exponent",
+            "the polytropic exponent must lie between 1 (isothermal) and 1.4 (adiabatic)",
+            self.polytropic_exponent,
+        )?;
+        check(self.seal_kinetic >= 0.0, "seal_kinetic", "seal friction must be >= 0 N", self.seal_kinetic)?;
+        check(
+            self.seal_static >= self.seal_kinetic,
+            "seal_static",
+            "the seal's static friction must be >= its kinetic friction",
+            self.seal_static,
+        )?;
+        check(self.seal_v_s > 0.0, "seal_v_s", "the seal's Stribeck velocity must be > 0 m/s", self.seal_v_s)?;
         Ok(())
     }
 

@@ -187,6 +187,23 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
             line(name, format!("{:.4} of the window, {} openings (unilateral contact)", e.open_fraction(i), e.openings[i]));
         }
     }
+    if let (Some(d), true) = (&r.drive, r.has_window()) {
+        line("band mean speed", format!("{} m/s (pneumatic drive)", sci(Some(d.mean_speed()), 5)));
+        line("band stuck", format!("{:.4} of the window, {} breakaways at the seal", d.stuck_fraction(), d.breakaways));
+        line(
+            "chamber pressure",
+            format!("mean {} Pa, {} to {} Pa (absolute)", sci(Some(d.p_mean), 5), sci(Some(d.p_min), 5), sci(Some(d.p_max), 5)),
+        );
+        line(
+            "air column",
+            format!(
+                "{} N/m at the mean pressure; throttle C = {} m^3/(s Pa){}",
+                sci(Some(d.column_stiffness), 4),
+                sci(Some(d.conductance), 4),
+                if d.conductance_solved { " (solved from v)" } else { "" }
+            ),
+        );
+    }
     if let (Some(m2), true) = (&r.model2, r.has_window()) {
         line("pad x'' pp", format!("{} m/s^2 (the rig's pad_x)", sci(Some(m2.pad_acc_pp), 5)));
         if s.band {
@@ -322,6 +339,47 @@ pub struct CaseJson {
     /// Unilateral contact only: each edge's open fraction and openings over the window.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub edges: Option<EdgesJson>,
+    /// Pneumatic band drive only: the band and the air column over the window.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive: Option<DriveJson>,
+}
+
+/// `"drive": {...}` of a pneumatic-drive run (SI units, absolute pressures).
+#[derive(Serialize)]
+pub struct DriveJson {
+    /// The band's mean speed over the window [m/s].
+    pub mean_speed: f64,
+    /// The fraction of the window the band was stuck at its seal, and its breakaways there.
+    pub stuck_fraction: f64,
+    pub breakaways: u64,
+    pub p_mean: f64,
+    pub p_min: f64,
+    pub p_max: f64,
+    /// n p A^2 / V at the mean pressure and position [N/m].
+    pub column_stiffness: f64,
+    /// The throttle's sonic conductance [m^3/(s Pa)] and whether it was solved from v.
+    pub throttle_conductance: f64,
+    pub throttle_solved: bool,
+}
+
+impl DriveJson {
+    pub fn of(r: &RunReport) -> Option<DriveJson> {
+        let d = r.drive?;
+        if !r.has_window() {
+            return None;
+        }
+        Some(DriveJson {
+            mean_speed: d.mean_speed(),
+            stuck_fraction: d.stuck_fraction(),
+            breakaways: d.breakaways,
+            p_mean: d.p_mean,
+            p_min: d.p_min,
+            p_max: d.p_max,
+            column_stiffness: d.column_stiffness,
+            throttle_conductance: d.conductance,
+            throttle_solved: d.conductance_solved,
+        })
+    }
 }
 
 /// `"edges": {"trail": {...}, "lead": {...}}` of a unilateral-contact run.
@@ -374,6 +432,7 @@ impl CaseJson {
                 o => Some(o.keyword()),
             },
             edges: EdgesJson::of(r),
+            drive: DriveJson::of(r),
         }
     }
 }

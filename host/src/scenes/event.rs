@@ -44,9 +44,9 @@ pub fn covers(scene: &Scene, precision: Precision) -> bool {
     if !(precision == Precision::F64 && scene.uses_model2()) {
         return false;
     }
-    if scene.unilateral() {
-        // unilateral contact's runs are event-driven anyway, with their samples on the grid
-        // and the edges' statistics (`crate::scenes::unilateral`)
+    if scene.unilateral() || scene.pneumatic() {
+        // unilateral contact's and the pneumatic drive's runs are event-driven anyway, with
+        // their samples on the grid (`crate::scenes::unilateral`, `crate::scenes::pneumatic`)
         return false;
     }
     true
@@ -108,6 +108,7 @@ pub fn run(scene: &Scene, precision: Precision, rtol: f64) -> Result<Option<std:
         transitions: obs.log.transitions,
         model2: Some(Model2Extra { pad_acc_pp: s2.pp(5), band_v_pp: s2.pp(4), band_acc_pp: s2.pp(6) }),
         edges: None,
+        drive: None,
     };
     Ok(Some(Ok((report, EventRun { rtol, counts: runner.counts() }))))
 }

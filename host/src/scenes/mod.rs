@@ -10,5 +10,6 @@ pub mod run;
 pub mod scene_file;
 pub mod scene_source;
 pub mod series;
+pub mod pneumatic;
 pub mod unilateral;
 pub mod sliding;

@@ -4,6 +4,7 @@
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
 use stickslip_model::model2::event_run::edges::EdgeStats;
+use stickslip_model::model3::pneumatic_run::DriveStats;
 use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition};
 use stickslip_model::{
     Coefficients, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
@@ -161,6 +162,9 @@ pub struct RunReport {
     pub model2: Option<Model2Extra>,
     /// Unilateral contact: each edge's open fraction and openings over the window.
     pub edges: Option<EdgeStats>,
+    /// Pneumatic band drive: the band's mean speed and stuck fraction, the chamber pressure,
+    /// the throttle, over the window.
+    pub drive: Option<DriveStats>,
 }
 
 /// Peak-to-peak values only model 2 has, over the statistics window (SI units). Accelerations
@@ -309,6 +313,9 @@ pub fn run_starts<S: Sink + ?Sized>(
     if scene.unilateral() {
         return crate::scenes::unilateral::runs(scene, precision, full, &mut starts);
     }
+    if scene.pneumatic() {
+        return crate::scenes::pneumatic::runs(scene, precision, full, &mut starts);
+    }
     match (precision, scene.uses_model2()) {
         (Precision::F32, false) => thesis_runs::<f32, S>(scene, precision, full, &mut starts),
         (Precision::F64, false) => thesis_runs::<f64, S>(scene, precision, full, &mut starts),
@@ -456,6 +463,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
         first_slip: obs.log.first_slip,
         transitions: obs.log.transitions,
         edges: None,
+        drive: None,
         model2: Some(Model2Extra {
             pad_acc_pp: s2.pp(5),
             band_v_pp: s2.pp(4),
@@ -551,5 +559,6 @@ fn run_in<T: Real, S: Sink + ?Sized>(
         transitions: obs.log.transitions,
         model2: None,
         edges: None,
+        drive: None,
     })
 }

@@ -4,7 +4,7 @@
 //! comment giving its unit and meaning, in a form `parse` reads back to the same scene.
 
 use serde::Deserialize;
-use stickslip_model::{Caliper, Coefficients, ContactLaw, FrictionLaw, Scene, DEFAULT_SCENE};
+use stickslip_model::{BandDrive, Caliper, Coefficients, ContactLaw, FrictionLaw, Scene, DEFAULT_SCENE};
 
 /// `caliper = "push" | "pull"`.
 #[derive(Clone, Copy, Debug, Deserialize)]
@@ -28,6 +28,14 @@ enum FrictionKey {
 enum ContactKey {
     Bilateral,
     Unilateral,
+}
+
+/// `drive = "velocity" | "pneumatic"`.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum DriveKey {
+    Velocity,
+    Pneumatic,
 }
 
 /// The file as written: every key optional.
@@ -67,6 +75,16 @@ struct SceneToml {
     contact: Option<ContactKey>,
     contact_exponent: Option<f64>,
     contact_ref_load: Option<f64>,
+    drive: Option<DriveKey>,
+    bore: Option<f64>,
+    supply_pressure: Option<f64>,
+    throttle_conductance: Option<f64>,
+    throttle_critical_ratio: Option<f64>,
+    column_length: Option<f64>,
+    polytropic_exponent: Option<f64>,
+    seal_static: Option<f64>,
+    seal_kinetic: Option<f64>,
+    seal_v_s: Option<f64>,
     zeta_x: Option<f64>,
     zeta_phi: Option<f64>,
     zeta_b: Option<f64>,
@@ -84,7 +102,7 @@ pub struct ParsedScene {
 }
 
 /// Unit and meaning of each key, in file order (also used for `--help`).
-pub const KEYS: [(&str, &str); 39] = [
+pub const KEYS: [(&str, &str); 49] = [
     ("name", "scene name (reported in every output)"),
     ("description", "one line for `stickslip scenes` (optional)"),
     (
@@ -175,6 +193,26 @@ pub const KEYS: [(&str, &str); 39] = [
          (contact_exponent > 1)",
     ),
     (
+        "drive",
+        "\"velocity\" (the default: the band's drive point moves at exactly v) or \"pneumatic\": a \
+         throttled cylinder pushes the band (band = true) through its air column against its seal's \
+         friction, the band's speed emerges (k_b is not used, c_b is the band's damping on its guides; \
+         runs event-driven in f64 on the host)",
+    ),
+    ("bore", "pneumatic drive: cylinder bore D [m], piston area pi D^2 / 4"),
+    ("supply_pressure", "pneumatic drive: supply pressure p_s, absolute [Pa]"),
+    (
+        "throttle_conductance",
+        "pneumatic drive: the throttle's sonic conductance C [m^3/(s Pa)] (ISO 6358); 0 (the default): \
+         solved so that steady sliding runs at v",
+    ),
+    ("throttle_critical_ratio", "pneumatic drive: the throttle's critical pressure ratio b [-] (ISO 6358), 0 <= b < 1"),
+    ("column_length", "pneumatic drive: the air column's length at the start L_0 [m] (dead volume included)"),
+    ("polytropic_exponent", "pneumatic drive: polytropic exponent n of the air column, 1 (isothermal) to 1.4 (adiabatic)"),
+    ("seal_static", "pneumatic drive: the cylinder seal's static friction [N]"),
+    ("seal_kinetic", "pneumatic drive: the seal's kinetic friction [N], <= seal_static"),
+    ("seal_v_s", "pneumatic drive: the seal friction's Stribeck velocity [m/s]"),
+    (
         "zeta_x",
         "instead of c_x: damping ratio of the x mode in slip, c_x = 2 zeta_x sqrt(k_g m) [-]",
     ),
@@ -242,13 +280,19 @@ pub fn parse(text: &str) -> Result<ParsedScene, ParseError> {
     }
     take!(
         m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi,
-        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, k_pivot, c_y, contact_exponent, contact_ref_load, dt,
+        rotation, v_s, stribeck_exponent, band, m_b, k_b, c_b, face, k_pivot, c_y, contact_exponent, contact_ref_load, bore, supply_pressure, throttle_conductance, throttle_critical_ratio, column_length, polytropic_exponent, seal_static, seal_kinetic, seal_v_s, dt,
         duration, stats_from
     );
     if let Some(c) = t.contact {
         s.contact = match c {
             ContactKey::Bilateral => ContactLaw::Bilateral,
             ContactKey::Unilateral => ContactLaw::Unilateral,
+        };
+    }
+    if let Some(d) = t.drive {
+        s.drive = match d {
+            DriveKey::Velocity => BandDrive::Velocity,
+            DriveKey::Pneumatic => BandDrive::Pneumatic,
         };
     }
     if let Some(f) = t.friction {
@@ -380,6 +424,18 @@ fn values(s: &Scene) -> Vec<(&'static str, String)> {
         v.push(("contact_exponent", f(s.contact_exponent)));
         v.push(("contact_ref_load", f(s.contact_ref_load)));
     }
+    if s.pneumatic() {
+        v.push(("drive", toml_string(s.drive.name())));
+        v.push(("bore", f(s.bore)));
+        v.push(("supply_pressure", f(s.supply_pressure)));
+        v.push(("throttle_conductance", f(s.throttle_conductance)));
+        v.push(("throttle_critical_ratio", f(s.throttle_critical_ratio)));
+        v.push(("column_length", f(s.column_length)));
+        v.push(("polytropic_exponent", f(s.polytropic_exponent)));
+        v.push(("seal_static", f(s.seal_static)));
+        v.push(("seal_kinetic", f(s.seal_kinetic)));
+        v.push(("seal_v_s", f(s.seal_v_s)));
+    }
     v.extend([
         ("dt", f(s.dt)),
         ("duration", f(s.duration)),
@@ -445,9 +501,10 @@ pub fn to_toml(name: &str, description: &str, s: &Scene) -> String {
 }
 
 /// The numeric scene keys (those a sweep can set), in [`KEYS`] order.
-pub const NUMERIC_KEYS: [&str; 31] = [
+pub const NUMERIC_KEYS: [&str; 40] = [
     "m", "inertia", "l", "w", "l_cl", "l_ct", "k_l", "k_t", "k_g", "f_n", "beta", "v", "mu_s", "mu_k", "c_x", "c_phi",
-    "v_s", "stribeck_exponent", "m_b", "k_b", "c_b", "k_pivot", "c_y", "contact_exponent", "contact_ref_load", "zeta_x", "zeta_phi", "zeta_b", "dt",
+    "v_s", "stribeck_exponent", "m_b", "k_b", "c_b", "k_pivot", "c_y", "contact_exponent", "contact_ref_load",
+    "bore", "supply_pressure", "throttle_conductance", "throttle_critical_ratio", "column_length", "polytropic_exponent", "seal_static", "seal_kinetic", "seal_v_s", "zeta_x", "zeta_phi", "zeta_b", "dt",
     "duration", "stats_from",
 ];
 
@@ -463,6 +520,15 @@ pub fn inert_key(s: &Scene, key: &str) -> Option<&'static str> {
             Some("the scene has no band (band = false): the band's keys do nothing; set band = true")
         }
         "c_y" if !s.floating() => Some("the pad is hinged (k_pivot = inf): c_y does nothing; give a finite k_pivot"),
+        "bore" | "supply_pressure" | "throttle_conductance" | "throttle_critical_ratio" | "column_length"
+        | "polytropic_exponent" | "seal_static" | "seal_kinetic" | "seal_v_s"
+            if !s.pneumatic() =>
+        {
+            Some("the band is driven at v (drive = \"velocity\"): the cylinder's keys do nothing; set drive = \"pneumatic\"")
+        }
+        "k_b" | "zeta_b" if s.pneumatic() => {
+            Some("the pneumatic drive's air column is the band's spring (drive = \"pneumatic\"): k_b does nothing")
+        }
         "contact_ref_load" if s.contact_exponent == 1.0 => {
             Some("the edge springs are linear (contact_exponent = 1): contact_ref_load does nothing; set contact_exponent > 1")
         }
@@ -483,7 +549,7 @@ pub fn set_numeric(s: &mut Scene, key: &str, value: f64) -> Result<(), String> {
             }
         };
     }
-    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, contact_exponent, contact_ref_load, dt, duration, stats_from);
+    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, contact_exponent, contact_ref_load, bore, supply_pressure, throttle_conductance, throttle_critical_ratio, column_length, polytropic_exponent, seal_static, seal_kinetic, seal_v_s, dt, duration, stats_from);
     let km = match key {
         "zeta_x" => s.k_g * s.m,
         "zeta_phi" => Coefficients::of(s).k_rot * s.inertia,
@@ -514,7 +580,7 @@ pub fn get_numeric(s: &Scene, key: &str) -> Option<f64> {
             }
         };
     }
-    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, contact_exponent, contact_ref_load, dt, duration, stats_from);
+    keys!(m, inertia, l, w, l_cl, l_ct, k_l, k_t, k_g, f_n, beta, v, mu_s, mu_k, c_x, c_phi, v_s, stribeck_exponent, m_b, k_b, c_b, k_pivot, c_y, contact_exponent, contact_ref_load, bore, supply_pressure, throttle_conductance, throttle_critical_ratio, column_length, polytropic_exponent, seal_static, seal_kinetic, seal_v_s, dt, duration, stats_from);
     let (c, km) = match key {
         "zeta_x" => (s.c_x, s.k_g * s.m),
         "zeta_phi" => (s.c_phi, Coefficients::of(s).k_rot * s.inertia),

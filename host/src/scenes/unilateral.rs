@@ -106,6 +106,7 @@ fn run_one<S: Sink + ?Sized, const FULL: bool>(scene: &Scene, mut runner: EventR
         transitions: obs.log.transitions,
         model2: Some(Model2Extra { pad_acc_pp: s2.pp(5), band_v_pp: s2.pp(4), band_acc_pp: s2.pp(6) }),
         edges: runner.edges(),
+        drive: None,
     })
 }
 

@@ -8,7 +8,7 @@ pub mod rig_set;
 use crate::coefficients::Coefficients;
 use crate::design::SAMPLE_RATE_HZ;
 #[cfg(feature = "model3")]
-use crate::scene::ContactLaw;
+use crate::scene::{BandDrive, ContactLaw};
 use crate::scene::{Caliper, FrictionLaw, Scene};
 
 /// The thesis-sized pad of docs/model.md (80 mm pad, 5 bar actuator, slow band).
@@ -47,6 +47,26 @@ pub const DEFAULT_SCENE: Scene = Scene {
     contact_exponent: 1.0,
     #[cfg(feature = "model3")]
     contact_ref_load: 75.0,
+    #[cfg(feature = "model3")]
+    drive: BandDrive::Velocity,
+    #[cfg(feature = "model3")]
+    bore: 0.040,
+    #[cfg(feature = "model3")]
+    supply_pressure: 6.0e5,
+    #[cfg(feature = "model3")]
+    throttle_conductance: 0.0,
+    #[cfg(feature = "model3")]
+    throttle_critical_ratio: 0.5,
+    #[cfg(feature = "model3")]
+    column_length: 0.05,
+    #[cfg(feature = "model3")]
+    polytropic_exponent: 1.2,
+    #[cfg(feature = "model3")]
+    seal_static: 80.0,
+    #[cfg(feature = "model3")]
+    seal_kinetic: 60.0,
+    #[cfg(feature = "model3")]
+    seal_v_s: 0.005,
     dt: 1.0 / SAMPLE_RATE_HZ,
     duration: 1.0,
     stats_from: 0.5,

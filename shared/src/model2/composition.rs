@@ -126,6 +126,13 @@ pub trait Composition: Copy + Debug + 'static {
                 value: if stribeck { 1.0 } else { 0.0 },
             });
         }
+        if scene.pneumatic() {
+            return Err(SceneError {
+                field: "drive",
+                rule: "the pneumatic band drive runs on the host's event-driven path (f64), not on the fixed-step model-2 stepper, whose band is driven at V",
+                value: 1.0,
+            });
+        }
         if scene.unilateral() {
             return Err(SceneError {
                 field: "contact",

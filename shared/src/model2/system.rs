@@ -93,8 +93,33 @@ impl System {
         }
     }
 
+    /// How a force G [N] on the band (along x) enters each regime's equations, per newton: z'
+    /// gains `g[regime] G` and stick's required friction F_req gains `f_req G` (model 3's
+    /// pneumatic drive, whose cylinder force is not linear in z). In slip G moves only the
+    /// band, g = e_u' / m_b; in stick it moves the stuck pad-band pair and shares out through
+    /// the constraint. Each is the difference of the augmented columns of the equations with a
+    /// unit constant band force and without (the equations are linear in that column).
+    #[cfg(feature = "model3")]
+    pub fn band_force_response(scene: &Scene, co: &Coefficients) -> ([[f64; NS]; 3], f64) {
+        let (with, without) = if scene.floating() {
+            (Self::floating_forced(scene, co, 1.0), Self::floating_forced(scene, co, 0.0))
+        } else {
+            (Self::hinged_forced(scene, co, 1.0), Self::hinged_forced(scene, co, 0.0))
+        };
+        let g = core::array::from_fn(|r| core::array::from_fn(|i| with.a[r][i][ONE] - without.a[r][i][ONE]));
+        (g, with.r_freq[ONE] - without.r_freq[ONE])
+    }
+
     /// The hinged pad (the thesis's pivot, y = 0 for good): part 1 and the face.
+    #[inline(always)]
     pub fn hinged(scene: &Scene, co: &Coefficients) -> System {
+        Self::hinged_forced(scene, co, 0.0)
+    }
+
+    /// [`Self::hinged`] with a constant force `band_force` [N] on the band (along x), carried
+    /// in the augmented column: the pneumatic drive's response ([`Self::band_force_response`]).
+    #[inline(always)]
+    fn hinged_forced(scene: &Scene, co: &Coefficients, band_force: f64) -> System {
         let band = scene.band;
         let rot = scene.rotation;
         let (m, i) = (scene.m, scene.inertia);
@@ -124,6 +149,7 @@ impl System {
         if band {
             band_u[4] = -scene.k_b;
             band_u[5] = -scene.c_b;
+            band_u[ONE] = band_force;
         }
         let mut rot_row = [0.0; NA]; // I phi'' without friction
         if rot {
@@ -264,7 +290,14 @@ impl System {
     /// with the friction F at the face, whose velocity is x' + s w phi' (face kinematics).
     /// Stick holds x'' + s w phi'' - u'' = 0, which gives F_req as a linear row of z.
     #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
+    #[inline(always)]
     pub fn floating_pad(scene: &Scene, co: &Coefficients) -> System {
+        Self::floating_forced(scene, co, 0.0)
+    }
+
+    /// [`Self::floating_pad`] with a constant force `band_force` [N] on the band.
+    #[inline(always)]
+    fn floating_forced(scene: &Scene, co: &Coefficients, band_force: f64) -> System {
         let band = scene.band;
         let (m, i) = (scene.m, scene.inertia);
         let s_w = co.s * scene.w;
@@ -292,6 +325,7 @@ impl System {
         if band {
             q_u[4] = -scene.k_b;
             q_u[5] = -scene.c_b;
+            q_u[ONE] = band_force;
         }
         // accelerations without friction
         let acc_x: [f64; NA] = core::array::from_fn(|c| q_x[c] / m);

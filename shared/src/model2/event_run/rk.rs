@@ -4,7 +4,6 @@
 //! first (FSAL). Written here from the published tableau, apart from the host's DOP853
 //! reference (host/src/numerics/reference/), which stays independent of the code under test.
 
-use crate::model2::system::NS;
 
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
@@ -45,9 +44,10 @@ pub const NODES: [f64; 4] = [C2, C3, C4, C5];
 
 /// One step of length `h` [s] from `z` with slope `k1` = f(z): the fifth-order state, its
 /// slope f(z1) (the next step's first stage) and the error estimate (fifth less fourth order).
+/// Any state size N (model 2's NS; the pneumatic drive's runner, model 3, adds its own).
 #[inline]
-pub fn step(f: &mut impl FnMut(&[f64; NS]) -> [f64; NS], z: &[f64; NS], k1: &[f64; NS], h: f64) -> ([f64; NS], [f64; NS], [f64; NS]) {
-    let comb = |w: &[(f64, &[f64; NS])]| -> [f64; NS] {
+pub fn step<const N: usize>(f: &mut impl FnMut(&[f64; N]) -> [f64; N], z: &[f64; N], k1: &[f64; N], h: f64) -> ([f64; N], [f64; N], [f64; N]) {
+    let comb = |w: &[(f64, &[f64; N])]| -> [f64; N] {
         core::array::from_fn(|i| {
             let mut s = 0.0;
             for (a, k) in w {
@@ -63,7 +63,7 @@ pub fn step(f: &mut impl FnMut(&[f64; NS]) -> [f64; NS], z: &[f64; NS], k1: &[f6
     let k6 = f(&comb(&[(A61, k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)]));
     let z1 = comb(&[(B1, k1), (B3, &k3), (B4, &k4), (B5, &k5), (B6, &k6)]);
     let k7 = f(&z1);
-    let err: [f64; NS] =
+    let err: [f64; N] =
         core::array::from_fn(|i| h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]));
     (z1, k7, err)
 }
@@ -71,6 +71,7 @@ pub fn step(f: &mut impl FnMut(&[f64; NS]) -> [f64; NS], z: &[f64; NS], k1: &[f6
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model2::system::NS;
 
     #[test]
     fn the_tableau_is_consistent() {

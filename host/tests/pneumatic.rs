@@ -1,0 +1,249 @@
+//! The pneumatic band drive (`drive = "pneumatic"`; issue 34, option 1). Checked here:
+//! - its small-signal limit is today's band on a spring k_b = n p A^2 / V: with the column
+//!   made long and wide (L_0 -> inf at a fixed n p A / L_0, no seal friction) a pneumatic run
+//!   tends to the velocity-driven run of model 2 (the event runner, another code path) at rate
+//!   1 / L_0;
+//! - the seal's stick-slip alone (no normal load: the pad exerts no friction) has its linear
+//!   threshold where the 1-DOF Stribeck oracle puts it, V_cr = v_ss ln((F_ss - F_sk) / (v_ss c)),
+//!   found here by bisection on the growth of a small perturbation of steady sliding;
+//! - the energy balance closes: the air's work on the piston, the integral of (p - p_atm) A
+//!   dx_b from the run's own p and x_b, equals the mechanical energy's change and the
+//!   dissipation (pad friction, seal friction, dampers), each from the sampled state;
+//! - the fixed-step stepper (and so the firmware's chain) refuses such a scene, f32 is refused,
+//!   and bad cylinder keys are bad scenes naming their field.
+
+use stickslip::scenes::run::{self, Precision};
+use stickslip::scenes::series::NoSink;
+use stickslip_model::model2::event_run::{EventRunner, GridSample};
+use stickslip_model::model2::{AnyModel2Stepper, NS};
+use stickslip_model::model3::pneumatic_run::{PneumaticRunner, PneumaticSample, P, XB};
+use stickslip_model::scene::ATMOSPHERE_PA;
+use stickslip_model::{rig_set, BandDrive, Caliper, FrictionLaw, Regime, Scene};
+
+/// The rig scene (push, centre) with a soft band (k_b 2e4 N/m, m_b 0.5 kg, undamped drive).
+fn soft_band() -> Scene {
+    let mut s = rig_set::rig_scene(Caliper::Push, 0.04);
+    s.k_b = 2.0e4;
+    s.m_b = 0.5;
+    s.c_b = 0.0;
+    s.duration = 1.5;
+    s.stats_from = 0.5;
+    s.dt = 1e-4;
+    s
+}
+
+/// `s` driven by a cylinder whose column at atmospheric pressure has the stiffness k_b with a
+/// column of length `l0`, no seal friction, the throttle solved from V.
+fn pneumatic_equivalent(s: &Scene, l0: f64) -> Scene {
+    let mut p = *s;
+    p.drive = BandDrive::Pneumatic;
+    p.polytropic_exponent = 1.0;
+    p.column_length = l0;
+    let area = s.k_b * l0 / (p.polytropic_exponent * ATMOSPHERE_PA);
+    p.bore = (4.0 * area / std::f64::consts::PI).sqrt();
+    p.seal_static = 0.0;
+    p.seal_kinetic = 0.0;
+    p.throttle_conductance = 0.0;
+    p
+}
+
+#[test]
+fn the_small_signal_limit_is_the_band_on_its_spring() {
+    let s = soft_band();
+    // the velocity-driven band: model 2's event runner, samples on the grid
+    let mut reference: Vec<[f64; NS]> = vec![];
+    let mut er = EventRunner::new(&s, 1e-12).expect("event runner");
+    er.run_sampled(0.0, s.duration, s.dt, &mut (), &mut |g: &GridSample| {
+        reference.push(g.z);
+        true
+    })
+    .expect("the reference run completes");
+    let x_range = reference.iter().map(|z| z[0]).fold(f64::NEG_INFINITY, f64::max) - reference.iter().map(|z| z[0]).fold(f64::INFINITY, f64::min);
+    let u_range = reference.iter().map(|z| z[4]).fold(f64::NEG_INFINITY, f64::max) - reference.iter().map(|z| z[4]).fold(f64::INFINITY, f64::min);
+    let mut errors = vec![];
+    for l0 in [1.0, 10.0, 100.0] {
+        let p = pneumatic_equivalent(&s, l0);
+        let mut runner = PneumaticRunner::new(&p, 1e-12).expect("pneumatic runner");
+        // model 2's start: the band at V, the pad stuck on it, no force in the drive yet
+        let mut w0 = runner.state();
+        w0[1] = s.v;
+        w0[5] = 0.0;
+        w0[P] = ATMOSPHERE_PA;
+        runner.set_state(w0, Regime::Stick, 1);
+        let mut k = 0;
+        let mut worst: f64 = 0.0;
+        let mut slips = 0;
+        let mut last = Regime::Stick;
+        runner
+            .run_sampled(0.0, s.duration, s.dt, &mut (), &mut |g: &PneumaticSample| {
+                let z = &reference[k];
+                worst = worst.max((g.w[0] - z[0]).abs() / x_range).max((g.w[4] - z[4]).abs() / u_range);
+                if last == Regime::Stick && g.regime != Regime::Stick {
+                    slips += 1;
+                }
+                last = g.regime;
+                k += 1;
+                true
+            })
+            .expect("the pneumatic run completes");
+        assert_eq!(k, reference.len());
+        assert!(slips >= 3, "L0 {l0}: the run should stick-slip ({slips} slips)");
+        errors.push(worst);
+    }
+    eprintln!("small-signal limit: max deviation of x and u relative to their ranges at L0 = 1, 10, 100 m: {errors:?}");
+    assert!(errors[0] / errors[1] > 5.0 && errors[1] / errors[2] > 5.0, "not converging at rate 1 / L0: {errors:?}");
+    assert!(errors[2] < 2e-3, "{errors:?}");
+}
+
+/// The band alone (no normal load), sliding steadily at `v` with a small kick: the growth
+/// rate [1/s] of its velocity's oscillation (log of the late window's amplitude over the
+/// early one's, over the time between them); +inf if the band stops.
+fn seal_growth(base: &Scene, v: f64) -> f64 {
+    let mut s = *base;
+    s.v = v;
+    let mut runner = PneumaticRunner::new(&s, 1e-12).expect("runner");
+    let mut z = [0.0; NS];
+    z[5] = 1e-9; // the kick: the band 1e-9 m/s faster than V
+    runner.set_sliding(z);
+    let (mut early, mut late, mut stopped) = (0.0f64, 0.0f64, false);
+    runner
+        .run_sampled(0.0, s.duration, s.dt, &mut (), &mut |g: &PneumaticSample| {
+            let dv = g.w[5].abs();
+            if g.t < 0.5 {
+                early = early.max(dv);
+            } else if g.t >= s.duration - 0.5 {
+                late = late.max(dv);
+            }
+            stopped |= g.band != 1;
+            true
+        })
+        .expect("the run completes");
+    if stopped {
+        return f64::INFINITY;
+    }
+    (late / early).ln() / (s.duration - 0.5)
+}
+
+#[test]
+fn the_seal_alone_loses_stability_at_the_oracles_critical_speed() {
+    let mut s = soft_band();
+    s.f_n = 0.0;
+    s.friction = FrictionLaw::Coulomb;
+    s.drive = BandDrive::Pneumatic;
+    s.m_b = 1.0;
+    s.bore = 0.04;
+    s.column_length = 0.1;
+    s.polytropic_exponent = 1.2;
+    s.seal_static = 30.0;
+    s.seal_kinetic = 20.0;
+    s.seal_v_s = 0.01;
+    s.duration = 2.0;
+    s.stats_from = 1.0;
+    s.dt = 1e-3;
+    // the oracle's damping for V_cr = 0.03 m/s (host/src/scenes/builtin.rs oracle_stribeck)
+    let v_cr = 0.03;
+    s.c_b = (s.seal_static - s.seal_kinetic) / s.seal_v_s * (-v_cr / s.seal_v_s).exp();
+    let (mut lo, mut hi) = (0.9 * v_cr, 1.1 * v_cr);
+    assert!(seal_growth(&s, lo) > 0.0, "below V_cr steady sliding must be unstable");
+    assert!(seal_growth(&s, hi) < 0.0, "above V_cr steady sliding must be stable");
+    for _ in 0..12 {
+        let mid = 0.5 * (lo + hi);
+        if seal_growth(&s, mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let found = 0.5 * (lo + hi);
+    eprintln!("seal alone: V_cr found {found:.6} m/s against the oracle's {v_cr} m/s ({:+.3} %)", 100.0 * (found / v_cr - 1.0));
+    assert!((found / v_cr - 1.0).abs() < 0.01, "V_cr {found} against {v_cr}");
+}
+
+#[test]
+fn the_energy_balance_closes_with_the_air_columns_work() {
+    // the 1-DOF pad (rotation held: N constant) on the pneumatic band, seal stick-slip on
+    let mut s = soft_band();
+    s.rotation = false;
+    s.drive = BandDrive::Pneumatic;
+    s.c_b = 5.0;
+    s.column_length = 0.01;
+    s.seal_static = 30.0;
+    s.seal_kinetic = 25.0;
+    s.seal_v_s = 0.005;
+    s.duration = 0.8;
+    s.stats_from = 0.1;
+    s.dt = 2e-6;
+    let mut runner = PneumaticRunner::new(&s, 1e-12).expect("runner");
+    let area = runner.cylinder().area;
+    let energy = |w: &[f64]| {
+        let vb = s.v + w[5];
+        0.5 * s.m * w[1] * w[1] + 0.5 * s.k_g * w[0] * w[0] + 0.5 * s.m_b * vb * vb
+    };
+    let mut prev: Option<PneumaticSample> = None;
+    let (mut work, mut dissipated, mut e0, mut e1, mut scale) = (0.0, 0.0, f64::NAN, 0.0, 0.0f64);
+    let cyl = *runner.cylinder();
+    let power_lost = |g: &PneumaticSample| {
+        let w = &g.w;
+        let vb = s.v + w[5];
+        let seal = if g.band == 0 { 0.0 } else { cyl.seal_friction(vb) * vb.abs() };
+        s.c_x * w[1] * w[1] + s.c_b * vb * vb + seal - g.f_f * g.v_slide
+    };
+    runner
+        .run_sampled(0.0, s.duration, s.dt, &mut (), &mut |g: &PneumaticSample| {
+            match &prev {
+                None => e0 = energy(&g.w),
+                Some(a) => {
+                    // the air's work from the run's p and x_b; the losses from the state
+                    work += 0.5 * ((a.w[P] - ATMOSPHERE_PA) + (g.w[P] - ATMOSPHERE_PA)) * area * (g.w[XB] - a.w[XB]);
+                    dissipated += 0.5 * (power_lost(a) + power_lost(g)) * (g.t - a.t);
+                }
+            }
+            scale = scale.max(work.abs());
+            e1 = energy(&g.w);
+            prev = Some(*g);
+            true
+        })
+        .expect("the run completes");
+    let residual = (work - (e1 - e0) - dissipated) / scale;
+    eprintln!(
+        "energy balance: air work {work:.9e} J, energy change {:.9e} J, dissipated {dissipated:.9e} J, residual {residual:.2e} of the work; {:?}",
+        e1 - e0,
+        runner.counts()
+    );
+    assert!(runner.counts().transitions >= 4, "the pad should stick-slip: {:?}", runner.counts());
+    assert!(runner.counts().band_changes >= 4, "the band should stick and slip at its seal: {:?}", runner.counts());
+    assert!(residual.abs() < 1e-8, "residual {residual:e}");
+}
+
+#[test]
+fn a_pneumatic_scene_runs_on_the_event_path_only_and_bad_keys_are_named() {
+    let mut s = soft_band();
+    s.drive = BandDrive::Pneumatic;
+    let e = AnyModel2Stepper::<f64>::new(&s).err().expect("the fixed-step stepper refuses it");
+    assert_eq!(e.field, "drive");
+    assert!(run::run(&s, Precision::F32, &mut NoSink).is_err(), "f32 is refused");
+    let r = run::run(&s, Precision::F64, &mut NoSink).expect("f64 runs");
+    let d = r.drive.expect("a pneumatic run reports its drive");
+    assert!(d.conductance_solved && d.conductance > 0.0);
+    assert!(d.p_min > ATMOSPHERE_PA && d.p_max < s.supply_pressure);
+    for (field, set) in [
+        ("bore", (|s: &mut Scene| s.bore = -0.01) as fn(&mut Scene)),
+        ("supply_pressure", |s: &mut Scene| s.supply_pressure = 9e4),
+        ("polytropic_exponent", |s: &mut Scene| s.polytropic_exponent = 1.6),
+        ("seal_static", |s: &mut Scene| s.seal_static = 10.0),
+        ("seal_v_s", |s: &mut Scene| s.seal_v_s = 0.0),
+        ("column_length", |s: &mut Scene| s.column_length = f64::NAN),
+        ("throttle_critical_ratio", |s: &mut Scene| s.throttle_critical_ratio = 1.0),
+    ] {
+        let mut b = s;
+        set(&mut b);
+        assert_eq!(b.validate().err().map(|e| e.field), Some(field));
+    }
+    let mut no_band = s;
+    no_band.band = false;
+    assert_eq!(no_band.validate().err().map(|e| e.field), Some("drive"));
+    // a supply that cannot push the load at V
+    let mut weak = s;
+    weak.supply_pressure = 1.2e5;
+    assert_eq!(PneumaticRunner::new(&weak, 1e-10).err().map(|e| e.field), Some("supply_pressure"));
+}
