@@ -9,6 +9,8 @@
 //! - the energy balance closes: the air's work on the piston, the integral of (p - p_atm) A
 //!   dx_b from the run's own p and x_b, equals the mechanical energy's change and the
 //!   dissipation (pad friction, seal friction, dampers), each from the sampled state;
+//! - the chamber's pressure with the band held follows the throttle's and the column's closed
+//!   form (choked, then ISO 6358's elliptic flow);
 //! - the fixed-step stepper (and so the firmware's chain) refuses such a scene, f32 is refused,
 //!   and bad cylinder keys are bad scenes naming their field.
 
@@ -246,4 +248,57 @@ fn a_pneumatic_scene_runs_on_the_event_path_only_and_bad_keys_are_named() {
     let mut weak = s;
     weak.supply_pressure = 1.2e5;
     assert_eq!(PneumaticRunner::new(&weak, 1e-10).err().map(|e| e.field), Some("supply_pressure"));
+}
+
+/// The air column fed by the throttle with the band held (a seal it cannot break): the chamber
+/// pressure has a closed form, linear while the throttle is choked (p <= b p_s) and then, with
+/// ISO 6358's elliptic flow, s = (p / p_s - b) / (1 - b) = sin(K (t - t_b)), K = n Q / (V_c p_s
+/// (1 - b)), Q = p_ref C p_s, until p reaches the supply.
+#[test]
+fn the_chamber_fills_as_the_throttle_law_says() {
+    let mut s = soft_band();
+    s.f_n = 0.0;
+    s.drive = BandDrive::Pneumatic;
+    s.seal_static = 1e4;
+    s.seal_kinetic = 1e4;
+    s.throttle_conductance = 1e-10;
+    s.throttle_critical_ratio = 0.4;
+    s.polytropic_exponent = 1.3;
+    s.duration = 8.0;
+    s.stats_from = 1.0;
+    s.dt = 1e-3;
+    let mut runner = PneumaticRunner::new(&s, 1e-12).expect("runner");
+    let cyl = *runner.cylinder();
+    assert!(!cyl.solved);
+    let mut w = runner.state();
+    w[P] = ATMOSPHERE_PA;
+    w[1] = 0.0;
+    w[5] = -s.v;
+    runner.set_state(w, Regime::SlipSlower, 0);
+    let v_c = cyl.area * cyl.l0;
+    let q = stickslip_model::model3::cylinder::P_REF * cyl.conductance * cyl.p_s;
+    let rate = cyl.n * q / v_c; // dp/dt while choked [Pa/s]
+    let t_b = (cyl.b * cyl.p_s - ATMOSPHERE_PA) / rate;
+    let k = rate / (cyl.p_s * (1.0 - cyl.b));
+    let t_full = t_b + std::f64::consts::FRAC_PI_2 / k;
+    assert!(t_b > 1.0 && t_full < s.duration - 1.0, "both phases in the run: t_b {t_b}, t_full {t_full}");
+    let mut worst: f64 = 0.0;
+    runner
+        .run_sampled(0.0, s.duration, s.dt, &mut (), &mut |g: &PneumaticSample| {
+            let t = g.t;
+            let p = if t <= t_b {
+                ATMOSPHERE_PA + rate * t
+            } else if t < t_full {
+                cyl.p_s * (cyl.b + (1.0 - cyl.b) * (k * (t - t_b)).sin())
+            } else {
+                cyl.p_s
+            };
+            assert_eq!(g.band, 0, "the band stays stuck");
+            assert_eq!(g.w[XB], 0.0);
+            worst = worst.max((g.w[P] - p).abs() / cyl.p_s);
+            true
+        })
+        .expect("the run completes");
+    eprintln!("chamber fill: largest deviation from the closed form {worst:.2e} of p_s (t_b {t_b:.4} s, full at {t_full:.4} s)");
+    assert!(worst < 1e-8, "{worst:e}");
 }
