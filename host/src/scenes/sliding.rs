@@ -130,9 +130,19 @@ pub struct SteadySliding {
     pub invalid: Option<(NoSteadySliding, String)>,
 }
 
+/// The scene whose steady sliding is linearised: a pneumatic drive's small-signal equivalent
+/// (the band on the air column's stiffness at the steady pressure, the seal's friction slope
+/// with the guides' damping: `model3::cylinder::small_signal_scene`), else the scene. A supply
+/// too low to slide at V keeps the scene as it is (its runs report that).
+fn small_signal(scene: &Scene) -> Scene {
+    stickslip_model::model3::cylinder::small_signal_scene(scene).unwrap_or(*scene)
+}
+
 /// The fixed point of steady sliding of `scene` (the start of [`crate::scenes::run::Start::Sliding`]).
 /// The scene must be valid.
 pub fn steady_sliding(scene: &Scene) -> SteadySliding {
+    let equivalent = small_signal(scene);
+    let scene = &equivalent;
     let co = Coefficients::of(scene);
     let sys = System::of(scene, &co);
     fixed_point(scene, &co, &sys)
@@ -195,6 +205,8 @@ fn fixed_point(scene: &Scene, co: &Coefficients, sys: &System) -> SteadySliding 
 /// Steady sliding of `scene` and its modes. The scene must be valid
 /// ([`Scene::validate`]).
 pub fn sliding_stability(scene: &Scene) -> SlidingStability {
+    let equivalent = small_signal(scene);
+    let scene = &equivalent;
     let co = Coefficients::of(scene);
     let sys = System::of(scene, &co);
     let SteadySliding { state, normal_force, invalid } = fixed_point(scene, &co, &sys);

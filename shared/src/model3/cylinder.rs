@@ -14,7 +14,8 @@
 //! p_ref = 1e5 Pa is ISO 8778's reference atmosphere (R T_0 rho_0 = p_ref at 20 C), so that
 //! C is the standard's sonic conductance [m^3/(s Pa)] with the supply at T_0.
 
-use crate::scene::{Scene, SceneError, ATMOSPHERE_PA};
+use crate::coefficients::Coefficients;
+use crate::scene::{BandDrive, FrictionLaw, Scene, SceneError, ATMOSPHERE_PA};
 
 /// ISO 8778's reference pressure [Pa]: R T_0 rho_0 for the ANR atmosphere.
 pub const P_REF: f64 = 1e5;
@@ -132,4 +133,33 @@ impl Cylinder {
     pub fn column_stiffness(&self, p: f64, x_b: f64) -> f64 {
         self.n * p * self.area * self.area / self.volume(x_b)
     }
+}
+
+/// The pad's friction force in steady sliding at the scene's V [N]: mu(V) N_0 (the load the
+/// throttle is solved for).
+pub fn steady_pad_friction(scene: &Scene) -> f64 {
+    let mu_v = match scene.friction {
+        FrictionLaw::Coulomb => scene.mu_k,
+        FrictionLaw::Stribeck => scene.mu_k + (scene.mu_s - scene.mu_k) * libm::exp(-libm::pow(scene.v / scene.v_s, scene.stribeck_exponent)),
+    };
+    mu_v * Coefficients::of(&scene.linearised_contact()).n0
+}
+
+/// The pneumatic scene's small-signal equivalent (docs/model.md, "Model 3, part 3"): the band
+/// driven at V through the air column's stiffness at the steady pressure, k_b = n p_0 A / L_0,
+/// with the guides' damping less the seal friction's slope at V, c_b + dF_seal/dw (negative
+/// where the seal's friction falls faster than the guides damp). The column's relaxation
+/// (rate n V / L_0) is left out. What the linear stability of steady sliding is taken of.
+/// `scene` itself if its band is driven at V.
+pub fn small_signal_scene(scene: &Scene) -> Result<Scene, SceneError> {
+    if !scene.pneumatic() {
+        return Ok(*scene);
+    }
+    let cyl = Cylinder::of(scene, steady_pad_friction(scene))?;
+    let p0 = cyl.steady_pressure(scene.v, steady_pad_friction(scene));
+    let mut s = *scene;
+    s.drive = BandDrive::Velocity;
+    s.k_b = cyl.column_stiffness(p0, 0.0);
+    s.c_b = cyl.c_b - (cyl.f_ss - cyl.f_sk) / cyl.v_ss * libm::exp(-scene.v / cyl.v_ss);
+    Ok(s)
 }

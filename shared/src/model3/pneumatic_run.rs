@@ -29,7 +29,7 @@ use crate::halt::{Halt, Limits};
 use crate::model2::event_run::rk;
 use crate::model2::stepper::{Model2Observer, Model2Segment, Model2Transition};
 use crate::model2::system::{System, NA, NS, ONE, Y};
-use crate::scene::{FrictionLaw, Scene, SceneError};
+use crate::scene::{Scene, SceneError};
 use crate::stickslip::Regime;
 
 use super::cylinder::Cylinder;
@@ -187,13 +187,7 @@ impl PneumaticRunner {
         fixed_band.v = 0.0;
         let stuck = System::of(&fixed_band, &Coefficients::of(&fixed_band));
         // the pad's friction at V in steady sliding: the load the throttle is solved for
-        let mu_v = match scene.friction {
-            FrictionLaw::Coulomb => scene.mu_k,
-            FrictionLaw::Stribeck => {
-                scene.mu_k + (scene.mu_s - scene.mu_k) * libm::exp(-libm::pow(scene.v / scene.v_s, scene.stribeck_exponent))
-            }
-        };
-        let pad_friction = mu_v * sliding.n0;
+        let pad_friction = super::cylinder::steady_pad_friction(&free_band);
         let cyl = Cylinder::of(scene, pad_friction)?;
         // the fastest linear mode with the column at its stiffest (supply pressure, start volume)
         let mut stiff = base;
