@@ -121,8 +121,8 @@ pub const RIG_BUILT_M_B: f64 = 0.514;
 /// `contact_ref_load` the floating set's 75 N.
 #[cfg(feature = "model3")]
 pub const RIG_BUILT_CONTACT_EXPONENT: f64 = 1.5;
-/// Built rig set: run length [s] and start of the statistics window [s] (the soft band's
-/// stick-slip near 31 Hz settles within the first second; the fit's window).
+/// Built rig set: run length [s] and start of the statistics window [s] (the soft band loads
+/// the pad slowly: the first breakaway comes near 0.78 s at 5 mm/s; the fit's window).
 #[cfg(feature = "model3")]
 pub const RIG_BUILT_DURATION: f64 = 3.0;
 /// See [`RIG_BUILT_DURATION`].
