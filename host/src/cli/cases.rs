@@ -10,7 +10,9 @@ use super::RunOptions;
 pub struct CasesArgs {
     /// Which six cases: `thesis` (the thesis model, no damping), `rig` (model 2: Stribeck
     /// friction, the band as a mass, a few percent damping; mu_k, v_s, k_b fitted to Table
-    /// 3.1) or `rig-float` (the rig set with the face and a floating pad, its own fit)
+    /// 3.1), `rig-float` (the rig set with the face and a floating pad, its own fit) or
+    /// `rig-built` (model 3: rig-float with the soft band of the pneumatic drive, unilateral
+    /// edges and contact exponent 1.5, mu_k and k_b fitted to Table 3.1, 3 s runs; f64 only)
     #[arg(long, value_enum, default_value = "thesis")]
     pub set: CaseSet,
     /// Print {"cases": [...]} as JSON instead of the Markdown table
@@ -36,4 +38,7 @@ pub enum CaseSet {
     Rig,
     /// The rig set with friction-face kinematics and the floating pad (model 2, part 2)
     RigFloat,
+    /// The floating set with model 3: the soft band, unilateral edges, contact exponent 1.5,
+    /// its own Table 3.1 fit (f64 only)
+    RigBuilt,
 }

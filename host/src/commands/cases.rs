@@ -42,6 +42,16 @@ pub fn cases(a: &CasesArgs) -> Result<String> {
         crate::cli::CaseSet::Thesis => builtin::cases(),
         crate::cli::CaseSet::Rig => builtin::rig_cases(),
         crate::cli::CaseSet::RigFloat => builtin::rig_float_cases(),
+        crate::cli::CaseSet::RigBuilt => {
+            if a.run.precision != run::Precision::F64 {
+                return Err(HostError::Input(format!(
+                    "--set rig-built has unilateral contact (contact = \"unilateral\"), which runs in f64 only: \
+                     drop --precision {} (f64 is the default)",
+                    a.run.precision.name()
+                )));
+            }
+            builtin::rig_built_cases()
+        }
     };
     let scenes = set
         .into_iter()

@@ -46,7 +46,7 @@ pub fn cases() -> Vec<Builtin> {
     out
 }
 
-pub use stickslip_model::rig_set::{rig_float_scene, rig_quiet_scene, rig_scene, RIG_K_B, RIG_M_B, RIG_V_S, RIG_ZETA, RIG_ZETA_B};
+pub use stickslip_model::rig_set::{rig_built_scene, rig_float_scene, rig_quiet_scene, rig_scene, RIG_K_B, RIG_M_B, RIG_V_S, RIG_ZETA, RIG_ZETA_B};
 
 /// The six cases as a derived set: each named `{prefix}{case}`, its description extended by
 /// `what`, its scene `scene(caliper, beta)`.
@@ -73,6 +73,17 @@ pub fn rig_float_cases() -> Vec<Builtin> {
         "rig_float_",
         "model 2 with the face and a floating pad (k_pivot = 0), Stribeck friction, band as a mass, mu_k, v_s, k_b fitted to Table 3.1",
         rig_float_scene,
+    )
+}
+
+/// The built rig set (model 3): the floating set with the soft band, unilateral edges and
+/// its own mu_k and k_b fitted to Table 3.1, 3 s runs, named `rig_built_push_trail` ...
+/// `rig_built_pull_lead`. Unilateral contact runs in f64 only.
+pub fn rig_built_cases() -> Vec<Builtin> {
+    derived_cases(
+        "rig_built_",
+        "model 3: the floating set with the soft band (pneumatic drive's air column), unilateral edges, contact exponent 1.5, mu_k and k_b fitted to Table 3.1, 3 s runs, f64 only",
+        rig_built_scene,
     )
 }
 
@@ -140,6 +151,7 @@ pub fn all() -> Vec<Builtin> {
     v.extend(rig_cases());
     v.extend(rig_float_cases());
     v.extend(rig_quiet_cases());
+    v.extend(rig_built_cases());
     v
 }
 

@@ -102,6 +102,60 @@ pub fn rig_float_scene(caliper: Caliper, beta: f64) -> Scene {
     s
 }
 
+/// Built rig set (model 3, "Back to Table 3.1"), fitted to Table 3.1 with k_b at p = 1.5:
+/// kinetic friction coefficient [-] (0.448215 +- 0.12 %, mu_s = 0.45 held).
+#[cfg(feature = "model3")]
+pub const RIG_BUILT_MU_K: f64 = 0.4482;
+/// Built rig set, fitted to Table 3.1 with mu_k at p = 1.5: band drive stiffness [N/m], the
+/// pneumatic drive's air column (gamma p A^2 / V: 2e3 to 2.3e4 N/m on this rig) (18,913 +-
+/// 0.6 %; the cost is rough at a few per cent, so the digits the error bar gives are not all
+/// worth keeping).
+#[cfg(feature = "model3")]
+pub const RIG_BUILT_K_B: f64 = 1.89e4;
+/// Built rig set, from the soft band's fit (issue 34; not refitted): band and carriage
+/// mass [kg].
+#[cfg(feature = "model3")]
+pub const RIG_BUILT_M_B: f64 = 0.514;
+/// Built rig set: contact law exponent p [-], Hertz's 1.5: the middle of the plateau of the
+/// profile over p (RMS log ratio 0.50 to 0.54 for p = 1.28 to 1.88, 0.57 at p = 1), with
+/// `contact_ref_load` the floating set's 75 N.
+#[cfg(feature = "model3")]
+pub const RIG_BUILT_CONTACT_EXPONENT: f64 = 1.5;
+/// Built rig set: run length [s] and start of the statistics window [s] (the soft band loads
+/// the pad slowly: the first breakaway comes near 0.78 s at 5 mm/s; the fit's window).
+#[cfg(feature = "model3")]
+pub const RIG_BUILT_DURATION: f64 = 3.0;
+/// See [`RIG_BUILT_DURATION`].
+#[cfg(feature = "model3")]
+pub const RIG_BUILT_STATS_FROM: f64 = 1.5;
+
+/// The built rig set (docs/fit.md, "Back to Table 3.1 (rig-built)"): the floating rig set
+/// ([`rig_float_scene`]) with model 3's options as they fit Table 3.1 best: the soft band
+/// (the pneumatic drive's air column k_b, m_b, c_b at [`RIG_BUILT_ZETA_B`] of critical on
+/// them), unilateral edges (`contact = "unilateral"`: the host's event-driven path, f64
+/// only; no edge opens in the six cases, so their runs are the bilateral ones within the
+/// event runner's tolerance) and a contact that stiffens with load
+/// ([`RIG_BUILT_CONTACT_EXPONENT`], which makes beta act); mu_k and k_b refitted at that
+/// exponent, a 3 s run with the statistics from 1.5 s. v_s, F_ref and every damping ratio
+/// are the floating set's.
+#[cfg(feature = "model3")]
+pub fn rig_built_scene(caliper: Caliper, beta: f64) -> Scene {
+    let mut s = rig_float_scene(caliper, beta);
+    s.mu_k = RIG_BUILT_MU_K;
+    s.m_b = RIG_BUILT_M_B;
+    s.k_b = RIG_BUILT_K_B;
+    s.c_b = 2.0 * RIG_BUILT_ZETA_B * libm::sqrt(s.k_b * s.m_b);
+    s.contact = crate::scene::ContactLaw::Unilateral;
+    s.contact_exponent = RIG_BUILT_CONTACT_EXPONENT;
+    s.duration = RIG_BUILT_DURATION;
+    s.stats_from = RIG_BUILT_STATS_FROM;
+    s
+}
+
+/// Built rig set: damping ratio of the band drive [-] (the rig set's guess, [`RIG_ZETA_B`]).
+#[cfg(feature = "model3")]
+pub const RIG_BUILT_ZETA_B: f64 = RIG_ZETA_B;
+
 /// The quiet rig set: kinetic friction just under the static [-] (mu_s - mu_k = 0.003).
 pub const QUIET_MU_K: f64 = 0.447;
 /// The quiet rig set: band speed [m/s].
