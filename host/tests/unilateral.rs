@@ -267,3 +267,22 @@ fn the_fixed_step_stepper_refuses_unilateral_contact_and_a_hinge_cannot_have_it(
     assert_eq!(err.field, "contact");
     assert!(run::run(&chattering(), Precision::F32, &mut NoSink).is_err(), "f32 is refused with a message");
 }
+
+/// A run that settles into steady Stribeck sliding ends: there phi'' is round-off alternating
+/// in sign (1e-13 rad/s^2), and before the extremes' noise floor every such sign change was an
+/// event, 1e-14 s apart, a run that never ended (rig_built_push_center at beta 65 mm, v 50
+/// mm/s: 0.48 s took 0.08 s, 0.49 s never finished). Now the run completes with a finite
+/// number of events, and every run has a step budget besides.
+#[test]
+fn a_run_settling_into_steady_sliding_ends() {
+    let mut s = rig_set::rig_built_scene(Caliper::Push, 0.04);
+    s.beta = 0.065;
+    s.v = 0.05;
+    s.stats_from = 0.0;
+    let mut runner = EventRunner::new(&s, UNILATERAL_RTOL).expect("runner");
+    runner.run_sampled(0.0, s.duration, s.dt, &mut (), &mut |_: &GridSample| true).expect("the run completes");
+    let c = runner.counts();
+    assert!(runner.time() >= s.duration - s.dt, "t {}", runner.time());
+    assert!(c.events < 20_000, "{c:?}");
+    assert_eq!(runner.regime(), Regime::SlipSlower, "settled into steady sliding");
+}

@@ -2,7 +2,7 @@
 //! functions (the regime's guards, the edges' contact guards, the extremes' rates), and the
 //! Illinois search that locates the first of them inside a step.
 
-use super::{dot, flow, rate, rk, EventRunner, Fallback, Point, EXTREMES, EXTREME_TOL, GUARD_TOL};
+use super::{dot, flow, rate, rk, EventRunner, Fallback, Point, EXTREMES, EXTREME_NOISE, EXTREME_TOL, GUARD_TOL};
 use crate::model2::system::{NA, NS};
 use crate::stickslip::Regime;
 
@@ -192,7 +192,7 @@ impl EventRunner {
                         best = Some((t, p, Some(k)));
                     }
                 }
-            } else if f0 * f1 < 0.0 {
+            } else if f0 * f1 < 0.0 && libm::fabs(f0).max(libm::fabs(f1)) > EXTREME_NOISE * self.rate_scale[k - n] {
                 let e = k - n;
                 let fe = move |_: &Self, p: &Point| Self::extreme_rate(p, e);
                 let (t, p) = self.locate(regime, p0, h, taylor, &fe, (0.0, f0), (1.0, f1, *p1), EXTREME_TOL);

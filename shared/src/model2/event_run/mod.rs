@@ -60,6 +60,14 @@ const Y_LIMIT: f64 = 0.1;
 const YDOT_LIMIT: f64 = 1e3;
 /// Watched functions: up to two guards, then the extremes' rates.
 const EXTREMES: usize = 7;
+/// An extreme's rate that changes sign inside a step is an event only if it reaches this
+/// fraction of the largest magnitude that rate has had in the run: below it the sign change is
+/// round-off (phi'' alternating at 1e-13 rad/s^2 in steady Stribeck sliding made events 1e-14 s
+/// apart, a run that never ended).
+const EXTREME_NOISE: f64 = 1e-9;
+/// Steps (accepted and rejected) a run may take per grid interval or per longest step, plus a
+/// million, before it stops as [`Fallback::Stalled`]: every run is bounded.
+const STEP_BUDGET: f64 = 1000.0;
 
 /// Why the event run stopped short: the caller runs the sampled path instead.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,7 +78,8 @@ pub enum Fallback {
     StartOnGuard,
     /// The error control asked for a step below round-off at `t` [s].
     StepUnderflow { t: f64 },
-    /// Many events without time advancing at `t` [s].
+    /// Many events without time advancing, or the run's step budget used up
+    /// (`STEP_BUDGET` steps per grid interval or per longest step, plus a million), at `t` [s].
     Stalled { t: f64 },
     /// Unilateral contact: both edges open at `t` [s] (the pad in the air; no sampled path
     /// carries this either: the run halts with `contact_loss`).
@@ -129,6 +138,8 @@ pub struct EventRunner {
     /// The Stribeck step size to try next [s].
     h_slip: f64,
     counts: EventCounts,
+    /// The largest |rate| each extreme's watched rate has had (its noise floor's scale).
+    rate_scale: [f64; EXTREMES],
 }
 
 impl EventRunner {
@@ -181,6 +192,7 @@ impl EventRunner {
             t: 0.0,
             h_slip: 0.0,
             counts: EventCounts::default(),
+            rate_scale: [0.0; EXTREMES],
         })
     }
 
@@ -299,6 +311,11 @@ impl EventRunner {
             None => 0,
         };
         let mut stalls = 0u32;
+        let unit = match &grid {
+            Some((dt, _)) => *dt,
+            None => self.h_max,
+        };
+        let budget = self.counts.steps + self.counts.rejected + 1_000_000 + (STEP_BUDGET * ((t_end - self.t) / unit).max(0.0)).min(1e15) as u64;
         let mut in_window = self.t >= t_from;
         while self.t < t_end {
             let mut stop = if self.t < t_from && t_from < t_end {
@@ -315,6 +332,9 @@ impl EventRunner {
                 }
             }
             let limit = stop - self.t;
+            if self.counts.steps + self.counts.rejected > budget {
+                return Err(Fallback::Stalled { t: self.t });
+            }
             let (h, p1, taylor) = if self.stribeck_slip(regime) {
                 let (h, p1) = self.slip_step(regime, &p0, limit)?;
                 (h, p1, None)
@@ -377,6 +397,9 @@ impl EventRunner {
             self.t = t1;
             for i in 0..NS {
                 self.scale[i] = self.scale[i].max(libm::fabs(pe.z[i]));
+            }
+            for e in 0..EXTREMES {
+                self.rate_scale[e] = self.rate_scale[e].max(libm::fabs(Self::extreme_rate(&pe, e)));
             }
             if event.is_some() {
                 self.counts.events += 1;
