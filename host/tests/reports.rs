@@ -22,7 +22,17 @@ fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
     // pad: k_pivot, contact springs, model 3's contact exponent), the model-2 stepper, 2 precisions
     let values = 7 + 7 + 8 + 8 + 5 + 5 + 5 + 6;
     let model2_values = 7 + 5 + 5 + 5 + 5 + 7 + 5;
-    assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2);
+    // model 3's pneumatic drive: 5 cylinder sweeps, f64 only
+    let model3_values = 5 + 3 + 3 + 4 + 3;
+    assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2 + model3_values);
+    let m3: Vec<&Value> = rows.iter().filter(|r| r["method"] == "pneumatic").collect();
+    assert_eq!(m3.len(), model3_values);
+    for r in &m3 {
+        assert_eq!(r["precision"], "f64", "{r}");
+        assert_eq!(r["outcome"], "bounded", "the pneumatic drive's extremes stay bounded: {r}");
+        assert!(r["cylinder_value"].as_f64().is_some_and(f64::is_finite), "{r}");
+    }
+    assert!(m3.iter().any(|r| r["sweep"] == "column_length" && r["cylinder_value"] == 0.005));
     // model 2's extremes (v_s down to 1e-6 m/s, k_b to 1e10 N/m, m_b 1e-3 to 1e3 kg, damping to
     // critical) stay bounded on its stepper in both precisions
     let m2: Vec<&Value> = rows.iter().filter(|r| r["method"] == "model2").collect();

@@ -95,6 +95,20 @@ fn set_contact_exponent(s: &mut Scene, p: f64) {
 
 /// The method name of the model-2 rows.
 pub const MODEL2_METHOD: &str = "model2";
+/// The method of model 3's pneumatic rows: the pneumatic runner (Dormand-Prince 5(4) under
+/// error control, rtol 1e-10; f64 only).
+pub const MODEL3_METHOD: &str = "pneumatic";
+
+/// Model 3's pneumatic band drive around `rig_push_center` (`drive = "pneumatic"`, no drive
+/// damping; docs/model.md, "Model 3, part 3"): each cylinder key to its extremes.
+pub const MODEL3_SWEEPS: [Sweep; 5] = [
+    Sweep { key: "column_length", unit: "m", values: &[0.005, 0.02, 0.05, 0.2, 1.0], apply: |s, v| s.column_length = v },
+    Sweep { key: "polytropic_exponent", unit: "-", values: &[1.0, 1.2, 1.4], apply: |s, v| s.polytropic_exponent = v },
+    // the seal's drop from static (80 N) to kinetic friction: none to all of it
+    Sweep { key: "seal_kinetic", unit: "N", values: &[0.0, 40.0, 80.0], apply: |s, v| s.seal_kinetic = v },
+    Sweep { key: "seal_v_s", unit: "m/s", values: &[1e-4, 1e-3, 5e-3, 5e-2], apply: |s, v| s.seal_v_s = v },
+    Sweep { key: "supply_pressure", unit: "Pa", values: &[2.5e5, 6e5, 1e6], apply: |s, v| s.supply_pressure = v },
+];
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
@@ -120,6 +134,8 @@ pub struct Row {
     pub k_pivot: Option<f64>,
     /// Floating-pad rows only: the contact law's exponent p (1: linear springs).
     pub contact_exponent: Option<f64>,
+    /// Model 3's pneumatic rows only: the swept cylinder key's value (SI, as in a scene file).
+    pub cylinder_value: Option<f64>,
     /// Fastest mode of the scene times dt [rad].
     pub omega_dt: f64,
     /// The method's stability limit on omega dt for an undamped oscillator; null: none.
@@ -156,6 +172,7 @@ impl Row {
             m_b: None,
             k_pivot: None,
             contact_exponent: None,
+            cylinder_value: None,
             omega_dt: 0.0,
             omega_dt_limit: None,
             outcome: outcome.into(),
@@ -295,6 +312,7 @@ pub fn run(opts: &Options) -> Result<Report> {
         b.finish_and_clear();
     }
     rows.extend(model2_rows(base.duration)?);
+    rows.extend(model3_rows(base.duration)?);
     Ok(Report { rows, duration_s: base.duration })
 }
 
@@ -350,6 +368,59 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
+/// The pneumatic drive's sweeps: the runner in f64 (it has no f32 form); a halt that is not the
+/// model's own (contact loss, sprag) is `method_unstable`, and so is a stall.
+fn model3_rows(duration: f64) -> Result<Vec<Row>> {
+    use stickslip_model::model3::pneumatic_run::{PneumaticRunner, PneumaticSample, PneumaticStop};
+    let mut base = builtin::find("rig_push_center").expect("built-in").scene;
+    base.duration = duration;
+    base.stats_from = duration / 2.0;
+    base.drive = stickslip_model::BandDrive::Pneumatic;
+    base.c_b = 0.0;
+    let mut rows = Vec::new();
+    for sweep in &MODEL3_SWEEPS {
+        for &value in sweep.values {
+            let mut scene = base;
+            (sweep.apply)(&mut scene, value);
+            let mut runner = PneumaticRunner::new(&scene, crate::scenes::pneumatic::PNEUMATIC_RTOL)
+                .map_err(|e| HostError::Input(format!("sweep {} = {value}: {e}", sweep.key)))?;
+            let co = Coefficients::of(&scene);
+            let mut slipped = false;
+            let result = runner.run_sampled(0.0, scene.duration, scene.dt, &mut (), &mut |g: &PneumaticSample| {
+                slipped |= g.regime != Regime::Stick;
+                true
+            });
+            let halt = match result {
+                Ok(()) => None,
+                Err(PneumaticStop::Halt(h)) => Some(h),
+                Err(PneumaticStop::Stalled { t }) => Some(Halt::TransitionStorm { t }),
+            };
+            let model = match halt {
+                Some(Halt::Diverged { stiffness_margin, .. }) if stiffness_margin <= 0.0 => Verdict::Sprag,
+                Some(Halt::ContactLoss { .. }) => Verdict::ContactLoss,
+                Some(_) => Verdict::Other,
+                None => Verdict::Bounded,
+            };
+            let (outcome, detail) = classify(halt, slipped, model);
+            let equivalent = stickslip_model::model3::cylinder::small_signal_scene(&scene).unwrap_or(scene);
+            let eco = Coefficients::of(&equivalent);
+            let rate = stickslip_model::model2::System::of(&equivalent, &eco).linear_rate(&equivalent, &eco);
+            rows.push(Row {
+                method: MODEL3_METHOD.into(),
+                precision: "f64".into(),
+                damping_ratio: 0.02,
+                v_s: Some(scene.v_s),
+                k_b: Some(equivalent.k_b),
+                m_b: Some(scene.m_b),
+                cylinder_value: Some(value),
+                omega_dt: rate * scene.dt,
+                ..Row::of(sweep.key, &scene, &co, halt, outcome, detail)
+            });
+        }
+    }
+    Ok(rows)
+}
+
 /// Every numeric field of every row is finite (the report's promise).
 pub fn all_finite(rep: &Report) -> bool {
     rep.rows.iter().all(|r| {
@@ -361,6 +432,7 @@ pub fn all_finite(rep: &Report) -> bool {
             .chain(r.m_b.iter())
             .chain(r.k_pivot.iter())
             .chain(r.contact_exponent.iter())
+            .chain(r.cylinder_value.iter())
             .chain(r.omega_dt_limit.iter())
             .all(|v| v.is_finite())
     })
@@ -423,6 +495,20 @@ pub fn markdown(rep: &Report) -> String {
         }
         out.push('\n');
     }
+    out.push_str(
+        "# Model 3: the pneumatic band drive around rig_push_center (drive = \"pneumatic\", no drive damping)\n\n\
+         The pneumatic runner (Dormand-Prince 5(4) under error control, rtol 1e-10) is the only method that \
+         carries it, in f64 only.\n\n",
+    );
+    for sweep in &MODEL3_SWEEPS {
+        sweep_header(&mut out, sweep);
+        out.push_str(&format!("| {MODEL3_METHOD} | f64 |"));
+        for v in sweep.values {
+            let r = rep.rows.iter().find(|r| r.sweep == sweep.key && r.method == MODEL3_METHOD && value_of(r, sweep.key) == *v);
+            out.push_str(&format!(" {} |", r.map_or("-", |r| r.outcome.as_str())));
+        }
+        out.push_str("\n\n");
+    }
     out
 }
 
@@ -454,6 +540,7 @@ pub fn value_of(r: &Row, key: &str) -> f64 {
         "v_s" => r.v_s.unwrap_or(f64::NAN),
         "k_b" => r.k_b.unwrap_or(f64::NAN),
         "m_b" => r.m_b.unwrap_or(f64::NAN),
+        "column_length" | "polytropic_exponent" | "seal_kinetic" | "seal_v_s" | "supply_pressure" => r.cylinder_value.unwrap_or(f64::NAN),
         _ => r.dt,
     }
 }
