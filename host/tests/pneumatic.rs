@@ -302,3 +302,34 @@ fn the_chamber_fills_as_the_throttle_law_says() {
     eprintln!("chamber fill: largest deviation from the closed form {worst:.2e} of p_s (t_b {t_b:.4} s, full at {t_full:.4} s)");
     assert!(worst < 1e-8, "{worst:e}");
 }
+
+/// A map over the supply pressure: cells whose supply cannot push their load at v are invalid
+/// cells naming `supply_pressure`, the others run (the map does not fail as a whole).
+#[test]
+fn a_map_marks_a_supply_too_low_for_its_load_invalid() {
+    let dir = std::env::temp_dir().join(format!("stickslip-pneumatic-map-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("pn.toml");
+    std::fs::write(
+        &file,
+        "name = \"pn\"\nfriction = \"stribeck\"\nv_s = 0.00044\nmu_k = 0.4398\nband = true\nm_b = 2.0\nc_b = 0.0\n\
+         drive = \"pneumatic\"\nduration = 0.3\nstats_from = 0.15\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(["map", file.to_str().unwrap(), "--sweep", "beta=0.02:0.06:3", "--sweep", "supply_pressure=1.9e5:6e5:2", "--json", "--jobs", "1"])
+        .output()
+        .expect("the binary runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let cells = v["cells"].as_array().expect("cells");
+    assert_eq!(cells.len(), 6);
+    let invalid: Vec<&serde_json::Value> = cells.iter().filter(|c| !c["invalid"].is_null()).collect();
+    assert!(!invalid.is_empty() && invalid.len() < 3, "{invalid:?}");
+    for c in &invalid {
+        assert_eq!(c["params"]["supply_pressure"], 1.9e5);
+        assert!(c["invalid"].as_str().unwrap().contains("supply_pressure"), "{c}");
+    }
+    assert!(cells.iter().filter(|c| c["params"]["supply_pressure"] == 6e5).all(|c| c["invalid"].is_null()));
+    std::fs::remove_dir_all(&dir).ok();
+}

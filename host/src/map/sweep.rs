@@ -144,7 +144,8 @@ impl Grid {
     }
 
     /// The scene of cell `i`: `base` with the cell's values (damping ratios last, so that they
-    /// use the cell's stiffness), validated. The error names the field and the rule.
+    /// use the cell's stiffness), validated (with a pneumatic drive, also the throttle's solve
+    /// from v: a supply too low for the cell's load). The error names the field and the rule.
     pub fn scene(&self, base: &Scene, i: usize) -> Result<Scene, String> {
         let mut s = *base;
         let mut params = self.params(i);
@@ -152,7 +153,10 @@ impl Grid {
         for (k, v) in &params {
             scene_file::set_numeric(&mut s, k, *v)?;
         }
-        s.validate().map_err(|e| format!("field `{}` = {}: {}", e.field, crate::output::format::short(e.value), e.rule))?;
+        let named = |e: stickslip_model::SceneError| format!("field `{}` = {}: {}", e.field, crate::output::format::short(e.value), e.rule);
+        s.validate().map_err(named)?;
+        // a pneumatic drive whose supply cannot push the cell's load at v (the throttle's solve)
+        stickslip_model::model3::cylinder::small_signal_scene(&s).map_err(named)?;
         Ok(s)
     }
 
