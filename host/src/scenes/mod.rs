@@ -6,6 +6,7 @@
 pub mod builtin;
 pub mod cycles;
 pub mod event;
+pub(crate) mod grid_run;
 pub mod run;
 pub mod scene_file;
 pub mod scene_source;
