@@ -333,3 +333,43 @@ fn a_map_marks_a_supply_too_low_for_its_load_invalid() {
     assert!(cells.iter().filter(|c| c["params"]["supply_pressure"] == 6e5).all(|c| c["invalid"].is_null()));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// At every sample the regimes hold their laws: a stuck band's net force (but the seal's) is
+/// within the seal's static friction, a stuck pad's friction within mu_s N. A guard that a
+/// change leaves above zero must fire at once: the pad sticking on a stuck band raised the net
+/// force on the band past F_ss in one jump, and the band stayed stuck for good (the rig-built
+/// twin with the pneumatic drive and a seal without drop: stuck 1.0 of the window, 0
+/// breakaways, the pressure climbing to 3.9 bar).
+#[test]
+fn every_sample_holds_the_stuck_regimes_laws() {
+    let mut seen_stuck_band = 0;
+    for (seal_kinetic, column) in [(80.0, 0.015), (60.0, 0.015), (78.0, 0.05), (60.0, 0.05)] {
+        let mut s = rig_set::rig_built_scene(Caliper::Push, 0.04);
+        s.contact = stickslip_model::ContactLaw::Bilateral;
+        s.drive = BandDrive::Pneumatic;
+        s.column_length = column;
+        s.seal_kinetic = seal_kinetic;
+        s.duration = 2.0;
+        let mut runner = PneumaticRunner::new(&s, 1e-10).expect("runner");
+        let probe = runner.clone();
+        let cyl = *runner.cylinder();
+        let (mut worst_band, mut worst_pad) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        runner
+            .run_sampled(0.0, s.duration, s.dt, &mut (), &mut |g: &PneumaticSample| {
+                if g.band == 0 {
+                    seen_stuck_band += 1;
+                    let net = cyl.force(g.w[P]) - probe.friction_force(g.regime, 0, &g.w);
+                    worst_band = worst_band.max(net.abs() - cyl.f_ss);
+                }
+                if g.regime == Regime::Stick && g.n > 0.0 {
+                    worst_pad = worst_pad.max(g.f_f.abs() - s.mu_s * g.n);
+                }
+                true
+            })
+            .expect("the run completes");
+        eprintln!("seal {seal_kinetic} N, column {column} m: stuck band's |net| - F_ss at most {worst_band:.3e} N, stuck pad's |F| - mu_s N at most {worst_pad:.3e} N; {:?}", runner.counts());
+        assert!(worst_band <= 1e-6 * cyl.f_ss, "the band stayed stuck past its seal's static friction by {worst_band} N");
+        assert!(worst_pad <= 1e-6 * s.f_n, "the pad stayed stuck past mu_s N by {worst_pad} N");
+    }
+    assert!(seen_stuck_band > 0, "some run has the band stuck at its seal");
+}

@@ -139,29 +139,41 @@ impl PneumaticRunner {
             self.counts.band_changes += 1;
             self.h = self.h.min(self.h_max * 1e-3);
         }
-        self.settle(&mut w, t, obs);
+        self.settle(&mut w, t, t_from, obs);
         w
     }
 
-    /// After a change: a pad guard that already holds strictly (e.g. stick's static limit
-    /// exceeded as the band breaks away) fires at once (at most a few times).
-    pub(super) fn settle<O: Model2Observer<f64>>(&mut self, w: &mut [f64; NP], t: f64, obs: &mut O) {
-        for _ in 0..4 {
-            if self.frictionless || self.regime != Regime::Stick {
-                return;
+    /// After a change: a guard that already holds strictly fires at once (a few times at
+    /// most): a guard is watched only as it crosses zero from below, so one that a change left
+    /// above zero would never fire.
+    pub(super) fn settle<O: Model2Observer<f64>>(&mut self, w: &mut [f64; NP], t: f64, t_from: f64, obs: &mut O) {
+        for _ in 0..8 {
+            // the pad's static limit exceeded (e.g. as the band breaks away)
+            if !self.frictionless && self.regime == Regime::Stick {
+                let (g, _) = self.guards(self.regime, self.band, w);
+                if g[0] > 0.0 || g[1] > 0.0 {
+                    let from = self.regime;
+                    self.regime = if g[0] > 0.0 { Regime::SlipSlower } else { Regime::SlipFaster };
+                    self.counts.transitions += 1;
+                    obs.transition(&Model2Transition { t, from, to: self.regime, z: Self::z(w) });
+                    continue;
+                }
             }
-            let (g, _) = self.guards(self.regime, self.band, w);
-            let k = if g[0] > 0.0 {
-                0
-            } else if g[1] > 0.0 {
-                1
-            } else {
-                return;
-            };
-            let from = self.regime;
-            self.regime = if k == 0 { Regime::SlipSlower } else { Regime::SlipFaster };
-            self.counts.transitions += 1;
-            obs.transition(&Model2Transition { t, from, to: self.regime, z: Self::z(w) });
+            // the seal's static friction exceeded (e.g. as the pad sticks on the stuck band: its
+            // friction jumps from the kinetic level to what holds it)
+            if self.band == 0 {
+                let f = self.net_band_force(self.regime, w);
+                if libm::fabs(f) > self.cyl.f_ss {
+                    self.band = if f > 0.0 { 1 } else { -1 };
+                    self.counts.band_changes += 1;
+                    if t > t_from {
+                        self.stats.breakaways += 1;
+                    }
+                    self.h = self.h.min(self.h_max * 1e-3);
+                    continue;
+                }
+            }
+            return;
         }
     }
 }
