@@ -24,16 +24,15 @@ pub(crate) struct GridView {
     pub v_slide: f64,
 }
 
-/// Runs `run` (window start, end time, the observer, the sample callback) and builds its report
-/// (f64; `edges` and `drive` left for the caller). `interpolate`: the observer interpolates in
-/// a segment (false where segments end at every extreme). A stop of the run becomes the halt
-/// `halt_of` gives.
-pub(crate) fn report<S: Sink + ?Sized, const FULL: bool, E>(
+/// Runs `run` (window start, end time, the observer, the sample callback; a stop of the run
+/// given as its halt) and builds its report (f64; `edges` and `drive` left for the caller).
+/// `interpolate`: the observer interpolates in a segment (false where segments end at every
+/// extreme).
+pub(crate) fn report<S: Sink + ?Sized, const FULL: bool>(
     scene: &Scene,
     sink: &mut S,
     interpolate: bool,
-    run: impl FnOnce(f64, f64, &mut Model2RunObserver<FULL>, &mut dyn FnMut(&GridView) -> bool) -> std::result::Result<(), E>,
-    halt_of: impl FnOnce(E) -> Halt,
+    run: impl FnOnce(f64, f64, &mut Model2RunObserver<FULL>, &mut dyn FnMut(&GridView) -> bool) -> std::result::Result<(), Halt>,
 ) -> Result<RunReport> {
     let window_start = window_start(scene);
     let steps_planned = planned_steps(scene);
@@ -80,7 +79,7 @@ pub(crate) fn report<S: Sink + ?Sized, const FULL: bool, E>(
     }
     let outcome = match result {
         Ok(()) => Outcome::Completed,
-        Err(e) => Outcome::halted(scene, halt_of(e)),
+        Err(h) => Outcome::halted(scene, h),
     };
     let s2 = obs.stats.finish();
     Ok(RunReport {

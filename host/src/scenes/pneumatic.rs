@@ -38,21 +38,17 @@ pub(crate) fn runs<S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: 
 }
 
 fn run_one<S: Sink + ?Sized, const FULL: bool>(scene: &Scene, mut runner: PneumaticRunner, sink: &mut S) -> Result<RunReport> {
-    let mut report = grid_run::report::<S, FULL, PneumaticStop>(
-        scene,
-        sink,
-        true,
-        |t_from, t_end, obs, on_sample| {
-            runner.run_sampled(t_from, t_end, scene.dt, obs, &mut |g: &PneumaticSample| {
+    let mut report = grid_run::report::<S, FULL>(scene, sink, true, |t_from, t_end, obs, on_sample| {
+        runner
+            .run_sampled(t_from, t_end, scene.dt, obs, &mut |g: &PneumaticSample| {
                 let w = &g.w;
                 on_sample(&GridView { t: g.t, regime: g.regime, z: [w[0], w[1], w[2], w[3]], n: g.n, f_f: g.f_f, pad_acc: g.d[1], v_slide: g.v_slide })
             })
-        },
-        |stop| match stop {
-            PneumaticStop::Halt(h) => h,
-            PneumaticStop::Stalled { t } => Halt::TransitionStorm { t },
-        },
-    )?;
+            .map_err(|stop| match stop {
+                PneumaticStop::Halt(h) => h,
+                PneumaticStop::Stalled { t } => Halt::TransitionStorm { t },
+            })
+    })?;
     report.drive = Some(runner.drive_stats());
     Ok(report)
 }

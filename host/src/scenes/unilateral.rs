@@ -19,7 +19,7 @@ use stickslip_model::{Halt, Regime, Scene};
 
 use crate::error::{HostError, Result};
 use crate::scenes::grid_run::{self, GridView};
-use crate::scenes::run::{Outcome, Precision, RunReport, Starts};
+use crate::scenes::run::{Precision, RunReport, Starts};
 use crate::scenes::series::Sink;
 
 /// Every start of `starts` run on its own event runner (each a copy of the set-up).
@@ -42,25 +42,14 @@ pub(crate) fn runs<S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: 
 }
 
 fn run_one<S: Sink + ?Sized, const FULL: bool>(scene: &Scene, mut runner: EventRunner, sink: &mut S) -> Result<RunReport> {
-    let mut stop = None;
-    let mut report = grid_run::report::<S, FULL, Fallback>(
-        scene,
-        sink,
-        false,
-        |t_from, t_end, obs, on_sample| {
-            runner.run_sampled(t_from, t_end, scene.dt, obs, &mut |g: &GridSample| {
+    let mut report = grid_run::report::<S, FULL>(scene, sink, false, |t_from, t_end, obs, on_sample| {
+        runner
+            .run_sampled(t_from, t_end, scene.dt, obs, &mut |g: &GridSample| {
                 let z = &g.z;
                 on_sample(&GridView { t: g.t, regime: g.regime, z: [z[0], z[1], z[2], z[3]], n: g.n, f_f: g.f_f, pad_acc: g.d[1], v_slide: g.v_slide })
             })
-        },
-        |f| {
-            stop = Some(f);
-            Halt::TransitionStorm { t: 0.0 }
-        },
-    )?;
-    if let Some(f) = stop {
-        report.outcome = Outcome::halted(scene, halt_of(&runner, f));
-    }
+            .map_err(|f| halt_of(&runner, f))
+    })?;
     report.edges = runner.edges();
     Ok(report)
 }

@@ -155,8 +155,9 @@ pub fn small_signal_scene(scene: &Scene) -> Result<Scene, SceneError> {
     if !scene.pneumatic() {
         return Ok(*scene);
     }
-    let cyl = Cylinder::of(scene, steady_pad_friction(scene))?;
-    let p0 = cyl.steady_pressure(scene.v, steady_pad_friction(scene));
+    let pad_friction = steady_pad_friction(scene);
+    let cyl = Cylinder::of(scene, pad_friction)?;
+    let p0 = cyl.steady_pressure(scene.v, pad_friction);
     let mut s = *scene;
     s.drive = BandDrive::Velocity;
     s.k_b = cyl.column_stiffness(p0, 0.0);

@@ -119,41 +119,14 @@ impl EventRunner {
         h: f64,
         taylor: Option<&flow::Taylor>,
         f: &dyn Fn(&Self, &Point) -> f64,
-        (mut lo, mut flo): (f64, f64),
-        (mut hi, mut fhi, mut phi): (f64, f64, Point),
+        lo: (f64, f64),
+        hi: (f64, f64, Point),
         tol: f64,
     ) -> (f64, Point) {
-        let neg = flo < 0.0;
-        let mut side = 0i32;
-        for _ in 0..100 {
-            if hi - lo <= tol {
-                break;
-            }
-            let mut x = if fhi != flo { (lo * fhi - hi * flo) / (fhi - flo) } else { 0.5 * (lo + hi) };
-            if !(x > lo && x < hi) {
-                x = 0.5 * (lo + hi);
-            }
+        super::illinois::locate(lo, hi, tol, 100, |x| {
             let p = self.at(regime, p0, h, taylor, x);
-            let fx = f(self, &p);
-            // the lo side keeps f(lo)'s sign; a zero belongs to the hi side (a guard fires at 0)
-            if if neg { fx < 0.0 } else { fx > 0.0 } {
-                lo = x;
-                flo = fx;
-                if side == -1 {
-                    fhi *= 0.5;
-                }
-                side = -1;
-            } else {
-                hi = x;
-                fhi = fx;
-                phi = p;
-                if side == 1 {
-                    flo *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        (hi, phi)
+            (f(self, &p), p)
+        })
     }
 
     /// The first event inside the step from `p0` to `p1` (length `h`): its fraction, point

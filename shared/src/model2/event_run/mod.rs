@@ -40,6 +40,7 @@ mod dynamics;
 pub mod edges;
 mod events;
 pub mod flow;
+pub mod illinois;
 pub mod rk;
 
 use edges::EdgeStats;

@@ -3,7 +3,7 @@
 //! stop and breakaway).
 
 use super::{PneumaticRunner, PneumaticStop, GUARD_TOL, NP};
-use crate::model2::event_run::rk;
+use crate::model2::event_run::{illinois, rk};
 use crate::model2::stepper::{Model2Observer, Model2Transition};
 use crate::stickslip::Regime;
 
@@ -50,36 +50,11 @@ impl PneumaticRunner {
                 continue;
             }
             // Illinois on the step's own solution from its start
-            let (mut lo, mut flo, mut hi, mut fhi, mut whi) = (0.0, g0[k], 1.0, g1[k], *w1);
-            let mut side = 0i32;
-            for _ in 0..200 {
-                if hi - lo <= GUARD_TOL {
-                    break;
-                }
-                let mut x = if fhi != flo { (lo * fhi - hi * flo) / (fhi - flo) } else { 0.5 * (lo + hi) };
-                if !(x > lo && x < hi) {
-                    x = 0.5 * (lo + hi);
-                }
+            let (hi, whi) = illinois::locate((0.0, g0[k]), (1.0, g1[k], *w1), GUARD_TOL, 200, |x| {
                 let mut f = |w: &[f64; NP]| self.derivative(regime, band, w);
                 let (wx, _, _) = rk::step(&mut f, w0, d0, x * h);
-                let fx = self.guards(regime, band, &wx).0[k];
-                if fx < 0.0 {
-                    lo = x;
-                    flo = fx;
-                    if side == -1 {
-                        fhi *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    hi = x;
-                    fhi = fx;
-                    whi = wx;
-                    if side == 1 {
-                        flo *= 0.5;
-                    }
-                    side = 1;
-                }
-            }
+                (self.guards(regime, band, &wx).0[k], wx)
+            });
             if best.as_ref().is_none_or(|b| hi < b.0) {
                 best = Some((hi, whi, k));
             }

@@ -194,7 +194,8 @@ impl PneumaticRunner {
         // the fastest linear mode with the column at its stiffest (supply pressure, start volume)
         let mut stiff = base;
         stiff.k_b = cyl.column_stiffness(cyl.p_s, 0.0);
-        let rate = System::of(&stiff, &Coefficients::of(&stiff)).linear_rate(&stiff, &Coefficients::of(&stiff));
+        let stiff_co = Coefficients::of(&stiff);
+        let rate = System::of(&stiff, &stiff_co).linear_rate(&stiff, &stiff_co);
         let h_max = if rate > 0.0 { 1.0 / rate } else { scene.duration };
         let floor = |d: f64| -(1e-6 * libm::fabs(sliding.y0 + d * sliding.phi0) + 1e-12);
         let mut w = [0.0; NP];
