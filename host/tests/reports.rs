@@ -24,7 +24,19 @@ fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
     let model2_values = 7 + 5 + 5 + 5 + 5 + 7 + 5;
     // model 3's pneumatic drive: 5 cylinder sweeps, f64 only
     let model3_values = 5 + 3 + 3 + 4 + 3;
-    assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2 + model3_values);
+    // model 3's unilateral contact: 3 sweeps on the event runner, f64 only
+    let unilateral_values = 5 + 4 + 5;
+    assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2 + model3_values + unilateral_values);
+    let uni: Vec<&Value> = rows.iter().filter(|r| r["method"] == "event").collect();
+    assert_eq!(uni.len(), unilateral_values);
+    for r in &uni {
+        assert_eq!(r["precision"], "f64", "{r}");
+        // the load at the trailing edge of a floating push pad tips it over: the model's own
+        // contact loss; every other extreme (edges from 1e4 to 1e10 N/m, the pivot from
+        // floating to 1e10 N/m, the load anywhere else on the pad) runs bounded
+        let expect = if r["sweep"] == "unilateral_beta" && r["beta"] == 0.0 { "contact_loss" } else { "bounded" };
+        assert_eq!(r["outcome"], expect, "{r}");
+    }
     let m3: Vec<&Value> = rows.iter().filter(|r| r["method"] == "pneumatic").collect();
     assert_eq!(m3.len(), model3_values);
     for r in &m3 {
