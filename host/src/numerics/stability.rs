@@ -576,31 +576,28 @@ pub fn markdown(rep: &Report) -> String {
          The pneumatic runner (Dormand-Prince 5(4) under error control, rtol 1e-10) is the only method that \
          carries it, in f64 only.\n\n",
     );
-    for sweep in &MODEL3_SWEEPS {
-        sweep_header(&mut out, sweep);
-        out.push_str(&format!("| {MODEL3_METHOD} | f64 |"));
-        for v in sweep.values {
-            let r = rep.rows.iter().find(|r| r.sweep == sweep.key && r.method == MODEL3_METHOD && value_of(r, sweep.key) == *v);
-            out.push_str(&format!(" {} |", r.map_or("-", |r| r.outcome.as_str())));
-        }
-        out.push_str("\n\n");
-    }
+    f64_method_tables(&mut out, rep, &MODEL3_SWEEPS, MODEL3_METHOD);
     out.push_str(
         "# Model 3: unilateral contact around rig_float_push_center (contact = \"unilateral\")\n\n\
          The event runner (exact flows, Dormand-Prince 5(4) in Stribeck slip, rtol 1e-12) is the only method that \
          carries it, in f64 only; contact_loss is the pad leaving the band (both edges open, or one open and the pad \
          tipping over the other).\n\n",
     );
-    for sweep in &UNILATERAL_SWEEPS {
-        sweep_header(&mut out, sweep);
-        out.push_str(&format!("| {EVENT_METHOD} | f64 |"));
+    f64_method_tables(&mut out, rep, &UNILATERAL_SWEEPS, EVENT_METHOD);
+    out
+}
+
+/// The tables of sweeps that one method runs in f64 only: its outcome at each value.
+fn f64_method_tables(out: &mut String, rep: &Report, sweeps: &[Sweep], method: &str) {
+    for sweep in sweeps {
+        sweep_header(out, sweep);
+        out.push_str(&format!("| {method} | f64 |"));
         for v in sweep.values {
-            let r = rep.rows.iter().find(|r| r.sweep == sweep.key && r.method == EVENT_METHOD && value_of(r, sweep.key) == *v);
+            let r = rep.rows.iter().find(|r| r.sweep == sweep.key && r.method == method && value_of(r, sweep.key) == *v);
             out.push_str(&format!(" {} |", r.map_or("-", |r| r.outcome.as_str())));
         }
         out.push_str("\n\n");
     }
-    out
 }
 
 /// A sweep's table head: one column per swept value.

@@ -103,20 +103,5 @@ pub(super) fn model2_adaptive_row(name: &str, truth: &Truth, scene: &Scene, rtol
         o = observe_model2_reference(scene, tol)?;
         best = best.min(t0.elapsed().as_secs_f64());
     }
-    let (error, ep, ea, ef) = measure(truth, &o);
-    Ok(Row {
-        scene: name.into(),
-        method: "dop853_adaptive".into(),
-        precision: "f64".into(),
-        dt: None,
-        error,
-        ns_per_step: (o.steps > 0).then(|| best * 1e9 / o.steps as f64),
-        run_s: best,
-        steps: o.steps,
-        outcome: "completed".into(),
-        rtol: Some(rtol),
-        error_period: ep,
-        error_amplitude: ea,
-        error_final: ef,
-    })
+    Ok(tolerance_row(name, "dop853_adaptive", rtol, measure(truth, &o), &o, best))
 }

@@ -101,25 +101,6 @@ fn edge_errors(truth: &Truth, truth_run: &EdgeObserved, got: &EdgeObserved) -> (
     (error.map(|e| e.max(open)), ep, ea, ef)
 }
 
-fn row(name: &str, method: &str, rtol: f64, err: (Option<f64>, Option<f64>, Option<f64>, Option<f64>), o: &Observed, best: f64) -> Row {
-    let (error, ep, ea, ef) = err;
-    Row {
-        scene: name.into(),
-        method: method.into(),
-        precision: "f64".into(),
-        dt: None,
-        error,
-        ns_per_step: (o.steps > 0).then(|| best * 1e9 / o.steps as f64),
-        run_s: best,
-        steps: o.steps,
-        outcome: outcome_word(&o.halt),
-        rtol: Some(rtol),
-        error_period: ep,
-        error_amplitude: ea,
-        error_final: ef,
-    }
-}
-
 /// The unilateral scene's rows: the event runner at each of `event_rtols`, the reference at
 /// each of `rtols` (loose tolerances), against the reference at rtol 1e-12.
 pub(super) fn unilateral_rows(event_rtols: &[f64], rtols: &[f64], repeats: usize) -> Result<Vec<Row>> {
@@ -137,7 +118,7 @@ pub(super) fn unilateral_rows(event_rtols: &[f64], rtols: &[f64], repeats: usize
             let _ = std::hint::black_box(runner.run(scene.stats_from, scene.duration, &mut ob));
             best = best.min(t0.elapsed().as_secs_f64());
         }
-        rows.push(row(UNILATERAL_SCENE, EVENT_METHOD, rtol, edge_errors(&truth, &truth_run, &got), &got.o, best));
+        rows.push(tolerance_row(UNILATERAL_SCENE, EVENT_METHOD, rtol, edge_errors(&truth, &truth_run, &got), &got.o, best));
     }
     for &rtol in rtols {
         let mut best = f64::INFINITY;
@@ -151,9 +132,9 @@ pub(super) fn unilateral_rows(event_rtols: &[f64], rtols: &[f64], repeats: usize
             got = Some(g);
         }
         match got.expect("at least one repeat") {
-            Ok(got) => rows.push(row(UNILATERAL_SCENE, "dop853_adaptive", rtol, edge_errors(&truth, &truth_run, &got), &got.o, best)),
+            Ok(got) => rows.push(tolerance_row(UNILATERAL_SCENE, "dop853_adaptive", rtol, edge_errors(&truth, &truth_run, &got), &got.o, best)),
             Err(e) => {
-                let mut r = row(UNILATERAL_SCENE, "dop853_adaptive", rtol, (None, None, None, None), &Observed::default(), best);
+                let mut r = tolerance_row(UNILATERAL_SCENE, "dop853_adaptive", rtol, (None, None, None, None), &Observed::default(), best);
                 r.outcome = if e.to_string().contains("contact_loss") { "contact_loss".into() } else { "failed".into() };
                 rows.push(r);
             }

@@ -94,3 +94,24 @@ pub(super) fn adaptive_row(scene_name: &str, truth: &Truth, scene: &Scene, rtol:
         error_final: ef,
     })
 }
+
+/// The row of a run at a tolerance `rtol` (no fixed step): its errors `err` (error, period,
+/// amplitude, final) and its best time `best` over the observed run's steps.
+pub(super) fn tolerance_row(name: &str, method: &str, rtol: f64, err: (Option<f64>, Option<f64>, Option<f64>, Option<f64>), o: &Observed, best: f64) -> Row {
+    let (error, ep, ea, ef) = err;
+    Row {
+        scene: name.into(),
+        method: method.into(),
+        precision: "f64".into(),
+        dt: None,
+        error,
+        ns_per_step: (o.steps > 0).then(|| best * 1e9 / o.steps as f64),
+        run_s: best,
+        steps: o.steps,
+        outcome: outcome_word(&o.halt),
+        rtol: Some(rtol),
+        error_period: ep,
+        error_amplitude: ea,
+        error_final: ef,
+    }
+}
