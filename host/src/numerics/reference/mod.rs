@@ -8,6 +8,7 @@
 pub mod common;
 pub mod driver;
 pub mod model2;
+pub mod pneumatic;
 pub mod thesis;
 
 pub use common::{Regime, WindowStats};

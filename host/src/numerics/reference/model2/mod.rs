@@ -37,7 +37,7 @@ use super::common::{Pad, WindowStats};
 use stickslip_model::{FrictionLaw, Scene};
 
 mod hybrid;
-mod physics;
+pub(crate) mod physics;
 use physics::*;
 
 /// [x, x', phi, phi', u, u', y, y'] (y: the floating pad's pivot normal to the band).
