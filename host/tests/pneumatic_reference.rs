@@ -105,15 +105,8 @@ fn pad_kinds(v: &[(f64, PadRegime, PadRegime)]) -> Vec<(f64, (PadRegime, PadRegi
     v.iter().map(|&(t, f, to)| (t, (f, to))).collect()
 }
 
-/// The rig scene (push, centre) driven by the cylinder.
-fn rig_pneumatic() -> Scene {
-    let mut s = rig_set::rig_scene(Caliper::Push, 0.04);
-    s.drive = BandDrive::Pneumatic;
-    s.duration = 0.6;
-    s.stats_from = 0.1;
-    s
-}
-
+/// The 1-DOF pad (rotation held) on a soft pneumatic band whose seal stick-slips (the energy
+/// balance's scene of tests/pneumatic.rs): 10 pad transitions, 19 band stops and breakaways.
 fn one_dof_seal_stick_slip() -> Scene {
     let mut s = rig_set::rig_scene(Caliper::Push, 0.04);
     s.k_b = 2.0e4;
@@ -131,68 +124,221 @@ fn one_dof_seal_stick_slip() -> Scene {
     s
 }
 
+/// The rig-built set's bilateral twin (floating pad, friction face, contact law p = 1.5; push,
+/// centre) on a 15 mm column with no drop in the seal's friction: the band slides most of the
+/// window and the pad stick-slips near 55 Hz. The throttle is given (2e-11 m^3/(s Pa)): the
+/// product solves it from the hinged pad's N_0 (see `the_throttle_is_solved_from_the_static_normal_force`).
 fn floating_no_drop() -> Scene {
     let mut s = rig_set::rig_built_scene(Caliper::Push, 0.04);
     s.contact = stickslip_model::ContactLaw::Bilateral;
     s.drive = BandDrive::Pneumatic;
     s.column_length = 0.015;
     s.seal_kinetic = s.seal_static;
-    s.duration = 0.3;
-    s.stats_from = 0.1;
+    s.duration = 1.0;
+    s.stats_from = 0.5;
     s.throttle_conductance = 2.0e-11;
     s
 }
 
+/// `rig_push_center` (the hinged rig set, push, beta 40 mm) with the pneumatic drive on a
+/// 15 mm column and a seal of 40 / 30 N (the default 80 / 60 N breaks away only every 1.5 to
+/// 2 s): the band breaks away 6 times in 1 s, the pad slips once per breakaway.
 fn rig_small_seal() -> Scene {
-    let mut s = rig_pneumatic();
+    let mut s = rig_set::rig_scene(Caliper::Push, 0.04);
+    s.drive = BandDrive::Pneumatic;
     s.column_length = 0.015;
     s.seal_static = 40.0;
     s.seal_kinetic = 30.0;
+    s.duration = 1.0;
+    s.stats_from = 0.1;
     s
 }
 
-#[test]
-fn explore() {
-    let mut hinged_nodrop = rig_pneumatic();
-    hinged_nodrop.column_length = 0.015;
-    hinged_nodrop.seal_kinetic = hinged_nodrop.seal_static;
-    hinged_nodrop.duration = 0.3;
-    let mut face = hinged_nodrop;
-    face.face = true;
-    let mut fl_nodamp = floating_no_drop();
-    fl_nodamp.c_b = 0.0;
-    let mut fl_lin = floating_no_drop();
-    fl_lin.contact_exponent = 1.0;
-    for (name, s) in [("hinged no drop", hinged_nodrop), ("hinged face no drop", face), ("floating", floating_no_drop()), ("floating c_b 0", fl_nodamp), ("floating linear", fl_lin)] {
-        eprintln!("start product {:?}", PneumaticRunner::new(&s, 1e-10).unwrap().state());
-        let p = run_product(&s);
-        let (r, secs) = run_reference(&s, Tolerances::default());
-        eprintln!("== {name}: product {} steps {:.3} s, reference {} steps {:.3} s", p.steps, p.secs, r.accepted_steps, secs);
-        eprintln!("pad counts {} {} dt {:?}", p.pad.len(), r.pad_transitions().len(), worst_dt(&pad_kinds(&p.pad), &pad_kinds(&r.pad_transitions())));
-        eprintln!("band counts {} ({}) {} dt {:?}", p.band.len(), p.band_changes, ref_band(&r).len(), worst_dt(&p.band, &ref_band(&r)));
-        if p.pad.len() < 12 { eprintln!("product pad {:?}\nref pad {:?}", p.pad, r.pad_transitions()); }
-        if p.band.len() < 12 { eprintln!("product band {:?}\nref band {:?}", p.band, r.band_transitions()); }
-        eprintln!("product last {:?}\nref final {:?}\nref start {:?}", p.last, r.final_state, r.start);
-        eprintln!("product drive {:?}\nref stats {:?}", p.drive, r.stats);
+/// Largest differences between a product run and a reference run.
+#[derive(Debug, Default)]
+struct Diff {
+    pad_dt: f64,
+    band_dt: f64,
+    /// Final x, x', phi, phi', x_b, x_b', p, each relative to its range over the window.
+    state: [f64; 7],
+    mean_speed: f64,
+    stuck_fraction: f64,
+    /// p's least, greatest and mean, relative to its range.
+    p: [f64; 3],
+}
+
+impl Diff {
+    fn line(&self) -> String {
+        let e = |v: &[f64]| v.iter().map(|x| format!("{x:.1e}")).collect::<Vec<_>>().join(" ");
+        format!(
+            "pad transitions {:.1e} s, band events {:.1e} s; final x x' phi phi' x_b x_b' p / range: {}; band mean speed {:.1e}, stuck fraction {:.1e}; p min max mean / range: {}",
+            self.pad_dt,
+            self.band_dt,
+            e(&self.state),
+            self.mean_speed,
+            self.stuck_fraction,
+            e(&self.p)
+        )
     }
-    let _ = (P, XB);
+}
+
+fn compare(name: &str, p: &ProductRun, r: &Run, r_secs: f64) -> Diff {
+    let pad_dt = worst_dt(&pad_kinds(&p.pad), &pad_kinds(&r.pad_transitions()))
+        .unwrap_or_else(|| panic!("{name}: pad transitions differ:\nproduct {:?}\nreference {:?}", p.pad, r.pad_transitions()));
+    let rb = ref_band(r);
+    let band_dt = worst_dt(&p.band, &rb).unwrap_or_else(|| panic!("{name}: band events differ:\nproduct {:?}\nreference {:?}", p.band, rb));
+    assert_eq!(p.band.len() as u64, p.band_changes, "{name}: the product's band events as read from its segments");
+    let st = &r.stats;
+    let f = &r.final_state;
+    let ours = [f[0], f[1], f[2], f[3], f[XB], f[XB + 1], f[P]];
+    let p_range = st.p_max - st.p_min;
+    let ranges = [st.pad.pp(0), st.pad.pp(1), st.pad.pp(2), st.pad.pp(3), f[XB].abs(), st.band_speed_max - st.band_speed_min, p_range];
+    let state = std::array::from_fn(|i| {
+        let d = (p.last[i] - ours[i]).abs();
+        if d == 0.0 {
+            0.0
+        } else {
+            d / ranges[i]
+        }
+    });
+    let d = &p.drive;
+    let diff = Diff {
+        pad_dt,
+        band_dt,
+        state,
+        mean_speed: (d.mean_speed() / st.band_mean_speed - 1.0).abs(),
+        stuck_fraction: (d.stuck_fraction() - st.band_stuck_fraction).abs(),
+        p: [(d.p_min - st.p_min).abs() / p_range, (d.p_max - st.p_max).abs() / p_range, (d.p_mean - st.p_mean).abs() / p_range],
+    };
+    assert_eq!(d.breakaways as usize, st.band_breakaways, "{name}: band breakaways in the window");
+    eprintln!(
+        "{name}: {} pad transitions, {} band events ({} breakaways in the window, stuck {:.4}, mean speed {:.4e} m/s, p {:.0} to {:.0} Pa); \
+         product {} steps in {:.3} s, reference {} steps in {:.3} s\n  differences: {}",
+        p.pad.len(),
+        p.band.len(),
+        st.band_breakaways,
+        st.band_stuck_fraction,
+        st.band_mean_speed,
+        st.p_min,
+        st.p_max,
+        p.steps,
+        p.secs,
+        r.accepted_steps,
+        r_secs,
+        diff.line(),
+    );
+    diff
+}
+
+/// Transition times agree within this [s] (measured: at most 7.7e-11 s, the 1-DOF scene's).
+const T_BOUND: f64 = 1e-9;
+/// The final state, each quantity relative to its range over the window (measured: at most
+/// 8.2e-10, the floating pad's x').
+const STATE_BOUND: f64 = 1e-8;
+/// The band's mean speed (relative), stuck fraction (absolute), and p's least, greatest and mean
+/// relative to its range (measured: at most 1.7e-8, p's greatest on the hinged rig: the product
+/// takes it at its step ends, the reference bisects the crest).
+const STATS_BOUND: f64 = 2e-7;
+
+fn check(name: &str, s: &Scene, min_pad: usize, min_breakaways: usize) -> Diff {
+    let p = run_product(s);
+    let (r, secs) = run_reference(s, Tolerances::default());
+    let d = compare(name, &p, &r, secs);
+    assert!(p.pad.len() >= min_pad, "{name}: the pad should slip: {} transitions", p.pad.len());
+    assert!(r.stats.band_breakaways >= min_breakaways, "{name}: the band should stick and break away: {:?}", r.stats);
+    assert!(r.stats.band_stuck_fraction < 1.0 && r.stats.band_mean_speed > 0.0, "{name}: the band should slide: {:?}", r.stats);
+    assert!(d.pad_dt <= T_BOUND && d.band_dt <= T_BOUND, "{name}: transition times differ: {d:?}");
+    assert!(d.state.iter().all(|e| *e <= STATE_BOUND), "{name}: final states differ: {d:?}");
+    assert!(d.mean_speed <= STATS_BOUND && d.stuck_fraction <= STATS_BOUND && d.p.iter().all(|e| *e <= STATS_BOUND), "{name}: drive statistics differ: {d:?}");
+    d
 }
 
 #[test]
-fn derivative_probe() {
-    let s = floating_no_drop();
-    let mut runner = PneumaticRunner::new(&s, 1e-10).unwrap();
-    let mut first: Option<PneumaticSample> = None;
-    runner.run_sampled(0.0, 1e-5, 1e-5, &mut (), &mut |g: &PneumaticSample| { first = Some(*g); false }).unwrap();
-    let g = first.unwrap();
-    let w = g.w;
-    let y = [w[0], w[1], w[2], w[3], w[product::XB], s.v + w[5], w[6], w[7], w[product::P], 0.0];
-    let r = reference::Regime { pad: PadRegime::Stick, band: Band::Forward, pad_armed: true, band_armed: true };
-    let d = reference::rhs(&s, r, &y).unwrap();
-    eprintln!("product d {:?}\nref     d {:?}", g.d, d);
-    let (_, secs) = (0, 0);
-    let _ = secs;
-    let co = stickslip_model::Coefficients::of(&s.linearised_contact());
-    let rr = reference::simulate(&{ let mut q = s; q.duration = 1e-4; q.stats_from = 0.0; q }, Tolerances::default()).unwrap();
-    eprintln!("C product {:e} ref {:e}; Coefficients n0 {} F_N {} steady_pad_friction {}", runner.drive_stats().conductance, rr.conductance, co.n0, s.f_n, stickslip_model::model3::cylinder::steady_pad_friction(&s));
+fn the_hinged_rig_pad_agrees_with_the_reference() {
+    check("rig_push_center, pneumatic, 15 mm column, seal 40 / 30 N, 1 s", &rig_small_seal(), 6, 4);
+}
+
+#[test]
+fn the_one_dof_pad_on_a_stick_slipping_seal_agrees_with_the_reference() {
+    check("1-DOF pad, soft band, seal 30 / 25 N, 0.8 s", &one_dof_seal_stick_slip(), 10, 5);
+}
+
+#[test]
+fn the_floating_pad_with_a_seal_without_drop_agrees_with_the_reference() {
+    check("rig_built_push_center bilateral, pneumatic, seal without drop, 1 s", &floating_no_drop(), 20, 5);
+}
+
+/// The reference against itself at half its tolerance (rtol 2e-12 against 1e-12): its
+/// transitions move by far less than `T_BOUND`.
+#[test]
+fn the_reference_converges() {
+    for (name, s) in [("rig", rig_small_seal()), ("1-DOF", one_dof_seal_stick_slip()), ("floating", floating_no_drop())] {
+        let (fine, _) = run_reference(&s, Tolerances::default());
+        let (coarse, _) = run_reference(&s, Tolerances { rtol: 2e-12, ..Tolerances::default() });
+        let pad = worst_dt(&pad_kinds(&fine.pad_transitions()), &pad_kinds(&coarse.pad_transitions())).expect("the same pad transitions");
+        let band = worst_dt(&ref_band(&fine), &ref_band(&coarse)).expect("the same band events");
+        let f = &fine.stats;
+        let c = &coarse.stats;
+        let p = (f.p_max - c.p_max).abs().max((f.p_min - c.p_min).abs()) / (f.p_max - f.p_min);
+        eprintln!("reference at rtol 1e-12 against 2e-12, {name}: pad transitions within {pad:.2e} s, band events within {band:.2e} s, p extremes within {p:.2e} of the range");
+        assert!(pad < T_BOUND / 10.0 && band < T_BOUND / 10.0 && p < STATS_BOUND / 10.0, "{name}: the reference moves with its tolerance");
+    }
+}
+
+/// The throttle solved from V (`throttle_conductance = 0`): p_0 = p_atm + (F_seal(V) + mu(V) N_0
+/// + c_b V) / A, C = p_0 A V / (p_ref p_s phi(p_0 / p_s)), N_0 the pad's static normal force
+/// (written out here once more). The product and the reference agree on the hinged pad; on the
+/// floating pad (N_0 = F_N with k_pivot = 0) the product takes the hinged pad's c_N F_N a_N / K
+/// (printed; `the_product_solves_the_floating_pads_throttle_from_its_static_normal_force`).
+#[test]
+fn the_throttle_is_solved_from_the_static_normal_force() {
+    let closed_form = |s: &Scene, n0: f64| {
+        let area = std::f64::consts::PI * s.bore * s.bore / 4.0;
+        let mu = s.mu_k + (s.mu_s - s.mu_k) * (-(s.v / s.v_s).powf(s.stribeck_exponent)).exp();
+        let seal = s.seal_kinetic + (s.seal_static - s.seal_kinetic) * (-s.v / s.seal_v_s).exp();
+        let p0 = stickslip_model::scene::ATMOSPHERE_PA + (seal + mu * n0 + s.c_b * s.v) / area;
+        let r = p0 / s.supply_pressure;
+        let b = s.throttle_critical_ratio;
+        let phi = if r <= b { 1.0 } else { (1.0 - ((r - b) / (1.0 - b)).powi(2)).sqrt() };
+        p0 * area * s.v / (1e5 * s.supply_pressure * phi)
+    };
+    let short = |s: &Scene| {
+        let mut q = *s;
+        q.throttle_conductance = 0.0;
+        q.duration = 1e-3;
+        q.stats_from = 0.0;
+        q
+    };
+    let hinged = short(&rig_small_seal());
+    let r = reference::simulate(&hinged, Tolerances::default()).unwrap();
+    let product = PneumaticRunner::new(&hinged, PNEUMATIC_RTOL).unwrap().cylinder().conductance;
+    let co = stickslip_model::Coefficients::of(&hinged);
+    let expect = closed_form(&hinged, co.c_n * hinged.f_n * co.a_n / co.k_rot);
+    eprintln!("throttle, hinged: reference {:.15e}, product {product:.15e}, closed form {expect:.15e}", r.conductance);
+    assert!((r.conductance / expect - 1.0).abs() < 1e-13 && (product / expect - 1.0).abs() < 1e-13);
+    let floating = short(&floating_no_drop());
+    let r = reference::simulate(&floating, Tolerances::default()).unwrap();
+    let product = PneumaticRunner::new(&floating, PNEUMATIC_RTOL).unwrap().cylinder().conductance;
+    assert_eq!(floating.k_pivot, 0.0);
+    let expect = closed_form(&floating, floating.f_n);
+    eprintln!(
+        "throttle, floating: reference {:.15e}, closed form with N_0 = F_N {expect:.15e}, product {product:.15e} ({:+.2} %)",
+        r.conductance,
+        100.0 * (product / expect - 1.0)
+    );
+    assert!((r.conductance / expect - 1.0).abs() < 1e-13);
+}
+
+/// Fails until the product's throttle solve (`model3::cylinder::steady_pad_friction`) takes the
+/// floating pad's static normal force (k_s y_0 + c_N phi_0 = F_N with k_pivot = 0) instead of
+/// the hinged pad's c_N F_N a_N / K: 8.1 % too little conductance on the rig-built twin.
+#[test]
+#[ignore = "the product's throttle solve takes the hinged pad's N_0 on a floating pad"]
+fn the_product_solves_the_floating_pads_throttle_from_its_static_normal_force() {
+    let mut s = floating_no_drop();
+    s.throttle_conductance = 0.0;
+    s.duration = 1e-3;
+    let r = reference::simulate(&s, Tolerances::default()).unwrap();
+    let product = PneumaticRunner::new(&s, PNEUMATIC_RTOL).unwrap().cylinder().conductance;
+    assert!((product / r.conductance - 1.0).abs() < 1e-12, "product {product:e}, reference {:e}", r.conductance);
 }
