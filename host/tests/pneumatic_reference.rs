@@ -338,6 +338,7 @@ fn the_product_solves_the_floating_pads_throttle_from_its_static_normal_force() 
     let mut s = floating_no_drop();
     s.throttle_conductance = 0.0;
     s.duration = 1e-3;
+    s.stats_from = 0.0;
     let r = reference::simulate(&s, Tolerances::default()).unwrap();
     let product = PneumaticRunner::new(&s, PNEUMATIC_RTOL).unwrap().cylinder().conductance;
     assert!((product / r.conductance - 1.0).abs() < 1e-12, "product {product:e}, reference {:e}", r.conductance);
