@@ -3,7 +3,8 @@
 //! against the independent reference (`stickslip::numerics::reference::pneumatic`: its own
 //! right-hand side from docs/model.md, DOP853 with bisected events, rtol 1e-12): the same pad
 //! and band transitions at the same times, the same final state and drive statistics, on
-//! three scenes. And the reference against itself at half its tolerance.
+//! three scenes; the two right-hand sides at every sample of the product's run; the throttle
+//! solved from V; and the reference against itself at half its tolerance.
 //!
 //! `cargo test --release -p stickslip --test pneumatic_reference -- --nocapture` prints the
 //! measured differences.
@@ -342,4 +343,50 @@ fn the_product_solves_the_floating_pads_throttle_from_its_static_normal_force() 
     let r = reference::simulate(&s, Tolerances::default()).unwrap();
     let product = PneumaticRunner::new(&s, PNEUMATIC_RTOL).unwrap().cylinder().conductance;
     assert!((product / r.conductance - 1.0).abs() < 1e-12, "product {product:e}, reference {:e}", r.conductance);
+}
+
+/// The two right-hand sides at every grid sample of the product's run (the product's state and
+/// regimes, its own derivative against the reference's `rhs`): x', x'', phi', phi'', x_b'',
+/// y', y'', p', each relative to its largest magnitude over the run.
+#[test]
+fn the_right_hand_sides_agree_at_every_sample() {
+    for (name, s) in [("rig", rig_small_seal()), ("1-DOF", one_dof_seal_stick_slip()), ("floating", floating_no_drop())] {
+        let mut runner = PneumaticRunner::new(&s, PNEUMATIC_RTOL).expect("runner");
+        let mut pairs: Vec<([f64; 8], [f64; 8])> = vec![];
+        let mut failure: Option<String> = None;
+        runner
+            .run_sampled(0.0, s.duration, s.dt, &mut (), &mut |g: &PneumaticSample| {
+                let w = &g.w;
+                let y = [w[0], w[1], w[2], w[3], w[product::XB], s.v + w[5], w[6], w[7], w[product::P], 0.0];
+                let band = match g.band {
+                    0 => Band::Stuck,
+                    1 => Band::Forward,
+                    _ => Band::Back,
+                };
+                let r = reference::Regime { pad: pad_of(g.regime), band, pad_armed: true, band_armed: true };
+                match reference::rhs(&s, r, &y) {
+                    Ok(d) => {
+                        let ours = [d[0], d[1], d[2], d[3], d[5], d[6], d[7], d[P]];
+                        let theirs = [g.d[0], g.d[1], g.d[2], g.d[3], g.d[5], g.d[6], g.d[7], g.d[product::P]];
+                        pairs.push((theirs, ours));
+                        true
+                    }
+                    Err(e) => {
+                        failure = Some(e);
+                        false
+                    }
+                }
+            })
+            .expect("the product's run completes");
+        assert!(failure.is_none(), "{failure:?}");
+        let mut worst = [0.0f64; 8];
+        for i in 0..8 {
+            let scale = pairs.iter().map(|(a, _)| a[i].abs()).fold(0.0, f64::max);
+            if scale > 0.0 {
+                worst[i] = pairs.iter().map(|(a, b)| (a[i] - b[i]).abs()).fold(0.0, f64::max) / scale;
+            }
+        }
+        eprintln!("right-hand sides, {name}, {} samples: x' x'' phi' phi'' x_b'' y' y'' p' differ by at most {} of their largest magnitudes", pairs.len(), worst.iter().map(|e| format!("{e:.1e}")).collect::<Vec<_>>().join(" "));
+        assert!(worst.iter().all(|e| *e < 1e-10), "{name}: {worst:?}");
+    }
 }
