@@ -24,7 +24,19 @@ fn stability_rows_are_all_classified_and_exact_is_bounded_when_stiff() {
     let model2_values = 7 + 5 + 5 + 5 + 5 + 7 + 5;
     // model 3's pneumatic drive: 5 cylinder sweeps, f64 only
     let model3_values = 5 + 3 + 3 + 4 + 3;
-    assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2 + model3_values);
+    // model 3's unilateral contact: 3 sweeps on the event runner, f64 only
+    let unilateral_values = 5 + 4 + 5;
+    assert_eq!(rows.len(), values * 5 * 2 + model2_values * 2 + model3_values + unilateral_values);
+    let uni: Vec<&Value> = rows.iter().filter(|r| r["method"] == "event").collect();
+    assert_eq!(uni.len(), unilateral_values);
+    for r in &uni {
+        assert_eq!(r["precision"], "f64", "{r}");
+        // the load at the trailing edge of a floating push pad tips it over: the model's own
+        // contact loss; every other extreme (edges from 1e4 to 1e10 N/m, the pivot from
+        // floating to 1e10 N/m, the load anywhere else on the pad) runs bounded
+        let expect = if r["sweep"] == "unilateral_beta" && r["beta"] == 0.0 { "contact_loss" } else { "bounded" };
+        assert_eq!(r["outcome"], expect, "{r}");
+    }
     let m3: Vec<&Value> = rows.iter().filter(|r| r["method"] == "pneumatic").collect();
     assert_eq!(m3.len(), model3_values);
     for r in &m3 {
@@ -89,13 +101,14 @@ fn accuracy_report_meets_its_bounds() {
     let rows = v["rows"].as_array().expect("rows");
     // thesis scenes: 3 steps x 5 methods x 2 precisions + 3 tolerances; model 2: 4 scenes (the
     // last the floating pad's) x (3 steps x 4 precisions (f64, f32, f32 with libm's and with
-    // micromath's exp) + 3 tolerances)
-    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3) + 4 * (3 * 4 + 3));
+    // micromath's exp) + 3 tolerances); model 3's unilateral scene: the event runner at 2
+    // tolerances, the reference at 3
+    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3) + 4 * (3 * 4 + 3) + (2 + 3));
     for r in rows {
         for key in ["scene", "method", "precision", "run_s"] {
             assert!(!r[key].is_null(), "row without {key}: {r}");
         }
-        let adaptive = r["method"] == "dop853_adaptive";
+        let adaptive = r["method"] == "dop853_adaptive" || r["method"] == "event";
         assert_eq!(r["dt"].is_null(), adaptive, "{r}");
     }
     let exact = |scene: &str, prec: &str| {
@@ -122,6 +135,14 @@ fn accuracy_report_meets_its_bounds() {
     for e in exps {
         assert!(e["max_rel_error"].as_f64().is_some_and(|x| x > 0.0 && x < 1e-2), "{e}");
     }
+    // unilateral contact: the event runner at the host's tolerance against the independent
+    // reference (its openings equal, its period, amplitude and open time within 1e-6)
+    let event = rows
+        .iter()
+        .find(|r| r["scene"] == "rig_float_pull_edge" && r["method"] == "event" && r["rtol"] == 1e-12)
+        .and_then(|r| r["error"].as_f64())
+        .expect("the unilateral event runner's row");
+    assert!(event <= 1e-6, "unilateral event runner's error {event:e}");
     assert!(v["speedup_at_equal_error"].as_f64().unwrap() >= 10.0);
     let rc = &v["reference_check"];
     assert!(rc["worst_time_difference_s"].as_f64().unwrap() < 1e-9);

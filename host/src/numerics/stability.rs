@@ -110,6 +110,24 @@ pub const MODEL3_SWEEPS: [Sweep; 5] = [
     Sweep { key: "supply_pressure", unit: "Pa", values: &[2.5e5, 6e5, 1e6], apply: |s, v| s.supply_pressure = v },
 ];
 
+/// The event runner's method name in the unilateral rows (f64 only).
+pub const EVENT_METHOD: &str = "event";
+
+/// Model 3's unilateral contact around `rig_float_push_center` with `contact = "unilateral"`
+/// (docs/model.md, "Model 3, part 1"), on the event runner that carries it: the load from the
+/// trailing edge to the leading one (edges that open, the pad that tips), the edge springs from
+/// soft to 1e10 N/m, the pivot from floating to the hinge's stiffness.
+pub const UNILATERAL_SWEEPS: [Sweep; 3] = [
+    Sweep { key: "unilateral_beta", unit: "m", values: &[0.0, 0.0115, 0.04, 0.07, 0.08], apply: |s, v| s.beta = v },
+    Sweep {
+        key: "unilateral_contact_stiffness",
+        unit: "N/m",
+        values: &[1e4, 1e6, 1e8, 1e10],
+        apply: set_contact,
+    },
+    Sweep { key: "unilateral_k_pivot", unit: "N/m", values: &[0.0, 1e4, 1e6, 1e8, 1e10], apply: |s, v| s.k_pivot = v },
+];
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     /// Which parameter this row's sweep varies.
@@ -313,6 +331,7 @@ pub fn run(opts: &Options) -> Result<Report> {
     }
     rows.extend(model2_rows(base.duration)?);
     rows.extend(model3_rows(base.duration)?);
+    rows.extend(unilateral_rows(base.duration)?);
     Ok(Report { rows, duration_s: base.duration })
 }
 
@@ -421,6 +440,63 @@ fn model3_rows(duration: f64) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
+/// Whether a run ever left stick.
+struct Slipped(bool);
+
+impl stickslip_model::model2::Model2Observer<f64> for Slipped {
+    fn transition(&mut self, tr: &stickslip_model::model2::Model2Transition<f64>) {
+        self.0 |= tr.to != Regime::Stick;
+    }
+}
+
+/// The unilateral sweeps on the event runner at the host's tolerance for unilateral contact
+/// (f64): both edges open, or one open with the pad tipping over the closed one, is the model's
+/// own `contact_loss`; any other stop (a stall, a step below round-off) is `method_unstable`.
+fn unilateral_rows(duration: f64) -> Result<Vec<Row>> {
+    use crate::scenes::unilateral::{halt_of, UNILATERAL_RTOL};
+    use stickslip_model::model2::event_run::EventRunner;
+    let mut base = builtin::find("rig_float_push_center").expect("built-in").scene;
+    base.duration = duration;
+    base.stats_from = duration / 2.0;
+    base.contact = stickslip_model::ContactLaw::Unilateral;
+    let mut rows = Vec::new();
+    for sweep in &UNILATERAL_SWEEPS {
+        for &value in sweep.values {
+            let mut scene = base;
+            (sweep.apply)(&mut scene, value);
+            scene.validate().map_err(|e| HostError::Input(format!("sweep {} = {value}: {e}", sweep.key)))?;
+            let co = Coefficients::of(&scene);
+            let mut runner = EventRunner::new(&scene, UNILATERAL_RTOL)
+                .map_err(|e| HostError::Input(format!("sweep {} = {value}: {e}", sweep.key)))?;
+            let mut slipped = Slipped(false);
+            let halt = runner.run(0.0, scene.duration, &mut slipped).err().map(|f| halt_of(&runner, f));
+            let model = match halt {
+                Some(Halt::ContactLoss { .. }) => Verdict::ContactLoss,
+                Some(_) => Verdict::Other,
+                None => Verdict::Bounded,
+            };
+            let (outcome, mut detail) = classify(halt, slipped.0 || halt.is_some(), model);
+            if model == Verdict::ContactLoss {
+                detail = format!("the pad leaves the band (both edges open, or one open and the pad tipping over the other) at t = {:.6} s", halt.map_or(0.0, |h| h.time()));
+            }
+            let rate = stickslip_model::model2::System::of(&scene, &co).linear_rate(&scene, &co);
+            rows.push(Row {
+                method: EVENT_METHOD.into(),
+                precision: "f64".into(),
+                damping_ratio: 0.02,
+                v_s: Some(scene.v_s),
+                k_b: Some(scene.k_b),
+                m_b: Some(scene.m_b),
+                k_pivot: Some(scene.k_pivot),
+                contact_exponent: Some(scene.contact_exponent),
+                omega_dt: rate * scene.dt,
+                ..Row::of(sweep.key, &scene, &co, halt, outcome, detail)
+            });
+        }
+    }
+    Ok(rows)
+}
+
 /// Every numeric field of every row is finite (the report's promise).
 pub fn all_finite(rep: &Report) -> bool {
     rep.rows.iter().all(|r| {
@@ -509,6 +585,21 @@ pub fn markdown(rep: &Report) -> String {
         }
         out.push_str("\n\n");
     }
+    out.push_str(
+        "# Model 3: unilateral contact around rig_float_push_center (contact = \"unilateral\")\n\n\
+         The event runner (exact flows, Dormand-Prince 5(4) in Stribeck slip, rtol 1e-12) is the only method that \
+         carries it, in f64 only; contact_loss is the pad leaving the band (both edges open, or one open and the pad \
+         tipping over the other).\n\n",
+    );
+    for sweep in &UNILATERAL_SWEEPS {
+        sweep_header(&mut out, sweep);
+        out.push_str(&format!("| {EVENT_METHOD} | f64 |"));
+        for v in sweep.values {
+            let r = rep.rows.iter().find(|r| r.sweep == sweep.key && r.method == EVENT_METHOD && value_of(r, sweep.key) == *v);
+            out.push_str(&format!(" {} |", r.map_or("-", |r| r.outcome.as_str())));
+        }
+        out.push_str("\n\n");
+    }
     out
 }
 
@@ -528,8 +619,9 @@ fn sweep_header(out: &mut String, sweep: &Sweep) {
 /// The swept value of a row.
 pub fn value_of(r: &Row, key: &str) -> f64 {
     match key {
-        "contact_stiffness" | "float_contact_stiffness" => r.contact_stiffness,
-        "k_pivot" => r.k_pivot.unwrap_or(f64::NAN),
+        "contact_stiffness" | "float_contact_stiffness" | "unilateral_contact_stiffness" => r.contact_stiffness,
+        "k_pivot" | "unilateral_k_pivot" => r.k_pivot.unwrap_or(f64::NAN),
+        "unilateral_beta" => r.beta,
         "contact_exponent" => r.contact_exponent.unwrap_or(f64::NAN),
         "k_g" => r.k_g,
         "mu_s" => r.mu_s,

@@ -55,7 +55,7 @@ fn run_one<S: Sink + ?Sized, const FULL: bool>(scene: &Scene, mut runner: EventR
 }
 
 /// The halt a fallback of a unilateral run stands for (no sampled path runs it instead).
-fn halt_of(runner: &EventRunner, f: Fallback) -> Halt {
+pub(crate) fn halt_of(runner: &EventRunner, f: Fallback) -> Halt {
     let regime = runner.regime();
     match f {
         Fallback::BothEdgesOpen { t } => Halt::ContactLoss { t, n: 0.0 },

@@ -43,11 +43,13 @@ use stickslip_model::model2::{AnyModel2Stepper, Model2Observer, Model2Segment, M
 
 mod markdown;
 mod model2_rows;
+mod model3_rows;
 mod observe;
 mod rows;
 mod truth;
 pub use markdown::*;
 use model2_rows::*;
+pub use model3_rows::{BOUND_UNILATERAL, EVENT_METHOD, FULL_EVENT_RTOLS, QUICK_EVENT_RTOLS, UNILATERAL_SCENE};
 use observe::*;
 use rows::*;
 use truth::*;
@@ -221,6 +223,12 @@ pub fn run(opts: &Options) -> Result<Report> {
             rows.push(model2_adaptive_row(name, &truth, &base, rtol, opts.repeats)?);
         }
     }
+    // model 3: unilateral contact's event runner against its independent reference
+    if opts.progress {
+        eprint!("\r{UNILATERAL_SCENE} event runner and reference{:<40}", "");
+    }
+    let event_rtols: &[f64] = if opts.quick { &QUICK_EVENT_RTOLS } else { &FULL_EVENT_RTOLS };
+    rows.extend(model3_rows::unilateral_rows(event_rtols, rtols, opts.repeats)?);
     if opts.progress {
         eprintln!();
     }
@@ -242,6 +250,14 @@ pub fn run(opts: &Options) -> Result<Report> {
         check("pull_center speed-up of exact f64 over DOP853 at error <= 1e-6", speedup, BOUND_SPEEDUP, true),
         check("oracle_stribeck model2 f64 error at 1/25600 s", find_model2("oracle_stribeck", "f64"), BOUND_STRIBECK_F64, false),
         check("oracle_stribeck model2 f32 error at 1/25600 s", find_model2("oracle_stribeck", "f32"), BOUND_STRIBECK_F32, false),
+        check(
+            &format!("{UNILATERAL_SCENE} event runner f64 error at rtol 1e-12 (unilateral contact)"),
+            rows.iter()
+                .find(|r| r.scene == UNILATERAL_SCENE && r.method == EVENT_METHOD && r.rtol == Some(1e-12))
+                .and_then(|r| r.error),
+            BOUND_UNILATERAL,
+            false,
+        ),
     ];
     let exp_f32 = vec![exp_row::<ModelExp>(), exp_row::<LibmExp>(), exp_row::<MicromathExp>()];
     Ok(Report { rows, speedup_at_equal_error: speedup, reference_check, checks, exp_f32 })

@@ -87,6 +87,31 @@ pub trait Hybrid<const N: usize> {
     /// The regime entered when the guard of `regime` fired at y; y is made consistent with it
     /// (the projection on entering stick).
     fn transition(&self, regime: Self::Regime, y: &mut State<N>) -> Self::Regime;
+
+    /// How many guards every regime has (default 1: [`Hybrid::guard`] alone). A system with
+    /// several (the friction's and each contact edge's) gives them by index in
+    /// [`Hybrid::guard_k`], [`Hybrid::guard_rate_k`], [`Hybrid::armed_k`] and
+    /// [`Hybrid::transition_k`]; the driver locates each one's first crossing in a step (crests
+    /// included) and makes the earliest.
+    fn guard_count(&self) -> usize {
+        1
+    }
+    /// Guard `k` of `regime` (negative while the regime holds).
+    fn guard_k(&self, regime: Self::Regime, y: &State<N>, _k: usize) -> f64 {
+        self.guard(regime, y)
+    }
+    /// Rate of guard `k` along the motion.
+    fn guard_rate_k(&self, regime: Self::Regime, y: &State<N>, _k: usize) -> Option<f64> {
+        self.guard_rate(regime, y)
+    }
+    /// Whether guard `k` of `regime` may end it at y.
+    fn armed_k(&self, regime: Self::Regime, y: &State<N>, _k: usize) -> bool {
+        self.armed(regime, y)
+    }
+    /// The regime entered when guard `k` of `regime` fired at y.
+    fn transition_k(&self, regime: Self::Regime, y: &mut State<N>, _k: usize) -> Self::Regime {
+        self.transition(regime, y)
+    }
     /// The fastest rate of the system [1/s]; steps are capped at `h_max_factor` over it.
     fn fastest_rate(&self) -> f64;
 }
@@ -288,7 +313,8 @@ pub fn run<H: Hybrid<N>, const N: usize>(
     let mut y = y0;
     let mut regime = regime;
     let mut t = 0.0;
-    let mut armed = sys.armed(regime, &y);
+    let guards = sys.guard_count();
+    let mut armed: Vec<bool> = (0..guards).map(|g| sys.armed_k(regime, &y, g)).collect();
     let mut transitions = Vec::new();
     let mut accepted = 0u64;
     let start = (arr(&y), regime);
@@ -303,30 +329,24 @@ pub fn run<H: Hybrid<N>, const N: usize>(
         };
         let (ts, ys, acc) = integrate(sys, regime, t, y, stop, h_max, tol)?;
         accepted += acc;
-        let mut event: Option<(usize, f64, State<N>)> = None;
+        // (step index, time, state, guard) of the earliest guard crossing
+        let mut event: Option<(usize, f64, State<N>, usize)> = None;
         for k in 1..ys.len() {
-            if !armed {
-                armed = sys.armed(regime, &ys[k]);
-                continue;
-            }
             let step = Bracket { t_a: ts[k - 1], y_a: ys[k - 1], lo: ts[k - 1], hi: ts[k], y_hi: ys[k] };
-            if sys.guard(regime, &ys[k]) >= 0.0 {
-                let ev = bisect(sys, regime, step, h_max, tol, |y| sys.guard(regime, y) >= 0.0)?;
-                event = Some((k, ev.t, ev.state));
-                break;
-            }
-            // a crest of the guard inside the step (negative at both ends)
-            let rising = |y: &State<N>| sys.guard_rate(regime, y).is_some_and(|r| r > 0.0);
-            let falling = |y: &State<N>| sys.guard_rate(regime, y).is_some_and(|r| r < 0.0);
-            if rising(&ys[k - 1]) && falling(&ys[k]) {
-                let crest =
-                    bisect(sys, regime, step, h_max, tol, |y| sys.guard_rate(regime, y).is_some_and(|r| r <= 0.0))?;
-                if sys.guard(regime, &crest.state) >= 0.0 {
-                    let to_crest = Bracket { hi: crest.t, y_hi: crest.state, ..step };
-                    let ev = bisect(sys, regime, to_crest, h_max, tol, |y| sys.guard(regime, y) >= 0.0)?;
-                    event = Some((k, ev.t, ev.state));
-                    break;
+            for g in 0..guards {
+                if !armed[g] {
+                    armed[g] = sys.armed_k(regime, &ys[k], g);
+                    continue;
                 }
+                let found = first_crossing(sys, regime, step, h_max, tol, g)?;
+                if let Some((te, ye)) = found {
+                    if event.is_none_or(|e| te < e.1) {
+                        event = Some((k, te, ye, g));
+                    }
+                }
+            }
+            if event.is_some() {
+                break;
             }
         }
         let (t1, y1) = match event {
@@ -337,20 +357,49 @@ pub fn run<H: Hybrid<N>, const N: usize>(
                 }
                 (stop, *ys.last().expect("DOP853 output holds the start"))
             }
-            Some((_, te, ye)) => (te, ye),
+            Some((_, te, ye, _)) => (te, ye),
         };
         observe(&Piece { regime, t0: t, y0: &y, ts: &ts, ys: &ys, fired: event.map(|e| e.0), t1, y1: &y1, h_max })?;
         t = t1;
         y = y1;
-        if event.is_some() {
-            let next = sys.transition(regime, &mut y);
+        if let Some((_, _, _, g)) = event {
+            let next = sys.transition_k(regime, &mut y, g);
             transitions.push(Transition { t, from: regime, to: next, state: arr(&y) });
             if transitions.len() > MAX_TRANSITIONS {
                 return Err(format!("{}: more than {MAX_TRANSITIONS} transitions by t = {t} s (chattering)", H::NAME));
             }
             regime = next;
-            armed = sys.armed(regime, &y);
+            for (g, a) in armed.iter_mut().enumerate() {
+                *a = sys.armed_k(regime, &y, g);
+            }
         }
     }
     Ok(Path { start, transitions, final_state: y, final_regime: regime, accepted_steps: accepted, h_max })
+}
+
+/// Where guard `g` of `regime` first turns non-negative inside `step` (its end, or a crest
+/// inside it: negative at both ends, its rate turning from + to -), bisected to `t_tol`.
+fn first_crossing<H: Hybrid<N>, const N: usize>(
+    sys: &H,
+    regime: H::Regime,
+    step: Bracket<N>,
+    h_max: f64,
+    tol: &Tolerances,
+    g: usize,
+) -> Result<Option<(f64, State<N>)>, String> {
+    if sys.guard_k(regime, &step.y_hi, g) >= 0.0 {
+        let ev = bisect(sys, regime, step, h_max, tol, |y| sys.guard_k(regime, y, g) >= 0.0)?;
+        return Ok(Some((ev.t, ev.state)));
+    }
+    let rising = |y: &State<N>| sys.guard_rate_k(regime, y, g).is_some_and(|r| r > 0.0);
+    let falling = |y: &State<N>| sys.guard_rate_k(regime, y, g).is_some_and(|r| r < 0.0);
+    if rising(&step.y_a) && falling(&step.y_hi) {
+        let crest = bisect(sys, regime, step, h_max, tol, |y| sys.guard_rate_k(regime, y, g).is_some_and(|r| r <= 0.0))?;
+        if sys.guard_k(regime, &crest.state, g) >= 0.0 {
+            let to_crest = Bracket { hi: crest.t, y_hi: crest.state, ..step };
+            let ev = bisect(sys, regime, to_crest, h_max, tol, |y| sys.guard_k(regime, y, g) >= 0.0)?;
+            return Ok(Some((ev.t, ev.state)));
+        }
+    }
+    Ok(None)
 }

@@ -38,7 +38,9 @@ use stickslip_model::{FrictionLaw, Scene};
 
 mod hybrid;
 pub(crate) mod physics;
+mod unilateral;
 use physics::*;
+pub use unilateral::{simulate_unilateral, Contact, UnilateralRun};
 
 /// [x, x', phi, phi', u, u', y, y'] (y: the floating pad's pivot normal to the band).
 type Z = State<8>;
