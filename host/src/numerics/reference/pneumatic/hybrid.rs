@@ -1,8 +1,8 @@
 //! The pneumatic drive as a hybrid system for the event-driven DOP853 driver: the regime is the
 //! pad's (stick, slip slower, slip faster) times the band's (sliding forward, back, stuck), each
-//! slip with its arming flag. The driver watches one guard per regime: the largest of the
-//! active components' guards (each scaled to a force or a speed), and `transition` works out
-//! which one fired.
+//! slip with its arming flag. The driver watches two guards in every regime, the pad's and the
+//! band's (each scaled to a force or a speed), and makes the earliest; `guard` (their largest)
+//! and `transition` (whichever holds) serve a caller that watches one.
 
 use super::*;
 
@@ -111,14 +111,62 @@ impl Hybrid<10> for Pneu {
         })
     }
 
-    /// Fires the components at or above zero (the pad's first), then settles: a stuck pad past
-    /// mu_s N slips, a stuck band past F_ss breaks away, until neither holds (a change can
-    /// leave the other's guard above zero).
-    fn transition(&self, r0: Regime, y: &mut Y) -> Regime {
+    /// Fires the components at or above zero (the pad's first; see [`Pneu::fire`]).
+    fn transition(&self, r: Regime, y: &mut Y) -> Regime {
+        let pad = self.pad_guard(r, y).is_some_and(|g| g >= 0.0);
+        let band = self.band_guard(r, y) >= 0.0;
+        self.fire(r, y, pad, band)
+    }
+
+    /// Two guards: the pad's (0) and the band's (1), each located on its own (crests included)
+    /// by the driver, which makes the earliest.
+    fn guard_count(&self) -> usize {
+        2
+    }
+
+    fn guard_k(&self, r: Regime, y: &Y, k: usize) -> f64 {
+        if k == 0 {
+            self.pad_guard(r, y).unwrap_or(-1.0)
+        } else {
+            self.band_guard(r, y)
+        }
+    }
+
+    fn guard_rate_k(&self, r: Regime, y: &Y, k: usize) -> Option<f64> {
+        let yd = self.deriv(r, y);
+        if k == 0 {
+            self.pad_guard(r, y).map(|_| self.pad_guard_rate(r, y, &yd))
+        } else {
+            Some(self.band_guard_rate(r, y, &yd))
+        }
+    }
+
+    /// Guard k fired (the band's too if it holds at the same state).
+    fn transition_k(&self, r: Regime, y: &mut Y, k: usize) -> Regime {
+        let band = k == 1 || self.band_guard(r, y) >= 0.0;
+        self.fire(r, y, k == 0, band)
+    }
+
+    /// The model-2 reference's fastest rate of the pad (the band's mass with no drive spring),
+    /// and the column at its stiffest (the supply pressure at the start's volume), the seal's
+    /// falling slope and the guides' damping on the band.
+    fn fastest_rate(&self) -> f64 {
+        let pad = <Phys as Hybrid<8>>::fastest_rate(&self.ph);
+        let column = (self.n * self.p_s * self.area / self.l0 / self.m_b).sqrt();
+        let seal = (self.f_ss - self.f_sk) / self.v_ss / self.m_b;
+        let relax = self.n * P_REF * self.conductance * self.p_s / (self.area * self.l0 * self.p_s);
+        pad.max(column).max(seal).max(self.c_b / self.m_b).max(relax)
+    }
+}
+
+impl Pneu {
+    /// Fires the pad's component (`pad_fired`), then the band's (`band_fired`, if its guard
+    /// still holds), then settles: a stuck pad past mu_s N slips, a stuck band past F_ss breaks
+    /// away, until neither holds (a change can leave the other's guard above zero). The
+    /// elementary changes go to the log.
+    fn fire(&self, r0: Regime, y: &mut Y, pad_fired: bool, band_fired: bool) -> Regime {
         let mut r = r0;
         let mut changes = Vec::new();
-        let pad_fired = self.pad_guard(r, y).is_some_and(|g| g >= 0.0);
-        let band_fired = self.band_guard(r, y) >= 0.0;
         if pad_fired {
             let v = self.slip_v(y);
             let next = match (r.pad, r.pad_armed) {
@@ -183,16 +231,5 @@ impl Hybrid<10> for Pneu {
         }
         self.log.borrow_mut().push(changes);
         r
-    }
-
-    /// The model-2 reference's fastest rate of the pad (the band's mass with no drive spring),
-    /// and the column at its stiffest (the supply pressure at the start's volume), the seal's
-    /// falling slope and the guides' damping on the band.
-    fn fastest_rate(&self) -> f64 {
-        let pad = <Phys as Hybrid<8>>::fastest_rate(&self.ph);
-        let column = (self.n * self.p_s * self.area / self.l0 / self.m_b).sqrt();
-        let seal = (self.f_ss - self.f_sk) / self.v_ss / self.m_b;
-        let relax = self.n * P_REF * self.conductance * self.p_s / (self.area * self.l0 * self.p_s);
-        pad.max(column).max(seal).max(self.c_b / self.m_b).max(relax)
     }
 }

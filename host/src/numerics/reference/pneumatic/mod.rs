@@ -16,9 +16,9 @@
 //! - p A x_b')`.
 //!
 //! Regimes: the pad's (stick, slip slower, slip faster) times the band's (sliding forward,
-//! back, stuck), the slips each with an arming flag. The driver watches one guard per regime,
-//! the largest of the active components' (normalised: a force over max(mu_s N_0, F_ss), a speed
-//! over V):
+//! back, stuck), the slips each with an arming flag. The driver watches two guards in every
+//! regime (`Hybrid::guard_count`), each located with its crests and the earliest made (each
+//! normalised: a force over max(mu_s N_0, F_ss), a speed over V):
 //! - pad: stick `|F_req| - mu_s N`; slip slower `v`, faster `-v`;
 //! - band: stuck `|A (p - p_atm) - F| - F_ss`; sliding forward `-x_b'`, back `x_b'`;
 //! - **arming**: a slip of the pad or of the band that starts at zero speed (every one with
