@@ -7,7 +7,7 @@ use stickslip_model::{Caliper, Scene};
 
 /// The hinged pad's constants.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Pad {
+pub(crate) struct Pad {
     pub m: f64,
     pub i: f64,
     pub kg: f64,

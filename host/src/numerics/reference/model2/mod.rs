@@ -37,7 +37,7 @@ use super::common::{Pad, WindowStats};
 use stickslip_model::{FrictionLaw, Scene};
 
 mod hybrid;
-mod physics;
+pub(crate) mod physics;
 mod unilateral;
 use physics::*;
 pub use unilateral::{simulate_unilateral, Contact, UnilateralRun};

@@ -6,31 +6,31 @@ use super::*;
 
 /// The pad's constants (docs/model.md) and model 2's.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Phys {
-    pub(super) pad: Pad,
-    pub(super) phi0: f64,
-    pub(super) stribeck: bool,
-    pub(super) v_s: f64,
-    pub(super) delta: f64,
-    pub(super) band: bool,
-    pub(super) mb: f64,
-    pub(super) kb: f64,
-    pub(super) cb: f64,
+pub(crate) struct Phys {
+    pub(crate) pad: Pad,
+    pub(crate) phi0: f64,
+    pub(crate) stribeck: bool,
+    pub(crate) v_s: f64,
+    pub(crate) delta: f64,
+    pub(crate) band: bool,
+    pub(crate) mb: f64,
+    pub(crate) kb: f64,
+    pub(crate) cb: f64,
     /// Friction-face kinematics (only with rotation).
-    pub(super) face: bool,
+    pub(crate) face: bool,
     /// The floating pad (finite k_pivot): the pivot translates by y normal to the band, the
     /// centre of gravity l from it (mass matrix [[I, m l], [m l, m]] in (phi, y)).
-    pub(super) floating: bool,
-    pub(super) k_pivot: f64,
-    pub(super) c_y: f64,
-    pub(super) l: f64,
-    pub(super) k_s: f64,
-    pub(super) f_n: f64,
-    pub(super) y0: f64,
+    pub(crate) floating: bool,
+    pub(crate) k_pivot: f64,
+    pub(crate) c_y: f64,
+    pub(crate) l: f64,
+    pub(crate) k_s: f64,
+    pub(crate) f_n: f64,
+    pub(crate) y0: f64,
 }
 
 impl Phys {
-    pub(super) fn of(sc: &Scene) -> Phys {
+    pub(crate) fn of(sc: &Scene) -> Phys {
         let pad = Pad::of(sc);
         let (d_l, d_t, a_n, k_rot) = (pad.d_l, pad.d_t, pad.a_n, pad.k_rot);
         Phys {
@@ -66,7 +66,7 @@ impl Phys {
         }
     }
 
-    pub(super) fn normal(&self, z: &Z) -> f64 {
+    pub(crate) fn normal(&self, z: &Z) -> f64 {
         if self.floating {
             return self.k_s * z[6] + self.pad.c_n * z[2];
         }
@@ -74,7 +74,7 @@ impl Phys {
     }
 
     /// Rate of N along the motion.
-    pub(super) fn normal_rate(&self, zd: &Z) -> f64 {
+    pub(crate) fn normal_rate(&self, zd: &Z) -> f64 {
         if self.floating {
             self.k_s * zd[6] + self.pad.c_n * zd[2]
         } else if self.pad.rotation {
@@ -85,13 +85,13 @@ impl Phys {
     }
 
     /// The floating pad's (phi, y) mass block: its determinant I m - (m l)^2.
-    pub(super) fn det_float(&self) -> f64 {
+    pub(crate) fn det_float(&self) -> f64 {
         self.pad.i * self.pad.m - (self.pad.m * self.l) * (self.pad.m * self.l)
     }
 
     /// The floating pad: (phi'', y'') from the generalized forces on phi (with the friction's
     /// moment) and on y, by the inverse of [[I, m l], [m l, m]].
-    pub(super) fn float_acc(&self, q_phi: f64, q_y: f64) -> (f64, f64) {
+    pub(crate) fn float_acc(&self, q_phi: f64, q_y: f64) -> (f64, f64) {
         let det = self.det_float();
         let ml = self.pad.m * self.l;
         ((self.pad.m * q_phi - ml * q_y) / det, (self.pad.i * q_y - ml * q_phi) / det)
@@ -99,7 +99,7 @@ impl Phys {
 
     /// The floating pad's generalized forces without friction on phi and y (`c = 0`: without
     /// the constant terms, for rates).
-    pub(super) fn float_forces(&self, z: &Z, c: f64) -> (f64, f64) {
+    pub(crate) fn float_forces(&self, z: &Z, c: f64) -> (f64, f64) {
         let q_phi = c * self.pad.moment_load - self.pad.k_rot * z[2] - self.pad.c_n * z[6] - self.pad.cphi * z[3];
         let q_y = c * self.f_n - (self.k_s + self.k_pivot) * z[6] - self.pad.c_n * z[2] - self.c_y * z[7];
         (q_phi, q_y)
@@ -107,7 +107,7 @@ impl Phys {
 
     /// The floating pad's stick friction: x'' + s w phi'' - u'' = 0 with the equations of
     /// motion, solved for F (linear in F).
-    pub(super) fn f_req_float(&self, z: &Z, affine: bool) -> f64 {
+    pub(crate) fn f_req_float(&self, z: &Z, affine: bool) -> f64 {
         let c = if affine { 1.0 } else { 0.0 };
         let q_x = -self.pad.kg * z[0] - self.pad.cx * z[1];
         let (q_phi, q_y) = self.float_forces(z, c);
@@ -122,18 +122,18 @@ impl Phys {
     }
 
     /// Sliding velocity v = x' (+ s w phi') - V - u'.
-    pub(super) fn slip_v(&self, z: &Z) -> f64 {
+    pub(crate) fn slip_v(&self, z: &Z) -> f64 {
         self.face_rate(z) - self.pad.v
     }
 
     /// The face's velocity relative to the band's drive point, x' (+ s w phi') - u' (also the
     /// rate of v along the motion when given z').
-    pub(super) fn face_rate(&self, z: &Z) -> f64 {
+    pub(crate) fn face_rate(&self, z: &Z) -> f64 {
         z[1] + if self.face { self.pad.s * self.pad.w * z[3] } else { 0.0 } - if self.band { z[5] } else { 0.0 }
     }
 
     /// 1/m + w^2/I (face) + 1/m_b (band): the sliding velocity's response to a friction impulse.
-    pub(super) fn inv_mass_v(&self) -> f64 {
+    pub(crate) fn inv_mass_v(&self) -> f64 {
         if self.floating {
             let (phi1, _) = self.float_acc(self.pad.s * self.pad.w, 0.0);
             return 1.0 / self.pad.m + self.pad.s * self.pad.w * phi1 + if self.band { 1.0 / self.mb } else { 0.0 };
@@ -145,7 +145,7 @@ impl Phys {
 
     /// With the face: the stick's friction from x'' + s w phi'' - u'' = 0 and the three
     /// equations of motion; `affine = false` drops the constant terms (for rates).
-    pub(super) fn f_req_face(&self, z: &Z, affine: bool) -> f64 {
+    pub(crate) fn f_req_face(&self, z: &Z, affine: bool) -> f64 {
         let c = if affine { 1.0 } else { 0.0 };
         let px = -self.pad.kg * z[0] - self.pad.cx * z[1];
         let pphi = -self.pad.k_rot * z[2] - self.pad.cphi * z[3] + c * self.pad.moment_load;
@@ -155,7 +155,7 @@ impl Phys {
         rhs / self.inv_mass_v()
     }
 
-    pub(super) fn mu(&self, speed: f64) -> f64 {
+    pub(crate) fn mu(&self, speed: f64) -> f64 {
         if self.stribeck {
             self.pad.mu_k + (self.pad.mu_s - self.pad.mu_k) * (-(speed / self.v_s).powf(self.delta)).exp()
         } else {
@@ -164,7 +164,7 @@ impl Phys {
     }
 
     /// d mu / d|v|.
-    pub(super) fn mu_slope(&self, speed: f64) -> f64 {
+    pub(crate) fn mu_slope(&self, speed: f64) -> f64 {
         if !self.stribeck {
             return 0.0;
         }
@@ -172,7 +172,7 @@ impl Phys {
         -(self.pad.mu_s - self.pad.mu_k) * (-r.powf(self.delta)).exp() * self.delta * r.powf(self.delta - 1.0) / self.v_s
     }
 
-    pub(super) fn sigma(regime: Regime) -> f64 {
+    pub(crate) fn sigma(regime: Regime) -> f64 {
         match regime {
             Regime::Slower => 1.0,
             Regime::Faster => -1.0,
@@ -181,7 +181,7 @@ impl Phys {
     }
 
     /// The stick's required friction force.
-    pub(super) fn f_req(&self, z: &Z) -> f64 {
+    pub(crate) fn f_req(&self, z: &Z) -> f64 {
         if self.floating {
             self.f_req_float(z, true)
         } else if self.face {
@@ -194,7 +194,7 @@ impl Phys {
     }
 
     /// Rate of F_req along the motion zd (F_req is affine in z).
-    pub(super) fn f_req_rate(&self, zd: &Z) -> f64 {
+    pub(crate) fn f_req_rate(&self, zd: &Z) -> f64 {
         if self.floating {
             self.f_req_float(zd, false)
         } else if self.face {
@@ -206,7 +206,7 @@ impl Phys {
         }
     }
 
-    pub(super) fn friction(&self, regime: Regime, z: &Z) -> f64 {
+    pub(crate) fn friction(&self, regime: Regime, z: &Z) -> f64 {
         match regime {
             Regime::Stick => self.f_req(z),
             _ => Self::sigma(regime) * self.mu(self.slip_v(z).abs()) * self.normal(z),
@@ -215,13 +215,13 @@ impl Phys {
 
     /// The statistics' quantities: x, x', phi, phi', band velocity x_b' = V + u', band
     /// acceleration u''.
-    pub(super) fn quantities(&self, regime: Regime, z: &Z) -> [f64; 6] {
+    pub(crate) fn quantities(&self, regime: Regime, z: &Z) -> [f64; 6] {
         let zd = self.rhs(regime, z);
         [z[0], z[1], z[2], z[3], self.pad.v + if self.band { z[5] } else { 0.0 }, zd[5]]
     }
 
     /// Rates of [`Phys::quantities`].
-    pub(super) fn quantity_rates(&self, regime: Regime, z: &Z) -> [f64; 6] {
+    pub(crate) fn quantity_rates(&self, regime: Regime, z: &Z) -> [f64; 6] {
         let zd = self.rhs(regime, z);
         let jerk_u = if !self.band {
             0.0
@@ -242,7 +242,7 @@ impl Phys {
     }
 
     /// Sets v = 0 on entering stick.
-    pub(super) fn project_stick(&self, z: &mut Z) {
+    pub(crate) fn project_stick(&self, z: &mut Z) {
         if self.floating {
             let p = -self.slip_v(z) / self.inv_mass_v();
             let (dphi, dy) = self.float_acc(self.pad.s * self.pad.w * p, 0.0);
