@@ -328,21 +328,9 @@ fn the_throttle_is_solved_from_the_static_normal_force() {
         100.0 * (product / expect - 1.0)
     );
     assert!((r.conductance / expect - 1.0).abs() < 1e-13);
-}
-
-/// Fails until the product's throttle solve (`model3::cylinder::steady_pad_friction`) takes the
-/// floating pad's static normal force (k_s y_0 + c_N phi_0 = F_N with k_pivot = 0) instead of
-/// the hinged pad's c_N F_N a_N / K: 8.1 % too little conductance on the rig-built twin.
-#[test]
-#[ignore = "the product's throttle solve takes the hinged pad's N_0 on a floating pad"]
-fn the_product_solves_the_floating_pads_throttle_from_its_static_normal_force() {
-    let mut s = floating_no_drop();
-    s.throttle_conductance = 0.0;
-    s.duration = 1e-3;
-    s.stats_from = 0.0;
-    let r = reference::simulate(&s, Tolerances::default()).unwrap();
-    let product = PneumaticRunner::new(&s, PNEUMATIC_RTOL).unwrap().cylinder().conductance;
-    assert!((product / r.conductance - 1.0).abs() < 1e-12, "product {product:e}, reference {:e}", r.conductance);
+    // the product's solve takes the floating pad's static normal force too (it took the hinged
+    // pad's c_N F_N a_N / K before: 8.1 % too little conductance on this twin)
+    assert!((product / expect - 1.0).abs() < 1e-12, "product {product:e}, closed form {expect:e}");
 }
 
 /// The two right-hand sides at every grid sample of the product's run (the product's state and

@@ -136,13 +136,22 @@ impl Cylinder {
 }
 
 /// The pad's friction force in steady sliding at the scene's V [N]: mu(V) N_0 (the load the
-/// throttle is solved for).
+/// throttle is solved for), N_0 the static normal force under the load: c_N phi_0 on the
+/// hinged pad, (k_L + k_T) y_0 + c_N phi_0 on the floating one (F_N itself with k_pivot = 0).
 pub fn steady_pad_friction(scene: &Scene) -> f64 {
     let mu_v = match scene.friction {
         FrictionLaw::Coulomb => scene.mu_k,
         FrictionLaw::Stribeck => scene.mu_k + (scene.mu_s - scene.mu_k) * libm::exp(-libm::pow(scene.v / scene.v_s, scene.stribeck_exponent)),
     };
-    mu_v * Coefficients::of(&scene.linearised_contact()).n0
+    let linear = scene.linearised_contact();
+    let co = Coefficients::of(&linear);
+    let n0 = if linear.floating() {
+        let (y0, phi0) = co.floating_rest(&linear);
+        (linear.k_l + linear.k_t) * y0 + co.c_n * phi0
+    } else {
+        co.n0
+    };
+    mu_v * n0
 }
 
 /// The pneumatic scene's small-signal equivalent (docs/model.md, "Model 3, part 3"): the band
