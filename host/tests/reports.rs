@@ -102,13 +102,14 @@ fn accuracy_report_meets_its_bounds() {
     // thesis scenes: 3 steps x 5 methods x 2 precisions + 3 tolerances; model 2: 4 scenes (the
     // last the floating pad's) x (3 steps x 4 precisions (f64, f32, f32 with libm's and with
     // micromath's exp) + 3 tolerances); model 3's unilateral scene: the event runner at 2
-    // tolerances, the reference at 3
-    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3) + 4 * (3 * 4 + 3) + (2 + 3));
+    // tolerances, the reference at 3; model 3's pneumatic scene: the pneumatic runner at 2
+    // tolerances, its reference at 3
+    assert_eq!(rows.len(), 3 * (3 * 5 * 2 + 3) + 4 * (3 * 4 + 3) + (2 + 3) + (2 + 3));
     for r in rows {
         for key in ["scene", "method", "precision", "run_s"] {
             assert!(!r[key].is_null(), "row without {key}: {r}");
         }
-        let adaptive = r["method"] == "dop853_adaptive" || r["method"] == "event";
+        let adaptive = r["method"] == "dop853_adaptive" || r["method"] == "event" || r["method"] == "pneumatic";
         assert_eq!(r["dt"].is_null(), adaptive, "{r}");
     }
     let exact = |scene: &str, prec: &str| {
@@ -143,6 +144,13 @@ fn accuracy_report_meets_its_bounds() {
         .and_then(|r| r["error"].as_f64())
         .expect("the unilateral event runner's row");
     assert!(event <= 1e-6, "unilateral event runner's error {event:e}");
+    // the pneumatic drive: its runner at the host's tolerance against its independent reference
+    let pneumatic = rows
+        .iter()
+        .find(|r| r["scene"] == "rig_push_center_pneumatic" && r["method"] == "pneumatic" && r["rtol"] == 1e-10)
+        .and_then(|r| r["error"].as_f64())
+        .expect("the pneumatic runner's row");
+    assert!(pneumatic <= 1e-6, "pneumatic runner's error {pneumatic:e}");
     assert!(v["speedup_at_equal_error"].as_f64().unwrap() >= 10.0);
     let rc = &v["reference_check"];
     assert!(rc["worst_time_difference_s"].as_f64().unwrap() < 1e-9);

@@ -49,7 +49,10 @@ mod rows;
 mod truth;
 pub use markdown::*;
 use model2_rows::*;
-pub use model3_rows::{BOUND_UNILATERAL, EVENT_METHOD, FULL_EVENT_RTOLS, QUICK_EVENT_RTOLS, UNILATERAL_SCENE};
+pub use model3_rows::{
+    BOUND_PNEUMATIC, BOUND_UNILATERAL, EVENT_METHOD, FULL_EVENT_RTOLS, FULL_PNEUMATIC_RTOLS, PNEUMATIC_METHOD, PNEUMATIC_SCENE, QUICK_EVENT_RTOLS,
+    QUICK_PNEUMATIC_RTOLS, UNILATERAL_SCENE,
+};
 use observe::*;
 use rows::*;
 use truth::*;
@@ -229,6 +232,12 @@ pub fn run(opts: &Options) -> Result<Report> {
     }
     let event_rtols: &[f64] = if opts.quick { &QUICK_EVENT_RTOLS } else { &FULL_EVENT_RTOLS };
     rows.extend(model3_rows::unilateral_rows(event_rtols, rtols, opts.repeats)?);
+    // model 3: the pneumatic drive's runner against its independent reference
+    if opts.progress {
+        eprint!("\r{PNEUMATIC_SCENE} pneumatic runner and reference{:<40}", "");
+    }
+    let pneumatic_rtols: &[f64] = if opts.quick { &QUICK_PNEUMATIC_RTOLS } else { &FULL_PNEUMATIC_RTOLS };
+    rows.extend(model3_rows::pneumatic_rows(pneumatic_rtols, rtols, opts.repeats)?);
     if opts.progress {
         eprintln!();
     }
@@ -256,6 +265,14 @@ pub fn run(opts: &Options) -> Result<Report> {
                 .find(|r| r.scene == UNILATERAL_SCENE && r.method == EVENT_METHOD && r.rtol == Some(1e-12))
                 .and_then(|r| r.error),
             BOUND_UNILATERAL,
+            false,
+        ),
+        check(
+            &format!("{PNEUMATIC_SCENE} pneumatic runner f64 error at rtol 1e-10 (the pneumatic drive)"),
+            rows.iter()
+                .find(|r| r.scene == PNEUMATIC_SCENE && r.method == PNEUMATIC_METHOD && r.rtol == Some(1e-10))
+                .and_then(|r| r.error),
+            BOUND_PNEUMATIC,
             false,
         ),
     ];
