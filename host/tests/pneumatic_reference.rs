@@ -145,14 +145,8 @@ fn floating_no_drop() -> Scene {
 /// 15 mm column and a seal of 40 / 30 N (the default 80 / 60 N breaks away only every 1.5 to
 /// 2 s): the band breaks away 6 times in 1 s, the pad slips once per breakaway.
 fn rig_small_seal() -> Scene {
-    let mut s = rig_set::rig_scene(Caliper::Push, 0.04);
-    s.drive = BandDrive::Pneumatic;
-    s.column_length = 0.015;
-    s.seal_static = 40.0;
-    s.seal_kinetic = 30.0;
-    s.duration = 1.0;
-    s.stats_from = 0.1;
-    s
+    // the accuracy report's pneumatic scene
+    stickslip::numerics::accuracy::pneumatic_scene()
 }
 
 /// Largest differences between a product run and a reference run.

@@ -12,15 +12,13 @@ use stickslip::numerics::reference::Tolerances;
 use stickslip::scenes::unilateral::UNILATERAL_RTOL;
 use stickslip_model::model2::event_run::EventRunner;
 use stickslip_model::model2::{Model2Observer, Model2Segment, Model2StatsObserver, Model2Transition};
-use stickslip_model::{rig_set, Caliper, ContactLaw, Regime, Scene};
+use stickslip_model::{Regime, Scene};
 
 /// `rig_float_push_center` turned to the pull caliper with the load 11.5 mm from the trailing
 /// edge: its lead edge opens and closes about 160 times a second (host/tests/unilateral.rs).
 fn chattering(duration: f64) -> Scene {
-    let mut s = rig_set::rig_float_scene(Caliper::Push, 0.04);
-    s.caliper = Caliper::Pull;
-    s.beta = 0.0115;
-    s.contact = ContactLaw::Unilateral;
+    // the accuracy report's unilateral scene
+    let mut s = stickslip::numerics::accuracy::unilateral_scene();
     s.duration = duration;
     s.stats_from = 0.5 * duration;
     s

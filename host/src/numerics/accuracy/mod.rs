@@ -51,7 +51,7 @@ pub use markdown::*;
 use model2_rows::*;
 pub use model3_rows::{
     BOUND_PNEUMATIC, BOUND_UNILATERAL, EVENT_METHOD, FULL_EVENT_RTOLS, FULL_PNEUMATIC_RTOLS, PNEUMATIC_METHOD, PNEUMATIC_SCENE, QUICK_EVENT_RTOLS,
-    QUICK_PNEUMATIC_RTOLS, UNILATERAL_SCENE,
+    QUICK_PNEUMATIC_RTOLS, UNILATERAL_SCENE, pneumatic_scene, unilateral_scene,
 };
 use observe::*;
 use rows::*;

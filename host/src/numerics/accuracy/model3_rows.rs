@@ -36,7 +36,7 @@ pub const BOUND_PNEUMATIC: f64 = 1e-6;
 
 /// `rig_float_push_center` turned to the pull caliper with the load 11.5 mm from the trailing
 /// edge (its lead edge opens and closes about 200 times a second), 0.8 s, window from 0.4 s.
-pub(super) fn unilateral_scene() -> Scene {
+pub fn unilateral_scene() -> Scene {
     let mut s = rig_set::rig_float_scene(Caliper::Push, 0.04);
     s.caliper = Caliper::Pull;
     s.beta = 0.0115;
@@ -140,7 +140,7 @@ pub(super) fn unilateral_rows(event_rtols: &[f64], rtols: &[f64], repeats: usize
 /// `rig_push_center` (hinged, push, beta 40 mm) with the pneumatic drive on a 15 mm column and
 /// a 40 / 30 N seal, 1 s, window from 0.1 s: the band breaks away 6 times, the pad slips once
 /// per breakaway (host/tests/pneumatic_reference.rs).
-pub(super) fn pneumatic_scene() -> Scene {
+pub fn pneumatic_scene() -> Scene {
     let mut s = rig_set::rig_scene(Caliper::Push, 0.04);
     s.drive = BandDrive::Pneumatic;
     s.column_length = 0.015;
