@@ -14,7 +14,7 @@ each a comma-separated list: column_length [m], the seal's drop seal_static - se
 (seal_static 80 N), seal_v_s [m/s], mu_k. `--cases` prints each case's residuals too. The binary
 is target/release/stickslip (or $STICKSLIP). Example (docs/fit.md):
 
-    python3 scripts/table31_pneumatic.py 0.028 0 0.005 0.4479 --cases
+    python3 scripts/table31_pneumatic.py 0.04 0 0.005 0.4480 --cases
 """
 import csv
 import itertools
