@@ -2,11 +2,11 @@
 """Table 3.1 against the rig-built set with the pneumatic band drive (issue 34, item 5).
 
 `fit` cannot run the drive (the virtual rig's fixed-step stepper refuses it), so this sweeps the
-drive's keys over a grid and runs `stickslip simulate` on the six cases of each combination:
+drive's keys over a grid and runs `stickslip simulate --json` on the six cases of each combination:
 the bilateral twin of the `rig-built` set (its `contact` line removed: no edge opens in these
 runs, a spring in tension would halt them as contact_loss) with `drive = "pneumatic"`. It prints
 per combination the RMS of ln(model / measured) over Table 3.1's 12 pad_x and disc_x values
-(`simulate` gives no edge channels) and the push cases' pad_x, best last.
+(`simulate --json`'s pad_x_pp and disc_x_pp; it gives no edge channels) and the push cases' pad_x, best last.
 
     python3 scripts/table31_pneumatic.py COLUMNS DROPS SEAL_V_S MU_K [--cases]
 
@@ -18,9 +18,9 @@ is target/release/stickslip (or $STICKSLIP). Example (docs/fit.md):
 """
 import csv
 import itertools
+import json
 import math
 import os
-import re
 import subprocess
 import sys
 import tempfile
@@ -53,14 +53,13 @@ def run(base, tmp, combo, case):
     path = os.path.join(tmp, f"{abs(hash((combo, case)))}.toml")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
-    out = subprocess.run([BIN, "simulate", path], capture_output=True, text=True)
+    out = subprocess.run([BIN, "simulate", path, "--json"], capture_output=True, text=True)
     if out.returncode != 0:
         return None
-    get = lambda key: re.search(key + r"\s+(\S+)", out.stdout)
-    outcome, px, dx = get("outcome"), get("pad x'' pp"), get(r"band x_b'' pp")
-    if not (outcome and px and dx) or outcome.group(1) != "completed":
+    run = json.loads(out.stdout)
+    if run.get("outcome") != "completed" or "pad_x_pp" not in run or "disc_x_pp" not in run:
         return None
-    return float(px.group(1)), float(dx.group(1))
+    return run["pad_x_pp"], run["disc_x_pp"]
 
 
 def main():

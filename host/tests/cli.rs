@@ -161,6 +161,24 @@ fn help_and_version_exit_zero() {
     assert!(ok(&["--version"]).starts_with("stickslip "));
 }
 
+/// A model-2 scene's `simulate --json` carries the rig's pad_x and disc_x peak-to-peaks, the
+/// same as the summary's lines (to the summary's 5 digits); the thesis model's has neither.
+#[test]
+fn simulate_json_gives_pad_x_and_disc_x_of_a_model2_scene() {
+    let v = json(&["simulate", "rig_push_center", "--json"]);
+    let text = ok(&["simulate", "rig_push_center"]);
+    let line = |label: &str| -> f64 {
+        let l = text.lines().find(|l| l.starts_with(label)).unwrap_or_else(|| panic!("no `{label}` line: {text}"));
+        l[label.len()..].split_whitespace().next().expect("a value").parse().expect("a number")
+    };
+    for (key, label) in [("pad_x_pp", "pad x'' pp"), ("disc_x_pp", "band x_b'' pp")] {
+        let (j, t) = (num(&v, key), line(label));
+        assert!(j > 0.0 && ((j - t) / t).abs() < 1e-4, "{key} {j} against the summary's {t}");
+    }
+    let thesis = json(&["simulate", "push_center", "--json"]);
+    assert!(thesis.get("pad_x_pp").is_none() && thesis.get("disc_x_pp").is_none(), "{thesis}");
+}
+
 #[test]
 fn simulate_json_has_the_contract_keys() {
     let v = json(&["simulate", "push_center", "--json"]);

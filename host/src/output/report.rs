@@ -458,6 +458,13 @@ pub struct SimulateJson {
     pub period_sd_s: Option<f64>,
     pub cycle_stick_fraction_mean: Option<f64>,
     pub cycle_stick_fraction_sd: Option<f64>,
+    /// Model-2 scenes with a statistics window: the pad's x'' peak-to-peak [m/s^2] (the rig's
+    /// pad_x), and with the band its x_b'' peak-to-peak [m/s^2] (the rig's disc_x), as the
+    /// summary's lines give them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pad_x_pp: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub disc_x_pp: Option<f64>,
     /// Model-2 scenes: the linear stability of steady sliding (`stickslip::scenes::sliding`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub linear: Option<LinearJson>,
@@ -514,6 +521,8 @@ impl SimulateJson {
             period_sd_s: r.cycles.period.sd(),
             cycle_stick_fraction_mean: r.cycles.stick_fraction.mean(),
             cycle_stick_fraction_sd: r.cycles.stick_fraction.sd(),
+            pad_x_pp: r.model2.as_ref().filter(|_| r.has_window()).map(|m2| m2.pad_acc_pp),
+            disc_x_pp: r.model2.as_ref().filter(|_| r.has_window() && ns.scene.band).map(|m2| m2.band_acc_pp),
             linear: LinearJson::of(&ns.scene),
         }
     }
