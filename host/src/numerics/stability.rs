@@ -390,7 +390,7 @@ fn model2_rows(duration: f64) -> Result<Vec<Row>> {
 /// The pneumatic drive's sweeps: the runner in f64 (it has no f32 form); a halt that is not the
 /// model's own (contact loss, sprag) is `method_unstable`, and so is a stall.
 fn model3_rows(duration: f64) -> Result<Vec<Row>> {
-    use stickslip_model::model3::pneumatic_run::{PneumaticRunner, PneumaticSample, PneumaticStop};
+    use stickslip_model::model3::pneumatic_run::{PneumaticRunner, PneumaticSample};
     let mut base = builtin::find("rig_push_center").expect("built-in").scene;
     base.duration = duration;
     base.stats_from = duration / 2.0;
@@ -409,11 +409,7 @@ fn model3_rows(duration: f64) -> Result<Vec<Row>> {
                 slipped |= g.regime != Regime::Stick;
                 true
             });
-            let halt = match result {
-                Ok(()) => None,
-                Err(PneumaticStop::Halt(h)) => Some(h),
-                Err(PneumaticStop::Stalled { t }) => Some(Halt::TransitionStorm { t }),
-            };
+            let halt = result.err().map(crate::scenes::pneumatic::halt_of);
             let model = match halt {
                 Some(Halt::Diverged { stiffness_margin, .. }) if stiffness_margin <= 0.0 => Verdict::Sprag,
                 Some(Halt::ContactLoss { .. }) => Verdict::ContactLoss,

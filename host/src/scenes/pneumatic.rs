@@ -44,11 +44,17 @@ fn run_one<S: Sink + ?Sized, const FULL: bool>(scene: &Scene, mut runner: Pneuma
                 let w = &g.w;
                 on_sample(&GridView { t: g.t, regime: g.regime, z: [w[0], w[1], w[2], w[3]], n: g.n, f_f: g.f_f, pad_acc: g.d[1], v_slide: g.v_slide })
             })
-            .map_err(|stop| match stop {
-                PneumaticStop::Halt(h) => h,
-                PneumaticStop::Stalled { t } => Halt::TransitionStorm { t },
-            })
+            .map_err(halt_of)
     })?;
     report.drive = Some(runner.drive_stats());
     Ok(report)
+}
+
+/// The halt a stop of a pneumatic run stands for: the model's own, or a stalled run (its step
+/// budget used up) as a `transition_storm`.
+pub(crate) fn halt_of(stop: PneumaticStop) -> Halt {
+    match stop {
+        PneumaticStop::Halt(h) => h,
+        PneumaticStop::Stalled { t } => Halt::TransitionStorm { t },
+    }
 }

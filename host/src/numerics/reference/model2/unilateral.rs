@@ -175,7 +175,6 @@ pub fn simulate_unilateral(scene: &Scene, tol: Tolerances) -> Result<UnilateralR
         let d = sys.rhs(r, y);
         ([y[0], y[1], y[2], y[3]], [y[1], d[1], y[3], d[3]])
     };
-    let tol_c = tol;
     let observe = |piece: &driver::Piece<Contact, 8>| -> Result<(), String> {
         let r = piece.regime;
         if r.lost() {
@@ -211,7 +210,7 @@ pub fn simulate_unilateral(scene: &Scene, tol: Tolerances) -> Result<UnilateralR
                 if ra[c] * rb[c] < 0.0 {
                     let up = ra[c] > 0.0;
                     let step = Bracket { t_a: piece.ts[k - 1], y_a: piece.ys[k - 1], lo: piece.ts[k - 1], hi: t_b, y_hi: y_b };
-                    let found = driver::bisect(&sys, r, step, piece.h_max, &tol_c, |y| (quantities(r, y).1[c] > 0.0) != up)?;
+                    let found = driver::bisect(&sys, r, step, piece.h_max, &tol, |y| (quantities(r, y).1[c] > 0.0) != up)?;
                     include(quantities(r, &found.state).0);
                 }
             }
