@@ -211,15 +211,19 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let first_steps: Vec<f64> = (0..free.len()).map(|k| unc.cov_u[(k, k)].sqrt()).collect();
     // intervals where the model fits: a misfit's profile would measure the model's error, not
     // the data's (and not_converged has no one optimum to profile)
-    let profiles = if goodness.verdict == goodness::Verdict::Fits {
+    let profiles = if !problem.time_domain() {
+        notes.push(format!(
+            "no profile-likelihood intervals: a statistics cost gets standard errors and flat directions only (each point of a profile would be a local search over every case); the verdict is {}",
+            goodness.verdict.name()
+        ));
+        Vec::new()
+    } else if goodness.verdict == goodness::Verdict::Fits {
         solve::profile_intervals(&problem, &sol.u, sol.cost, chi2_scale, goodness.chi2_per_dof, &first_steps, req.max_iters)
     } else {
-        if problem.time_domain() {
-            notes.push(format!(
-                "no profile-likelihood intervals: the verdict is {} (a profile would measure the model's error, not the data's)",
-                goodness.verdict.name()
-            ));
-        }
+        notes.push(format!(
+            "no profile-likelihood intervals: the verdict is {} (a profile would measure the model's error, not the data's)",
+            goodness.verdict.name()
+        ));
         Vec::new()
     };
     eprintln!(
@@ -239,8 +243,8 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let std_boot_u =
         if problem.time_domain() { None } else { solve::bootstrap(&j, &problem.rows, &sources, req.bootstrap, req.seed) };
     let values = problem.values(&sol.u);
-    let std: Vec<f64> = values.iter().enumerate().map(|(k, v)| v * unc.cov_u[(k, k)].sqrt()).collect();
-    let std_bootstrap = std_boot_u.map(|s| s.iter().zip(&values).map(|(su, v)| v * su).collect());
+    let std: Vec<f64> = values.iter().enumerate().map(|(k, v)| free[k].scale(*v) * unc.cov_u[(k, k)].sqrt()).collect();
+    let std_bootstrap = std_boot_u.map(|s| s.iter().zip(&values).enumerate().map(|(k, (su, v))| free[k].scale(*v) * su).collect());
     let n = free.len();
     let correlation = DMatrix::from_fn(n, n, |a, b| unc.cov_u[(a, b)] / (unc.cov_u[(a, a)] * unc.cov_u[(b, b)]).sqrt());
     // the model at the optimum: fitted rows, then the held-out cases

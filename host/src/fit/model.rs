@@ -51,13 +51,84 @@ pub fn case_scene(base: &NamedScene, case: &str) -> Option<Scene> {
     None
 }
 
-/// A free key, fitted on a log scale between its bounds.
+/// A free key, fitted on a log scale between its bounds: the search's coordinate is
+/// u = ln((value - origin) / (start - origin)), so value = origin + (start - origin) e^u.
+/// `origin` is 0 for every key but mu_k with mu_s held, where it is mu_s: mu_k is then searched
+/// as its drop mu_s - mu_k on a log scale ([`drop_coordinate`]), because the stick-slip
+/// amplitude scales with the drop (docs/fit.md, "Coordinates").
 #[derive(Clone, Debug)]
 pub struct FreeKey {
     pub key: String,
     pub start: f64,
     pub lo: f64,
     pub hi: f64,
+    pub origin: f64,
+}
+
+/// The smallest friction drop mu_s - mu_k searched with mu_s held, relative to mu_s (a log
+/// scale cannot reach a drop of 0).
+pub const DROP_FLOOR: f64 = 1e-4;
+
+impl FreeKey {
+    /// A key on the plain log scale (origin 0).
+    pub fn new(key: &str, start: f64, lo: f64, hi: f64) -> FreeKey {
+        FreeKey { key: key.to_string(), start, lo, hi, origin: 0.0 }
+    }
+
+    /// The value at coordinate `u`.
+    #[inline]
+    pub fn value(&self, u: f64) -> f64 {
+        self.origin + (self.start - self.origin) * u.exp()
+    }
+
+    /// The coordinate of `value` (NaN on the wrong side of the origin).
+    #[inline]
+    pub fn coord(&self, value: f64) -> f64 {
+        ((value - self.origin) / (self.start - self.origin)).ln()
+    }
+
+    /// The bounds as a range of the coordinate, (lower, upper).
+    pub fn u_range(&self) -> (f64, f64) {
+        let (a, b) = (self.coord(self.lo), self.coord(self.hi));
+        (a.min(b), a.max(b))
+    }
+
+    /// |d value / d u| at `value`: a standard error in u times this is one in the value.
+    #[inline]
+    pub fn scale(&self, value: f64) -> f64 {
+        (value - self.origin).abs()
+    }
+
+    /// What the coordinate is, for the report: `ln(mu_k)` or `ln(mu_s - mu_k)`.
+    pub fn coordinate_name(&self) -> String {
+        if self.origin == 0.0 {
+            format!("ln({})", self.key)
+        } else {
+            format!("ln({} - {})", self.origin, self.key)
+        }
+    }
+}
+
+/// mu_k with mu_s held (not free): search it as its drop below mu_s on a log scale, its upper
+/// bound at most mu_s (1 - [`DROP_FLOOR`]). Returns a note when the bound was lowered; nothing
+/// changes when the start is within that floor of mu_s (then the plain log scale stays).
+pub fn drop_coordinate(keys: &mut [FreeKey], mu_s: f64) -> Option<String> {
+    if keys.iter().any(|f| f.key == "mu_s") {
+        return None;
+    }
+    let f = keys.iter_mut().find(|f| f.key == "mu_k")?;
+    let top = mu_s * (1.0 - DROP_FLOOR);
+    if !(mu_s.is_finite() && f.start < top && f.lo < top) {
+        return None;
+    }
+    f.origin = mu_s;
+    if f.hi > top {
+        f.hi = top;
+        return Some(format!(
+            "mu_k: searched as the drop mu_s - mu_k on a log scale (mu_s = {mu_s} held), its upper bound lowered to mu_s (1 - {DROP_FLOOR}) = {top}"
+        ));
+    }
+    Some(format!("mu_k: searched as the drop mu_s - mu_k on a log scale (mu_s = {mu_s} held)"))
 }
 
 /// The keys a fit may not free: the case's own (beta, set per case) and the run's.

@@ -82,10 +82,13 @@ pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Pro
     let k = problem.free.iter().position(|f| f.key == key).ok_or_else(|| {
         HostError::Input(format!("--profile {spec}: `{key}` is not a free key (give it in --free)"))
     })?;
-    let start = problem.free[k].start;
+    // a profile scans values, not a search's coordinate: the plain log scale, so that a value
+    // past mu_s is the scene's own error (mu_k > mu_s), not a drop with no logarithm
+    problem.free[k].origin = 0.0;
     // the search's parameters are u = ln(value / start): each end as the problem will see it
-    // after the round trip start exp(u) (4 can come back as 4.000000000000001) is inside
-    let round_trip = |v: f64| start * (v / start).ln().exp();
+    // after the round trip (4 can come back as 4.000000000000001) is inside
+    let fk = problem.free[k].clone();
+    let round_trip = |v: f64| fk.value(fk.coord(v));
     problem.free[k].lo = problem.free[k].lo.min(lo).min(round_trip(lo));
     problem.free[k].hi = problem.free[k].hi.max(hi).max(round_trip(hi));
     let values = profile_values(lo, hi, n);
@@ -93,7 +96,7 @@ pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Pro
         .iter()
         .map(|&v| {
             let mut u = vec![0.0; problem.free.len()];
-            u[k] = (v / start).ln();
+            u[k] = fk.coord(v);
             match problem.residuals(&u) {
                 Ok(r) if problem.time_domain() => {
                     // the time-domain cost: residuals are samples in units of the noise, not

@@ -53,7 +53,7 @@ pub(super) fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String], 
         }
         let (lo, hi, note) = bounds::default_bounds(&scene.scene, item, start);
         notes.extend(note);
-        keys.push(FreeKey { key: item.to_string(), start, lo, hi });
+        keys.push(FreeKey::new(item, start, lo, hi));
     }
     if keys.is_empty() {
         return Err(HostError::Input("--free: give at least one scene key to fit, e.g. --free mu_s,mu_k,v_s".into()));
@@ -74,6 +74,7 @@ pub(super) fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String], 
         f.lo = lo;
         f.hi = hi;
     }
+    notes.extend(model::drop_coordinate(&mut keys, scene.scene.mu_s));
     Ok(keys)
 }
 

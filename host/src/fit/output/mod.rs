@@ -339,7 +339,7 @@ pub fn markdown(r: &FitReport) -> String {
         s.push_str("\nFix one of the keys along a flat direction, or add a target that moves it.\n\n");
     }
     if r.free.len() > 1 {
-        s.push_str("Correlation of the fitted parameters (of ln p):\n\n|  |");
+        s.push_str(&format!("Correlation of the fitted parameters (of {}):\n\n|  |", coordinates(r)));
         for f in &r.free {
             s.push_str(&format!(" {} |", f.key));
         }
@@ -399,9 +399,10 @@ pub fn markdown(r: &FitReport) -> String {
         s.push_str(&format!("| whole | - | {} | {} | {:.4e} | {} |\n", r.fitted.len(), kv(&r.values), r.cost, r.converged));
     }
     s.push_str(&format!(
-        "\nMethod: residual = sqrt(weight) ln(model / measured) per statistic; weights {}. The model side is the scene's virtual rig on the ideal sensor path (its accelerations at the samples, no noise or ADC) through the analysis `analyze` runs, the estimator's breakaway jump fixed at {} m/s^2 on both sides. Nelder-Mead (argmin) on ln p from each start, then Levenberg-Marquardt from its best point; standard errors from the central-difference Jacobian at the optimum scaled by the residual variance{}.\n",
+        "\nMethod: residual = sqrt(weight) ln(model / measured) per statistic; weights {}. The model side is the scene's virtual rig on the ideal sensor path (its accelerations at the samples, no noise or ADC) through the analysis `analyze` runs, the estimator's breakaway jump fixed at {} m/s^2 on both sides. Nelder-Mead (argmin) on {} from each start, then Levenberg-Marquardt from its best point; standard errors from the central-difference Jacobian at the optimum scaled by the residual variance{}.\n",
         r.weights.iter().map(|(st, w)| format!("{}={}", st.name(), num(*w))).collect::<Vec<_>>().join(", "),
         num(r.jump_m_s2),
+        coordinates(r),
         if r.std_bootstrap.is_some() {
             format!("; bootstrap: {} resamples of the recordings' {} windows, each a linearised refit", r.bootstrap_resamples, super::target::WINDOWS)
         } else {
@@ -436,3 +437,13 @@ pub fn fitted_toml(r: &FitReport) -> String {
     scene_file::to_toml(&format!("{}_fit", r.scene.name), &desc, &r.fitted_scene)
 }
 
+/// The search's coordinates in words: `ln p`, or with a drop coordinate `ln p (mu_k:
+/// ln(0.45 - mu_k))` ([`crate::fit::model::FreeKey::coordinate_name`]).
+fn coordinates(r: &FitReport) -> String {
+    let special: Vec<String> = r.free.iter().filter(|f| f.origin != 0.0).map(|f| format!("{}: {}", f.key, f.coordinate_name())).collect();
+    if special.is_empty() {
+        "ln p".to_string()
+    } else {
+        format!("ln p ({})", special.join(", "))
+    }
+}

@@ -105,7 +105,7 @@ impl Problem {
 
     /// The parameters at u.
     pub fn values(&self, u: &[f64]) -> Vec<f64> {
-        self.free.iter().zip(u).map(|(f, x)| f.start * x.exp()).collect()
+        self.free.iter().zip(u).map(|(f, x)| f.value(*x)).collect()
     }
 
     /// The statistics of every case at parameters `values` (the cases run in parallel).

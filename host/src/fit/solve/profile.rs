@@ -65,7 +65,8 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for ProfileLm<'_> {
 /// `None` where the point is rejected. Returns the cost and the others' u.
 pub(super) fn profile_point(p: &Problem, k: usize, uk: f64, w0: &[f64], max_iters: u64) -> Option<(f64, Vec<f64>)> {
     let f = &p.free[k];
-    if !(uk >= (f.lo / f.start).ln() - 1e-12 && uk <= (f.hi / f.start).ln() + 1e-12) {
+    let (ulo, uhi) = f.u_range();
+    if !(uk >= ulo - 1e-12 && uk <= uhi + 1e-12) {
         return None;
     }
     if w0.is_empty() {
@@ -130,7 +131,7 @@ pub fn profile_intervals(
             let others = |uu: &[f64]| -> Vec<f64> { (0..n).filter(|j| *j != k).map(|j| uu[j]).collect() };
             let side = |dir: f64, seen: &mut Vec<(f64, f64)>| -> Option<f64> {
                 let f = &p.free[k];
-                let limit = if dir > 0.0 { (f.hi / f.start).ln() } else { (f.lo / f.start).ln() };
+                let limit = if dir > 0.0 { f.u_range().1 } else { f.u_range().0 };
                 let (mut inside, mut w) = (u[k], others(u));
                 // the first step: the Jacobian's standard error of ln p (the threshold lies near
                 // twice it where the cost is quadratic)
@@ -143,7 +144,7 @@ pub fn profile_intervals(
                         uk = limit;
                     }
                     let (c, w1) = profile_point(p, k, uk, &w, max_iters)?;
-                    seen.push((f.start * uk.exp(), to_dchi2(c)));
+                    seen.push((f.value(uk), to_dchi2(c)));
                     if c - cost >= target {
                         // bisect between the last point inside and this one
                         let (mut a, mut b) = (inside, uk);
@@ -151,7 +152,7 @@ pub fn profile_intervals(
                             let mid = 0.5 * (a + b);
                             let at = profile_point(p, k, mid, &w, max_iters);
                             if let Some((cm, _)) = &at {
-                                seen.push((f.start * mid.exp(), to_dchi2(*cm)));
+                                seen.push((f.value(mid), to_dchi2(*cm)));
                             }
                             match at {
                                 Some((cm, wm)) if cm - cost < target => {
@@ -161,7 +162,7 @@ pub fn profile_intervals(
                                 _ => b = mid,
                             }
                         }
-                        return Some(f.start * (0.5 * (a + b)).exp());
+                        return Some(f.value(0.5 * (a + b)));
                     }
                     if at_bound {
                         return None;
@@ -171,9 +172,11 @@ pub fn profile_intervals(
                     h *= 2.0;
                 }
             };
-            let mut points = vec![(p.free[k].start * u[k].exp(), 0.0)];
-            let lo = side(-1.0, &mut points);
-            let hi = side(1.0, &mut points);
+            let mut points = vec![(p.free[k].value(u[k]), 0.0)];
+            // u rises with the value except on a drop coordinate (value = origin - drop)
+            let up = if p.free[k].start > p.free[k].origin { 1.0 } else { -1.0 };
+            let lo = side(-up, &mut points);
+            let hi = side(up, &mut points);
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
             let side = |x: Option<f64>| x.map_or("not closed".to_string(), |v| format!("{v:.6e}"));
             eprintln!(

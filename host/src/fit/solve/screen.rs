@@ -54,7 +54,7 @@ pub fn screened_starts(first: &Problem, starts: usize, span: Option<f64>, per_ke
         .free
         .iter()
         .map(|f| {
-            let (mut a, mut b) = ((f.lo / f.start).ln(), (f.hi / f.start).ln());
+            let (mut a, mut b) = f.u_range();
             if let Some(sp) = span {
                 a = a.max(-sp);
                 b = b.min(sp);

@@ -1,0 +1,138 @@
+//! `stickslip fit` on a table of peak-to-peak values with mu_s held: mu_k is searched as its
+//! drop mu_s - mu_k on a log scale (`fit::model::drop_coordinate`). The coordinate's algebra,
+//! and a small drop found from a start 40 times as large.
+
+mod recorded_common;
+
+use recorded_common::*;
+use stickslip::fit::goodness::Verdict;
+use stickslip::fit::model::{self, FreeKey, DROP_FLOOR};
+use stickslip::fit::stat::Stat;
+use stickslip::fit::{self, FitRequest};
+use stickslip::scenes::scene_source::{NamedScene, Origin};
+use stickslip_model::rig::ACCEL_NAMES;
+
+fn named(name: &str, scene: stickslip_model::Scene) -> NamedScene {
+    NamedScene { name: name.into(), description: String::new(), origin: Origin::Builtin, scene }
+}
+
+/// The coordinate u = ln((value - origin) / (start - origin)) and back, its range, its scale
+/// (d value / d u), and when it is taken.
+#[test]
+fn the_drop_coordinate_maps_mu_k_to_its_drop_below_mu_s() {
+    let mu_s = 0.45;
+    let mut keys = vec![FreeKey::new("mu_k", 0.35, 0.05, 1.5), FreeKey::new("k_b", 1e6, 1e3, 1e9)];
+    let note = model::drop_coordinate(&mut keys, mu_s).expect("mu_k with mu_s held takes the drop");
+    assert!(note.contains("upper bound lowered"), "{note}");
+    let f = &keys[0];
+    assert_eq!(f.origin, mu_s);
+    assert_eq!(f.hi, mu_s * (1.0 - DROP_FLOOR), "no mu_k at or above mu_s is searched");
+    // the drop 0.1 at the start; u = ln(drop / 0.1), independently of the code's form
+    for drop in [1e-4, 2.7e-3, 0.1, 0.4] {
+        let v = mu_s - drop;
+        let u = f.coord(v);
+        assert!((u - (drop / 0.1f64).ln()).abs() < 1e-12, "u of drop {drop}: {u}");
+        assert!((f.value(u) - v).abs() < 1e-15, "round trip of {v}");
+        assert!((f.scale(v) - drop).abs() < 1e-15, "d mu_k / d u = -drop at {v}");
+    }
+    // u rises as mu_k falls: the range's low end is the upper bound's drop
+    let (a, b) = f.u_range();
+    assert!((a - (mu_s * DROP_FLOOR / 0.1).ln()).abs() < 1e-9 && (b - ((mu_s - 0.05) / 0.1f64).ln()).abs() < 1e-12, "{a} {b}");
+    // k_b keeps the plain log scale
+    assert_eq!(keys[1].origin, 0.0);
+    assert!((keys[1].value(1.0f64.ln() + 2.0) - 1e6 * 2f64.exp()).abs() < 1e-6);
+    // mu_s free: both keep the plain log scale
+    let mut both = vec![FreeKey::new("mu_s", 0.45, 0.05, 1.5), FreeKey::new("mu_k", 0.35, 0.05, 1.5)];
+    assert!(model::drop_coordinate(&mut both, 0.45).is_none());
+    assert!(both.iter().all(|f| f.origin == 0.0));
+    // a start within the floor of mu_s: no drop to take the log of
+    let mut near = vec![FreeKey::new("mu_k", 0.45 * (1.0 - 0.5 * DROP_FLOOR), 0.05, 0.45)];
+    assert!(model::drop_coordinate(&mut near, 0.45).is_none());
+    assert_eq!(near[0].origin, 0.0);
+}
+
+/// The floating rig set's drop is 0.0027 (mu_k 0.4473 under mu_s 0.45). A table of its
+/// peak-to-peak values (two cases, four channels, the fit's own model runs at the truth) is
+/// fitted from mu_k = 0.34 (a drop of 0.11, 40 times the truth's) and k_b x 0.5, with the
+/// default physical bounds: mu_k within 2 % of its drop, k_b within 2 %, verdict `fits`.
+/// On a plain ln(mu_k) scale the truth's basin is a sliver of the bounds (mu_k's cliff where
+/// the cycle changes lies 1e-3 above it: docs/fit.md, "Coordinates").
+#[test]
+fn a_small_friction_drop_is_found_from_a_start_far_off() {
+    let truth = stickslip::scenes::builtin::find("rig_float_push_center").expect("built-in").scene;
+    let base = named("rig_float_push_center", truth);
+    let dir = scratch("fit-table-drop");
+    let mut csv = String::from("case,channel,statistic,value\n");
+    for case in ["push_center", "pull_lead"] {
+        let scene = model::case_scene(&base, case).expect("a case");
+        let a = model::statistics(case, &scene, 8.0, None, false).expect("the truth runs");
+        for (c, name) in ACCEL_NAMES.iter().enumerate() {
+            let v = Stat::Pp.of(&a, Some(c)).expect("a pp");
+            csv.push_str(&format!("{case},{name},pp,{v:e}\n"));
+        }
+    }
+    let table = dir.join("truth.csv");
+    std::fs::write(&table, csv).expect("written");
+    let mut start = truth;
+    start.mu_k = 0.34;
+    start.k_b = truth.k_b * 0.5;
+    let req = FitRequest {
+        free: vec!["mu_k,k_b".into()],
+        tables: vec![table.display().to_string()],
+        starts: 3,
+        max_iters: fit::DEFAULT_MAX_ITERS,
+        bootstrap: 0,
+        seed: 1,
+        breakaway_jump_m_s2: Some(8.0),
+        ..FitRequest::default()
+    };
+    let r = fit::run_fit(named("rig_float_push_center", start), &req).expect("the fit runs");
+    let drop_truth = truth.mu_s - truth.mu_k;
+    let drop_fit = truth.mu_s - r.values[0];
+    println!(
+        "mu_k {} (drop {drop_fit:.6e} against {drop_truth:.6e}, {:+.3} %), k_b {} ({:+.3} %), cost {:.3e}, {} evaluations, {:.1} s",
+        r.values[0],
+        100.0 * (drop_fit - drop_truth) / drop_truth,
+        r.values[1],
+        100.0 * (r.values[1] - truth.k_b) / truth.k_b,
+        r.cost,
+        r.evaluations,
+        r.seconds
+    );
+    assert!((drop_fit - drop_truth).abs() <= 0.02 * drop_truth, "drop {drop_fit} against {drop_truth}");
+    assert!((r.values[1] - truth.k_b).abs() <= 0.02 * truth.k_b, "k_b {} against {}", r.values[1], truth.k_b);
+    assert_eq!(r.goodness.verdict, Verdict::Fits);
+    assert!(r.converged);
+    assert!(r.notes.iter().any(|n| n.contains("drop mu_s - mu_k")), "the report says how mu_k was searched: {:?}", r.notes);
+}
+
+/// Issue 31's Table 3.1 command, exactly: S.toml is `scenes show rig_float_push_center` with
+/// `duration = 3.0`, `stats_from = 1.5` and its `c_b` line replaced by `zeta_b = 0.05`;
+/// `fit --scene S.toml --free mu_k,v_s,k_b,m_b --table thesis_table_3_1 --json`, no bounds.
+/// It reaches an RMS log ratio <= 0.62, and its verdict is not `fits` (Table 3.1 is not
+/// fitted within the assumed 0.25 in ln(value)). Ignored by default for its time (about 270 s
+/// on 2 cores): `cargo test --release -p stickslip --test fit_table -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn table_3_1_with_a_soft_band_reaches_0_62() {
+    let shown = ok(&["scenes", "show", "rig_float_push_center"]);
+    let mut lines: Vec<String> = Vec::new();
+    for l in shown.lines() {
+        let key = l.split('=').next().unwrap_or("").trim();
+        lines.push(match key {
+            "duration" => "duration = 3.0".into(),
+            "stats_from" => "stats_from = 1.5".into(),
+            "c_b" => "zeta_b = 0.05".into(),
+            _ => l.to_string(),
+        });
+    }
+    assert_eq!(lines.iter().filter(|l| l.starts_with("zeta_b")).count(), 1, "the scene has a c_b line");
+    let dir = scratch("fit-table-3-1");
+    let s = write(&dir, "S.toml", lines.join("\n") + "\n");
+    let j = json(&["fit", "--scene", &s, "--free", "mu_k,v_s,k_b,m_b", "--table", "thesis_table_3_1", "--json"]);
+    let rms = num(&j, &["rms_log_ratio_fitted"]);
+    println!("RMS log ratio {rms}, goodness {}, parameters {}", j["goodness"], j["parameters"]);
+    assert!(rms <= 0.62, "RMS log ratio {rms}");
+    assert_ne!(j["goodness"]["verdict"], "fits");
+    assert_eq!(j["converged"], false);
+}
