@@ -106,6 +106,77 @@ fn a_small_friction_drop_is_found_from_a_start_far_off() {
     assert!(r.notes.iter().any(|n| n.contains("drop mu_s - mu_k")), "the report says how mu_k was searched: {:?}", r.notes);
 }
 
+/// The floating rig set's pp table (two cases, four channels) at the set's own values, each
+/// value times `factor(row)`, with a `sigma` column of `sigma(row)` (None: the 4-column table).
+fn rig_float_table(dir: &std::path::Path, name: &str, factor: impl Fn(usize) -> f64, sigma: Option<&dyn Fn(usize, f64) -> String>) -> String {
+    let truth = stickslip::scenes::builtin::find("rig_float_push_center").expect("built-in").scene;
+    let base = named("rig_float_push_center", truth);
+    let mut csv = String::from(if sigma.is_some() { "case,channel,statistic,value,sigma\n" } else { "case,channel,statistic,value\n" });
+    let mut row = 0;
+    for case in ["push_center", "pull_lead"] {
+        let scene = model::case_scene(&base, case).expect("a case");
+        let a = model::statistics(case, &scene, 8.0, None, false).expect("the truth runs");
+        for (c, ch) in ACCEL_NAMES.iter().enumerate() {
+            let v = Stat::Pp.of(&a, Some(c)).expect("a pp") * factor(row);
+            match sigma {
+                Some(sg) => csv.push_str(&format!("{case},{ch},pp,{v:e},{}\n", sg(row, v))),
+                None => csv.push_str(&format!("{case},{ch},pp,{v:e}\n")),
+            }
+            row += 1;
+        }
+    }
+    write(dir, name, csv)
+}
+
+/// A table's `sigma` column is the value's standard error in its unit: chi^2 takes sigma /
+/// value as the error of ln(value) instead of the assumed 0.25. The same values (pp of the
+/// floating set, alternately 3 % high and low: no parameter matches them) fitted with mu_k
+/// free: without sigma the 3 % are well inside the assumed scatter (`fits`); with a stated 1 %
+/// the same optimum's chi^2 is (0.25 / 0.01)^2 = 625 times larger and the verdict is not `fits`.
+/// A column with some errors empty mixes the two, and says so. Bad sigmas name their line.
+#[test]
+fn a_tables_sigma_column_is_its_stated_error() {
+    let dir = scratch("fit-table-sigma");
+    let wobble = |row: usize| if row % 2 == 0 { 1.03 } else { 1.0 / 1.03 };
+    let plain = rig_float_table(&dir, "plain.csv", wobble, None);
+    let one_percent = |_: usize, v: f64| format!("{:e}", 0.01 * v);
+    let stated = rig_float_table(&dir, "stated.csv", wobble, Some(&one_percent));
+    let some_empty = |row: usize, v: f64| if row < 4 { format!("{:e}", 0.01 * v) } else { String::new() };
+    let mixed = rig_float_table(&dir, "mixed.csv", wobble, Some(&some_empty));
+    let fit = |table: &str| {
+        json(&["fit", "--scene", "rig_float_push_center", "--free", "mu_k", "--table", table, "--starts", "1", "--breakaway-jump", "8", "--json"])
+    };
+    let (a, b, c) = (fit(&plain), fit(&stated), fit(&mixed));
+    let chi = |j: &serde_json::Value| num(j, &["goodness", "chi2_per_dof"]);
+    println!("chi2/dof: assumed {}, stated 1 % {}, mixed {}; noise {} / {} / {}", chi(&a), chi(&b), chi(&c), a["goodness"]["noise"], b["goodness"]["noise"], c["goodness"]["noise"]);
+    // the same search (the cost does not see sigma), so the same optimum
+    assert_eq!(a["parameters"]["mu_k"]["value"], b["parameters"]["mu_k"]["value"]);
+    let ratio = chi(&b) / chi(&a);
+    assert!((ratio - 625.0).abs() <= 1e-6 * 625.0, "chi^2 ratio {ratio}");
+    assert_eq!(a["goodness"]["verdict"], "fits");
+    assert_ne!(b["goodness"]["verdict"], "fits");
+    assert!((num(&b, &["goodness", "noise"]) - 0.01).abs() < 1e-12);
+    assert!(b["goodness"]["noise_source"].as_str().unwrap().contains("sigma column"), "{}", b["goodness"]["noise_source"]);
+    let src = c["goodness"]["noise_source"].as_str().unwrap();
+    assert!(src.contains("sigma for 4") && src.contains("for 4"), "{src}");
+    // rows 0..4 at 1 %, rows 4..8 at 0.25: chi^2 is the sum of both kinds
+    assert!(chi(&c) > chi(&a) && chi(&c) < chi(&b));
+
+    let head = "case,channel,statistic,value,sigma\n";
+    for (body, needles) in [
+        ("push_center,pad_x,pp,3.0,x\n", &["line 2", "sigma `x` is not a number"][..]),
+        ("push_center,pad_x,pp,3.0,0\n", &["line 2", "sigma 0", "> 0"][..]),
+        ("push_center,pad_x,pp,3.0,-1\n", &["line 2", "sigma -1"][..]),
+        ("push_center,pad_x,pp,3.0,inf\n", &["line 2", "sigma inf"][..]),
+        ("push_center,pad_x,pp,3.0\n", &["line 2", "4 fields where the header has 5"][..]),
+    ] {
+        let f = write(&dir, "bad.csv", format!("{head}{body}"));
+        bad(&["fit", "--scene", "rig_float_push_center", "--free", "mu_k", "--table", &f], needles);
+    }
+    let f = write(&dir, "badhead.csv", "case,channel,statistic,value,error\npush_center,pad_x,pp,3.0,0.1\n");
+    bad(&["fit", "--scene", "rig_float_push_center", "--free", "mu_k", "--table", &f], &["line 1", "case,channel,statistic,value,sigma"]);
+}
+
 /// Issue 31's Table 3.1 command, exactly: S.toml is `scenes show rig_float_push_center` with
 /// `duration = 3.0`, `stats_from = 1.5` and its `c_b` line replaced by `zeta_b = 0.05`;
 /// `fit --scene S.toml --free mu_k,v_s,k_b,m_b --table thesis_table_3_1 --json`, no bounds.

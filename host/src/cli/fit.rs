@@ -20,8 +20,8 @@ pub struct FitArgs {
     pub recordings: Vec<String>,
     #[command(flatten)]
     pub input: RecordingInput,
-    /// A table of measured statistics: CSV case,channel,statistic,value, at most 1 MiB (or the
-    /// built-in thesis_table_3_1)
+    /// A table of measured statistics: CSV case,channel,statistic,value[,sigma] (sigma: the
+    /// value's standard error in its unit), at most 1 MiB (or the built-in thesis_table_3_1)
     #[arg(long, value_name = "FILE")]
     pub table: Vec<String>,
     /// Cases to leave out of the fit and predict, comma-separated

@@ -354,11 +354,15 @@ fn judge(problem: &Problem, sol: &solve::Solution, r: &[f64], notes: &mut Vec<St
     }
     // statistics: each log ratio over its standard error
     let mut chi2 = 0.0;
-    let (mut assumed, mut from_windows) = (0usize, 0usize);
+    let (mut assumed, mut from_windows, mut stated) = (0usize, 0usize, 0usize);
     let mut s2 = 0.0;
     for (row, x) in problem.rows.iter().zip(r) {
         let lr = x / row.weight.sqrt();
-        let sd = if row.windows.len() >= 2 {
+        let sd = if let Some(s) = row.sigma_ln {
+            // a table's stated error, to first order in ln(value)
+            stated += 1;
+            s
+        } else if row.windows.len() >= 2 {
             let l: Vec<f64> = row.windows.iter().map(|w| w.ln()).collect();
             let mean = l.iter().sum::<f64>() / l.len() as f64;
             let var = l.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (l.len() - 1) as f64;
@@ -372,10 +376,14 @@ fn judge(problem: &Problem, sol: &solve::Solution, r: &[f64], notes: &mut Vec<St
         s2 += sd * sd;
     }
     let m = problem.rows.len();
-    let source = match (from_windows, assumed) {
-        (_, 0) => "the spread of each statistic over its recording's windows".to_string(),
-        (0, _) => format!("assumed: {} in ln(value) for every statistic (a table states no error; a recording whose windows hold fewer than two slip onsets has no spread to measure)", goodness::ASSUMED_SIGMA_LN),
-        _ => format!("the windows' spread for {from_windows} statistics, assumed {} in ln(value) for {assumed}", goodness::ASSUMED_SIGMA_LN),
+    let source = match (from_windows, stated, assumed) {
+        (_, 0, 0) => "the spread of each statistic over its recording's windows".to_string(),
+        (0, _, 0) => "the table's stated errors (its sigma column, as sigma / value in ln(value))".to_string(),
+        (0, 0, _) => format!("assumed: {} in ln(value) for every statistic (a table states no error; a recording whose windows hold fewer than two slip onsets has no spread to measure)", goodness::ASSUMED_SIGMA_LN),
+        _ => format!(
+            "the windows' spread for {from_windows} statistics, the table's sigma for {stated}, assumed {} in ln(value) for {assumed}",
+            goodness::ASSUMED_SIGMA_LN
+        ),
     };
     if assumed > 0 {
         notes.push(format!(

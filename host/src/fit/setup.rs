@@ -209,6 +209,7 @@ pub(super) fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         weight: weight_of(m.key.stat),
         windows: m.windows.clone(),
         source: m.source.clone(),
+        sigma_ln: m.sigma.map(|s| s / m.value),
     };
     let rows: Vec<Row> = measured
         .iter()
@@ -341,7 +342,7 @@ pub(super) fn horizon_stages(
             let idx = cases.len();
             for m in keep {
                 if problem.rows.iter().any(|r| r.key == m.key) {
-                    rows.push(Row { weight: weight_of(m.key.stat), key: m.key, case: idx, measured: m.value, windows: Vec::new(), source: format!("{} (to t = {h} s)", m.source) });
+                    rows.push(Row { weight: weight_of(m.key.stat), key: m.key, case: idx, measured: m.value, windows: Vec::new(), source: format!("{} (to t = {h} s)", m.source), sigma_ln: None });
                 }
             }
             cases.push((rec.case.clone(), scene));

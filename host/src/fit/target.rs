@@ -1,5 +1,6 @@
 //! What a fit is fitted to: recordings (`CASE=FILE`, a CSV as `analyze` reads it) and tables
-//! of measured statistics (`--table FILE`: CSV `case,channel,statistic,value`).
+//! of measured statistics (`--table FILE`: CSV `case,channel,statistic,value`, optionally with
+//! a fifth column `sigma`: the value's standard error in its own unit, empty where unknown).
 //!
 //! A recording gives every statistic of [`super::stat::Stat`] over its analysed stretch
 //! (`--from` on), and the same statistics over [`WINDOWS`] equal windows of that stretch for
@@ -43,6 +44,8 @@ pub struct Measured {
     /// The value in each window of its recording (empty for a table row or where a window
     /// has none): the bootstrap's resampling units.
     pub windows: Vec<f64>,
+    /// A table's stated standard error of the value, in its unit (its `sigma` column).
+    pub sigma: Option<f64>,
 }
 
 /// A recording's statistic that is not fitted, and why.
@@ -87,6 +90,8 @@ pub fn read_table(label: &str, text: &str) -> Result<Vec<Measured>> {
         .from_reader(text.as_bytes());
     let mut out: Vec<Measured> = Vec::new();
     let mut header_seen = false;
+    // the header's fields: 4, or 5 with `sigma`
+    let mut fields = 4;
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line());
@@ -95,14 +100,19 @@ pub fn read_table(label: &str, text: &str) -> Result<Vec<Measured>> {
         let line = rec.position().map_or(0, |p| p.line());
         if !header_seen {
             let h: Vec<&str> = rec.iter().collect();
-            if h != ["case", "channel", "statistic", "value"] {
-                return Err(bad(line, format!("the header must be `case,channel,statistic,value`, not `{}`", h.join(","))));
+            if h != ["case", "channel", "statistic", "value"] && h != ["case", "channel", "statistic", "value", "sigma"] {
+                return Err(bad(
+                    line,
+                    format!("the header must be `case,channel,statistic,value` or `case,channel,statistic,value,sigma`, not `{}`", h.join(",")),
+                ));
             }
+            fields = h.len();
             header_seen = true;
             continue;
         }
-        if rec.len() != 4 {
-            return Err(bad(line, format!("{} fields where the header has 4 (case,channel,statistic,value)", rec.len())));
+        if rec.len() != fields {
+            let names = if fields == 5 { "case,channel,statistic,value,sigma" } else { "case,channel,statistic,value" };
+            return Err(bad(line, format!("{} fields where the header has {fields} ({names})", rec.len())));
         }
         let (case, channel, statistic, value) = (&rec[0], &rec[1], &rec[2], &rec[3]);
         if case.is_empty() {
@@ -140,11 +150,21 @@ pub fn read_table(label: &str, text: &str) -> Result<Vec<Measured>> {
                 format!("{} value {}: outside the range a measurement can have, {} to {} {unit}", stat.name(), short(v), short(lo), short(hi)),
             ));
         }
+        let sigma = match rec.get(4) {
+            None | Some("") => None,
+            Some(s) => {
+                let e: f64 = s.parse().map_err(|_| bad(line, format!("sigma `{s}` is not a number")))?;
+                if !(e.is_finite() && e > 0.0) {
+                    return Err(bad(line, format!("sigma {}: must be finite and > 0 (leave it empty where the error is unknown)", short(e))));
+                }
+                Some(e)
+            }
+        };
         let key = StatKey { case: case.to_string(), channel, stat };
         if let Some(prev) = out.iter().find(|m| m.key == key) {
             return Err(bad(line, format!("{} is given twice (also {})", key.label(), prev.source)));
         }
-        out.push(Measured { key, value: v, source: format!("{label} line {line}"), windows: Vec::new() });
+        out.push(Measured { key, value: v, source: format!("{label} line {line}"), windows: Vec::new(), sigma });
     }
     if !header_seen {
         return Err(HostError::Input(format!("{label}: empty: a table is CSV `case,channel,statistic,value` with that header")));
@@ -296,7 +316,7 @@ impl Recording {
                     // the first onset is one event of the whole record: windows do not resample it
                     let whole = cycles && windows.len() == self.windows.len() && key.stat != Stat::FirstSlipS;
                     let windows = if whole { windows } else { Vec::new() };
-                    keep.push(Measured { key, value: v, source: self.path.clone(), windows });
+                    keep.push(Measured { key, value: v, source: self.path.clone(), windows, sigma: None });
                 }
                 Some(v) => skip.push(Skipped { key, source: self.path.clone(), why: format!("measured {v}: not > 0") }),
                 None => skip.push(Skipped { key, source: self.path.clone(), why: "not in the recording".into() }),

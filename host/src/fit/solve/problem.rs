@@ -13,6 +13,8 @@ pub struct Row {
     pub weight: f64,
     pub windows: Vec<f64>,
     pub source: String,
+    /// A table's stated standard error of ln(measured): its `sigma` / value.
+    pub sigma_ln: Option<f64>,
 }
 
 /// The least-squares problem.
