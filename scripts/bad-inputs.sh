@@ -236,8 +236,11 @@ printf 'case,channel,statistic,value\n' >t_empty.csv
 printf 'a,b,c\n1,2,3\n' >t_head.csv
 printf 'case,channel,statistic,value\npush_center,pad_x,pp,10\npush_center,pad_x,pp,11\n' >t_twice.csv
 printf 'case,channel,statistic,value\npush_center,pad_x,pp,10,5\n' >t_ragged.csv
+printf 'case,channel,statistic,value,sigma\npush_center,pad_x,pp,10,nan\n' >t_sig_nan.csv
+printf 'case,channel,statistic,value,sigma\npush_center,pad_x,pp,10,0\n' >t_sig_zero.csv
+printf 'case,channel,statistic,value,sigma\npush_center,pad_x,pp,10\n' >t_sig_short.csv
 F=(fit --scene push_center --free mu_k)
-for table in t_sf t_huge t_tiny t_neg t_nan t_hz t_chan t_stat t_case t_empty t_head t_twice t_ragged; do
+for table in t_sf t_huge t_tiny t_neg t_nan t_hz t_chan t_stat t_case t_empty t_head t_twice t_ragged t_sig_nan t_sig_zero t_sig_short; do
     t error "$table.csv" "${F[@]}" --table "$table.csv"
 done
 t error "/dev/zero" "${F[@]}" --table /dev/zero
