@@ -12,9 +12,17 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         if Self::is_stribeck_slip(regime) {
             self.chunk_from(regime, j, z, &self.excess(z))
         } else {
-            let d = self.flow_increment(regime, j, z);
-            core::array::from_fn(|r| z[r] + d[r])
+            self.linear_chunk(regime, j, z)
         }
+    }
+
+    /// [`Self::chunk`] in a linear regime (stick; Coulomb slip): the exact flow. Inlined where
+    /// the regime is known to be linear (the short path), so that the chunk's state stays in
+    /// registers rather than going out and back through memory.
+    #[inline(always)]
+    pub(super) fn linear_chunk(&self, regime: Regime, j: usize, z: &[T; NS]) -> [T; NS] {
+        let d = self.flow_increment(regime, j, z);
+        core::array::from_fn(|r| z[r] + d[r])
     }
 
     /// The lowest level a chunk can take a near operator at (it reads levels j - 1 and j).

@@ -102,7 +102,8 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         let (j, k) = self.chunk_level(ex0.as_ref(), units);
         let mut z1 = match &ex0 {
             Some(ex0) => self.chunk_with(regime, j, &z, ex0, k),
-            None => self.chunk(regime, j, &z),
+            // no falling part: a linear regime (stick; Coulomb slip)
+            None => self.linear_chunk(regime, j, &z),
         };
         let ex1 = if stribeck_slip { Some(self.excess(&z1)) } else { None };
         let first = FirstChunk { ex0, j, z1, ex1 };
