@@ -51,10 +51,11 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
     }
 
     /// The forcing of near operator k's split: q - g_k (z, 1)
-    /// = sigma (mu_s - mu_k) N (e - c_k) - c_k (mu_s - mu_k) N_0 v / v_s.
+    /// = sigma (mu_s - mu_k) N (e - c_k) - c_k (mu_s - mu_k) N_0 v / v_s (the sign on the
+    /// constant, exactly, as in `q_of`).
     #[inline(always)]
     pub(super) fn q_near(&self, sigma: T, ex: &Excess<T>, k: usize) -> T {
-        sigma * (self.d_mu * (ex.e - self.near_c[k])) * ex.n - self.near_ckv[k] * ex.v
+        (sigma * self.d_mu) * (ex.e - self.near_c[k]) * ex.n - self.near_ckv[k] * ex.v
     }
 
     /// ETDRK4 (Cox-Matthews) over 2^j units of Stribeck slip from `z`, with the falling part
