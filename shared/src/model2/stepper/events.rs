@@ -93,16 +93,7 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         loop {
             let step = 1u64 << j;
             if pos + step < to {
-                let cand = if Self::is_stribeck_slip(regime) {
-                    let e = match ex {
-                        Some(e) => e,
-                        None => self.excess(&cur),
-                    };
-                    ex = Some(e);
-                    self.chunk_from(regime, j, &cur, &e)
-                } else {
-                    self.chunk(regime, j, &cur)
-                };
+                let cand = self.lift_chunk(regime, j, &cur, &mut ex);
                 if holds(&cand) {
                     pos += step;
                     cur = cand;
@@ -115,6 +106,23 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
             j -= 1;
         }
         (pos, cur)
+    }
+
+    /// One chunk of [`Self::lift`] from `cur`: [`Self::chunk`], with the falling part at `cur`
+    /// (Stribeck slip) kept in `ex` for the next levels from the same point. Out of line: one
+    /// copy serves every lift.
+    #[inline(never)]
+    fn lift_chunk(&self, regime: Regime, j: usize, cur: &[T; NS], ex: &mut Option<Excess<T>>) -> [T; NS] {
+        if Self::is_stribeck_slip(regime) {
+            let e = match *ex {
+                Some(e) => e,
+                None => self.excess(cur),
+            };
+            *ex = Some(e);
+            self.chunk_from(regime, j, cur, &e)
+        } else {
+            self.chunk(regime, j, cur)
+        }
     }
 
     /// Where guard `which` of `regime` first fires inside the chunk [pos, pos + 2^j] from z to
