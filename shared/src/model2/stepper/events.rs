@@ -72,8 +72,8 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
     /// every accepted point, starting from chunks of 2^top units. Never evaluated at `from`.
     /// `ex0`: the falling part at z in Stribeck slip, when known. In Stribeck slip the falling
     /// part at the current point is computed once and kept while the point stays (each level's
-    /// chunk starts from it): the same values as [`Self::chunk`], one exponential fewer per
-    /// level.
+    /// chunk starts from it): the same values as [`Self::chunk`], one exponential fewer at
+    /// each level that starts where the level before did (about half of them).
     #[allow(clippy::too_many_arguments)] // the interval, its start and what is known there
     pub(super) fn lift(
         &self,
