@@ -12,9 +12,17 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         if Self::is_stribeck_slip(regime) {
             self.chunk_from(regime, j, z, &self.excess(z))
         } else {
-            let d = self.flow_increment(regime, j, z);
-            core::array::from_fn(|r| z[r] + d[r])
+            self.linear_chunk(regime, j, z)
         }
+    }
+
+    /// [`Self::chunk`] in a linear regime (stick; Coulomb slip): the exact flow. Inlined where
+    /// the regime is known to be linear (the short path), so that the chunk's state stays in
+    /// registers rather than going out and back through memory.
+    #[inline(always)]
+    pub(super) fn linear_chunk(&self, regime: Regime, j: usize, z: &[T; NS]) -> [T; NS] {
+        let d = self.flow_increment(regime, j, z);
+        core::array::from_fn(|r| z[r] + d[r])
     }
 
     /// The lowest level a chunk can take a near operator at (it reads levels j - 1 and j).
@@ -43,10 +51,11 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
     }
 
     /// The forcing of near operator k's split: q - g_k (z, 1)
-    /// = sigma (mu_s - mu_k) N (e - c_k) - c_k (mu_s - mu_k) N_0 v / v_s.
+    /// = sigma (mu_s - mu_k) N (e - c_k) - c_k (mu_s - mu_k) N_0 v / v_s (the sign on the
+    /// constant, exactly, as in `q_of`).
     #[inline(always)]
     pub(super) fn q_near(&self, sigma: T, ex: &Excess<T>, k: usize) -> T {
-        sigma * (self.d_mu * (ex.e - self.near_c[k])) * ex.n - self.near_ckv[k] * ex.v
+        (sigma * self.d_mu) * (ex.e - self.near_c[k]) * ex.n - self.near_ckv[k] * ex.v
     }
 
     /// ETDRK4 (Cox-Matthews) over 2^j units of Stribeck slip from `z`, with the falling part

@@ -70,18 +70,34 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
 
     /// Binary lifting over [from, to): the last probed point p such that `holds` is true at
     /// every accepted point, starting from chunks of 2^top units. Never evaluated at `from`.
-    pub(super) fn lift(&self, regime: Regime, z: &[T; NS], from: u64, to: u64, top: usize, mut holds: impl FnMut(&[T; NS]) -> bool) -> (u64, [T; NS]) {
+    /// `ex0`: the falling part at z in Stribeck slip, when known. In Stribeck slip the falling
+    /// part at the current point is computed once and kept while the point stays (each level's
+    /// chunk starts from it): the same values as [`Self::chunk`], one exponential fewer at
+    /// each level that starts where the level before did (about half of them).
+    #[allow(clippy::too_many_arguments)] // the interval, its start and what is known there
+    pub(super) fn lift(
+        &self,
+        regime: Regime,
+        z: &[T; NS],
+        ex0: Option<&Excess<T>>,
+        from: u64,
+        to: u64,
+        top: usize,
+        mut holds: impl FnMut(&[T; NS]) -> bool,
+    ) -> (u64, [T; NS]) {
         let mut pos = from;
         let mut cur = *z;
         let lo = Self::min_level(regime);
         let mut j = top;
+        let mut ex = if Self::is_stribeck_slip(regime) { ex0.copied() } else { None };
         loop {
             let step = 1u64 << j;
             if pos + step < to {
-                let cand = self.chunk(regime, j, &cur);
+                let cand = self.lift_chunk(regime, j, &cur, &mut ex);
                 if holds(&cand) {
                     pos += step;
                     cur = cand;
+                    ex = None;
                 }
             }
             if j <= lo {
@@ -90,6 +106,23 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
             j -= 1;
         }
         (pos, cur)
+    }
+
+    /// One chunk of [`Self::lift`] from `cur`: [`Self::chunk`], with the falling part at `cur`
+    /// (Stribeck slip) kept in `ex` for the next levels from the same point. Out of line: one
+    /// copy serves every lift.
+    #[inline(never)]
+    fn lift_chunk(&self, regime: Regime, j: usize, cur: &[T; NS], ex: &mut Option<Excess<T>>) -> [T; NS] {
+        if Self::is_stribeck_slip(regime) {
+            let e = match *ex {
+                Some(e) => e,
+                None => self.excess(cur),
+            };
+            *ex = Some(e);
+            self.chunk_from(regime, j, cur, &e)
+        } else {
+            self.chunk(regime, j, cur)
+        }
     }
 
     /// Where guard `which` of `regime` first fires inside the chunk [pos, pos + 2^j] from z to
@@ -112,7 +145,7 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         let end = pos + (1u64 << j);
         let lo = Self::min_level(regime);
         if !(dot::<T, C>(&g, z1) < T::zero()) {
-            return Some(self.lift(regime, z, pos, end, j, |c| dot::<T, C>(&g, c) < T::zero()));
+            return Some(self.lift(regime, z, ex0, pos, end, j, |c| dot::<T, C>(&g, c) < T::zero()));
         }
         if j <= lo {
             return None;
@@ -129,14 +162,14 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
                 self.guard_slope(regime, which, c, None)
             }
         };
-        let (pc, zc) = self.lift(regime, z, pos, end, j, |c| slope(c) > T::zero());
+        let (pc, zc) = self.lift(regime, z, ex0, pos, end, j, |c| slope(c) > T::zero());
         let after = self.chunk(regime, lo, &zc);
         let top = if dot::<T, C>(&g, &zc) < T::zero() && dot::<T, C>(&g, &after) < T::zero() {
             return None;
         } else {
             pc + (1u64 << lo)
         };
-        Some(self.lift(regime, z, pos, top, j, |c| dot::<T, C>(&g, c) < T::zero()))
+        Some(self.lift(regime, z, ex0, pos, top, j, |c| dot::<T, C>(&g, c) < T::zero()))
     }
 
     /// Sets the sliding velocity to zero on entry to stick: x' = V without the band; with it,

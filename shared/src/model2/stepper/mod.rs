@@ -555,10 +555,12 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         Excess { v, y, e, n: self.normal_force(z) }
     }
 
-    /// Stribeck forcing q = sigma (mu(|v|) - mu_k) N from the falling part at a point.
+    /// Stribeck forcing q = sigma (mu(|v|) - mu_k) N from the falling part at a point. With
+    /// sigma = +-1, sigma (d_mu e) is (sigma d_mu) e exactly (rounding is symmetric in sign):
+    /// the sign goes on the constant, off the chain from e to q.
     #[inline(always)]
     fn q_of(&self, sigma: T, ex: &Excess<T>) -> T {
-        sigma * (self.d_mu * ex.e) * ex.n
+        (sigma * self.d_mu) * ex.e * ex.n
     }
 
     /// z' in `regime` at `z`.

@@ -5,6 +5,12 @@
 use super::*;
 
 impl<T: Real, C: Composition> Model2Tables<T, C> {
+    /// Whether the short path inlines its linear chunk ([`Self::linear_chunk`]) rather than
+    /// calling [`Self::chunk`]: in f64 (on the host, the call returned the state through memory
+    /// and cost more than the flow's code), not in f32 (there the inlined flow took more
+    /// instructions per step than the call: the host's stribeck+float+face/f32).
+    const INLINE_LINEAR_CHUNK: bool = T::DYADIC_LEVELS > 24;
+
     pub(super) fn time_at(&self, s: &Model2State<T>, sub: u32, unit: u64) -> f64 {
         s.step as f64 * self.dt + (sub as f64 + unit as f64 / Self::UNITS as f64) * self.h_sub
     }
@@ -102,6 +108,9 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         let (j, k) = self.chunk_level(ex0.as_ref(), units);
         let mut z1 = match &ex0 {
             Some(ex0) => self.chunk_with(regime, j, &z, ex0, k),
+            // no falling part: a linear regime (stick; Coulomb slip). Inlined in f64 only
+            // (`INLINE_LINEAR_CHUNK`).
+            None if Self::INLINE_LINEAR_CHUNK => self.linear_chunk(regime, j, &z),
             None => self.chunk(regime, j, &z),
         };
         let ex1 = if stribeck_slip { Some(self.excess(&z1)) } else { None };
