@@ -166,48 +166,11 @@ pub trait Composition: Copy + Debug + 'static {
     }
 }
 
-/// A flow's entries on a 16-byte boundary: the floating pad's flows (8 x 9 entries, 576 B in
-/// f64, 288 B in f32: no padding), so that the host's vector loads of them are aligned.
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(16))]
-pub struct Aligned<A>(pub A);
-
-impl<T, const N: usize> AsRef<[T]> for Aligned<[T; N]> {
-    #[inline(always)]
-    fn as_ref(&self) -> &[T] {
-        &self.0
-    }
-}
-
-impl<T, const N: usize> AsMut<[T]> for Aligned<[T; N]> {
-    #[inline(always)]
-    fn as_mut(&mut self) -> &mut [T] {
-        &mut self.0
-    }
-}
-
-/// A flow's type in [`composition!`]: the entries' array, or with `Aligned` that array in
-/// [`Aligned`]; `flow_of!(.. (value))` a flow's value.
-macro_rules! flow_of {
-    (Aligned ($v:expr)) => {
-        Aligned($v)
-    };
-    (Aligned $t:ty) => {
-        Aligned<$t>
-    };
-    (($v:expr)) => {
-        $v
-    };
-    ($t:ty) => {
-        $t
-    };
-}
-
 /// Defines a composition: its type, its options, and the sizes that follow from them (flow
 /// entries per level: 4 x 5 without the band, 6 x 7 with it; ETDRK4 tables for the two slip
 /// regimes with Stribeck friction, none with Coulomb).
 macro_rules! composition {
-    ($(#[$doc:meta])* $name:ident, band: $band:expr, stribeck: $stribeck:expr, face: $face:expr, float: $float:expr, $label:expr, flow: $flow:expr $(=> $al:ident)?, row: $row:expr, etd: $etd:expr) => {
+    ($(#[$doc:meta])* $name:ident, band: $band:expr, stribeck: $stribeck:expr, face: $face:expr, float: $float:expr, $label:expr, flow: $flow:expr, row: $row:expr, etd: $etd:expr) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug)]
         pub struct $name;
@@ -218,13 +181,13 @@ macro_rules! composition {
             const FACE: bool = $face;
             const FLOAT: bool = $float;
             const NAME: &'static str = $label;
-            type Flow<T: Real> = flow_of!($($al)? [T; $flow]);
+            type Flow<T: Real> = [T; $flow];
             type Row<T: Real> = [T; $row];
             type Etd<T: Real> = [T::PerLevel<EtdVectors<[T; $row]>>; $etd];
-            type NearFlows<T: Real> = [flow_of!($($al)? [T; $flow]); $etd * NEAR_OPS * NEAR_FLOW_LEVELS];
+            type NearFlows<T: Real> = [[T; $flow]; $etd * NEAR_OPS * NEAR_FLOW_LEVELS];
             type NearEtd<T: Real> = [EtdVectors<[T; $row]>; $etd * NEAR_OPS * NEAR_LEVELS];
-            fn zero_flow<T: Real>() -> Self::Flow<T> {
-                flow_of!($($al)? ([T::zero(); $flow]))
+            fn zero_flow<T: Real>() -> [T; $flow] {
+                [T::zero(); $flow]
             }
             fn zero_row<T: Real>() -> [T; $row] {
                 [T::zero(); $row]
@@ -235,7 +198,7 @@ macro_rules! composition {
             // inlined, so that a stepper built in place (`init_in`) gets its zeros in place too
             #[inline(always)]
             fn zero_near<T: Real>() -> Self::NearFlows<T> {
-                [flow_of!($($al)? ([T::zero(); $flow])); $etd * NEAR_OPS * NEAR_FLOW_LEVELS]
+                [[T::zero(); $flow]; $etd * NEAR_OPS * NEAR_FLOW_LEVELS]
             }
             #[inline(always)]
             fn zero_near_etd<T: Real>() -> Self::NearEtd<T> {
@@ -283,9 +246,9 @@ composition!(
 );
 composition!(
     /// The floating pad, Coulomb friction (with the band's rows and the face).
-    FloatFace, band: true, stribeck: false, face: true, float: true, "float+face", flow: 72 => Aligned, row: 8, etd: 0
+    FloatFace, band: true, stribeck: false, face: true, float: true, "float+face", flow: 72, row: 8, etd: 0
 );
 composition!(
     /// The floating pad, Stribeck friction (with the band's rows and the face): the rig set.
-    StribeckFloatFace, band: true, stribeck: true, face: true, float: true, "stribeck+float+face", flow: 72 => Aligned, row: 8, etd: 2
+    StribeckFloatFace, band: true, stribeck: true, face: true, float: true, "stribeck+float+face", flow: 72, row: 8, etd: 2
 );
