@@ -60,25 +60,14 @@ fn the_drop_coordinate_maps_mu_k_to_its_drop_below_mu_s() {
 #[test]
 fn a_small_friction_drop_is_found_from_a_start_far_off() {
     let truth = stickslip::scenes::builtin::find("rig_float_push_center").expect("built-in").scene;
-    let base = named("rig_float_push_center", truth);
     let dir = scratch("fit-table-drop");
-    let mut csv = String::from("case,channel,statistic,value\n");
-    for case in ["push_center", "pull_lead"] {
-        let scene = model::case_scene(&base, case).expect("a case");
-        let a = model::statistics(case, &scene, 8.0, None, false).expect("the truth runs");
-        for (c, name) in ACCEL_NAMES.iter().enumerate() {
-            let v = Stat::Pp.of(&a, Some(c)).expect("a pp");
-            csv.push_str(&format!("{case},{name},pp,{v:e}\n"));
-        }
-    }
-    let table = dir.join("truth.csv");
-    std::fs::write(&table, csv).expect("written");
+    let table = rig_float_table(&dir, "truth.csv", |_| 1.0, None);
     let mut start = truth;
     start.mu_k = 0.34;
     start.k_b = truth.k_b * 0.5;
     let req = FitRequest {
         free: vec!["mu_k,k_b".into()],
-        tables: vec![table.display().to_string()],
+        tables: vec![table],
         starts: 3,
         max_iters: fit::DEFAULT_MAX_ITERS,
         bootstrap: 0,
