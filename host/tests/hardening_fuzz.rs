@@ -48,6 +48,7 @@ fn shard_json() -> Value {
         shard: None,
         jobs: Some(1),
         progress: false,
+        share_sliding: true,
     };
     serde_json::to_value(map::run_map(&spec).unwrap().0).unwrap()
 }

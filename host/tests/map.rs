@@ -28,6 +28,7 @@ fn spec(base: Scene, sweeps: &[&str], shard: Option<Shard>, jobs: Option<usize>)
         shard,
         jobs,
         progress: false,
+        share_sliding: true,
     }
 }
 
@@ -136,7 +137,7 @@ fn the_linear_growth_rate_matches_the_runs_early_envelope_on_three_unstable_cell
         s.duration = 8.0;
         s.stats_from = 1.0;
         // the map's linear analysis of this cell
-        let (c, _) = cell::cell(0, &[("v".into(), v)], Ok(s), CellOptions { precision: Precision::F64, kick: 0.01 }).expect("a cell");
+        let (c, _) = cell::cell(0, &[("v".into(), v)], Ok(s), CellOptions { precision: Precision::F64, kick: 0.01 }, None).expect("a cell");
         let lin = c.linear.expect("valid");
         assert!(!lin.stable, "v = {v} < V_cr is unstable");
         let rate = lin.max_growth_rate.expect("finite");
@@ -342,4 +343,61 @@ fn a_swept_damping_ratio_uses_the_cells_stiffness_and_log_sweeps_end_on_their_bo
     for i in 0..6 {
         assert!((w.value(i + 1) / w.value(i) - 10f64.powf(1.0 / 3.0)).abs() < 1e-12);
     }
+}
+
+/// A map with and without the sharing of runs from sliding across a swept mu_s
+/// (`MapSpec::share_sliding`): (map, steps run).
+fn shared_and_own(base: Scene, sweeps: &[&str], kick: f64) -> ((MapJson, u64), (MapJson, u64)) {
+    let mut on = spec(base, sweeps, None, Some(2));
+    on.options.kick = kick;
+    let mut off = spec(base, sweeps, None, Some(2));
+    off.options.kick = kick;
+    off.share_sliding = false;
+    let run = |s: &MapSpec| {
+        let (m, t) = map::run_map(s).unwrap_or_else(|e| panic!("map failed: {e}"));
+        (m, t.steps)
+    };
+    (run(&on), run(&off))
+}
+
+#[test]
+fn runs_from_sliding_shared_across_mu_s_give_the_map_of_every_cells_own_run() {
+    // the thesis model: steady sliding never reaches the velocity match, so every group of
+    // a beta x mu_s map runs one run from sliding (its representative's) instead of five
+    let mut thesis = builtin("push_center");
+    thesis.duration = 0.06;
+    thesis.stats_from = 0.03;
+    let sweeps = ["beta=0.01:0.07:4", "mu_s=0.36:0.6:5"];
+    for kick in [0.01, 0.5] {
+        let ((shared, steps_shared), (own, steps_own)) = shared_and_own(thesis, &sweeps, kick);
+        assert_eq!(shared, own, "thesis, kick {kick}: the shared runs give another map");
+        // own: 20 cells x 2 runs; shared: 20 runs from rest + 4 representatives, and the
+        // groups whose representative came near the velocity match (kick 0.5: its sliding
+        // velocity's clearance is not 4 times its change in a step) run their own as well
+        let n = (thesis.duration / thesis.dt).round() as u64;
+        assert_eq!(steps_own, 40 * n);
+        if kick == 0.01 {
+            assert_eq!(steps_shared, 24 * n, "thesis, kick {kick}: steps run");
+        } else {
+            assert!((24 * n..=44 * n).contains(&steps_shared), "thesis, kick {kick}: {steps_shared} steps run");
+        }
+    }
+    // a floating pad past its flutter threshold (Coulomb friction): steady sliding grows into
+    // stick-slip, whose runs read mu_s; each cell must run its own
+    let mut float = floating_coulomb(Caliper::Push, 0.04);
+    float.mu_k = 0.6;
+    float.duration = 0.05;
+    float.stats_from = 0.025;
+    let ((shared, steps_shared), (own, steps_own)) = shared_and_own(float, &["mu_s=0.6:0.9:4"], 0.01);
+    assert_eq!(shared, own, "floating pad: the shared runs give another map");
+    let sticks = own.cells.iter().filter_map(|c| c.from_sliding.as_ref()).filter(|r| r.stick_fraction.is_some_and(|f| f > 0.0)).count();
+    assert!(sticks > 0, "the floating pad's runs from sliding stick (the case where mu_s is read)");
+    let n = (float.duration / float.dt).round() as u64;
+    assert_eq!(steps_shared, steps_own + n, "floating pad: the representative's run is not shared");
+    // Stribeck friction reads mu_s in slip: nothing is shared
+    let mut rig = builtin("rig_float_push_center");
+    rig.duration = 0.02;
+    rig.stats_from = 0.01;
+    let ((shared, steps_shared), (own, steps_own)) = shared_and_own(rig, &["mu_s=0.5:0.7:3"], 0.01);
+    assert_eq!((shared, steps_shared), (own, steps_own), "Stribeck: no sharing");
 }

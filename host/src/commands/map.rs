@@ -31,6 +31,7 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
                 shard,
                 jobs: a.jobs.map(usize::from),
                 progress: true,
+                share_sliding: true,
             };
             let (m, t) = map::run_map(&spec)?;
             eprintln!(

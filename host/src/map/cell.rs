@@ -132,9 +132,68 @@ struct CellSink {
     v: (f64, f64),
     groan_sq: f64,
     n: u64,
+    /// The sliding velocity's distance from zero over the whole run (every sample), kept only
+    /// where asked ([`CellSink::with_margin`]).
+    margin: Option<SlipMargin>,
+}
+
+/// Whether a run stayed in one slip, clear of the velocity match, at every instant: its
+/// sliding velocity V_r at every sample (every step end from the first) of one sign and at
+/// least `CLEAR` times what it can change within a step, estimated from the samples as the
+/// largest first and second differences (max |dV_r| over a step is at most
+/// max |V_r(n+1) - V_r(n)| + max |V_r''| dt^2 / 8; the second difference bounds the latter with
+/// room). Such a run located no velocity match and never stuck: it read neither mu_s nor any
+/// transition's rule (a Coulomb slip's forcing is mu_k N).
+#[derive(Clone, Copy, Debug)]
+struct SlipMargin {
+    sign: f64,
+    min_abs: f64,
+    max_d1: f64,
+    max_d2: f64,
+    prev: Option<(f64, Option<f64>)>,
+    broken: bool,
+    n: u64,
+}
+
+impl SlipMargin {
+    /// The margin the clearance must exceed, in units of the per-step change bound.
+    const CLEAR: f64 = 4.0;
+
+    fn new() -> SlipMargin {
+        SlipMargin { sign: 0.0, min_abs: f64::INFINITY, max_d1: 0.0, max_d2: 0.0, prev: None, broken: false, n: 0 }
+    }
+
+    fn sample(&mut self, v: f64, stick: bool) {
+        if stick || !v.is_finite() || v == 0.0 || (self.sign != 0.0 && v.signum() != self.sign) {
+            self.broken = true;
+            return;
+        }
+        self.sign = v.signum();
+        self.min_abs = self.min_abs.min(v.abs());
+        if let Some((p, pd)) = self.prev {
+            let d = v - p;
+            self.max_d1 = self.max_d1.max(d.abs());
+            if let Some(pd) = pd {
+                self.max_d2 = self.max_d2.max((d - pd).abs());
+            }
+            self.prev = Some((v, Some(d)));
+        } else {
+            self.prev = Some((v, None));
+        }
+        self.n += 1;
+    }
+
+    fn clear(&self) -> bool {
+        !self.broken && self.n >= 3 && self.min_abs > Self::CLEAR * (self.max_d1 + self.max_d2)
+    }
 }
 
 impl CellSink {
+    /// A sink that also keeps [`SlipMargin`] over every sample of the run.
+    fn with_margin(scene: &Scene) -> CellSink {
+        CellSink { margin: Some(SlipMargin::new()), ..CellSink::new(scene) }
+    }
+
     fn new(scene: &Scene) -> CellSink {
         let start = run::window_start(scene);
         CellSink {
@@ -147,6 +206,7 @@ impl CellSink {
             v: (f64::INFINITY, f64::NEG_INFINITY),
             groan_sq: 0.0,
             n: 0,
+            margin: None,
         }
     }
 }
@@ -161,11 +221,18 @@ impl Sink for CellSink {
     }
 
     fn samples_from(&self) -> f64 {
-        self.filter_from
+        if self.margin.is_some() {
+            f64::NEG_INFINITY
+        } else {
+            self.filter_from
+        }
     }
 
     #[inline]
     fn sample(&mut self, s: &Sample) -> Result<()> {
+        if let Some(m) = &mut self.margin {
+            m.sample(s.v_slide, s.regime == stickslip_model::Regime::Stick);
+        }
         if s.t < self.filter_from {
             return Ok(());
         }
@@ -238,6 +305,34 @@ pub fn run_cells(scene: &Scene, precision: Precision, starts: &[Start], kick: f6
     Ok((reports.iter().zip(&sinks).map(|(r, s)| run_cell(scene, r, s, kick)).collect(), steps))
 }
 
+/// Whether a map's runs from sliding may be shared by cells that differ only in mu_s: where
+/// slip's forcing does not read mu_s (Coulomb friction: mu_k N; Stribeck's curve starts at
+/// mu_s) and the runs are the stepper's (not unilateral contact's or the pneumatic drive's
+/// event-driven paths). Whether a given run read mu_s is then [`sliding_run_free_of_mu_s`]'s
+/// test.
+pub fn mu_s_free(scene: &Scene) -> bool {
+    scene.friction == stickslip_model::FrictionLaw::Coulomb && !scene.unilateral() && !scene.pneumatic()
+}
+
+/// The run from sliding of `scene` when it read no mu_s, for the cells that differ from
+/// `scene` only in mu_s: `Some` when the scene is [`mu_s_free`], steady sliding exists, and the
+/// run completed with no transition, its sliding velocity clear of zero throughout
+/// ([`SlipMargin`]: no velocity match was located, so neither stick's limit nor the
+/// velocity match's rule was read); `None` otherwise (each cell then runs its own). Returns
+/// the steps run.
+pub fn sliding_run_free_of_mu_s(scene: &Scene, o: CellOptions) -> Result<(Option<RunCell>, u64)> {
+    if !mu_s_free(scene) || sliding::sliding_stability(scene).invalid.is_some() {
+        return Ok((None, 0));
+    }
+    let mut sink = CellSink::with_margin(scene);
+    let report = {
+        let mut runs = [(Start::Sliding { kick: o.kick }, &mut sink)];
+        run::run_starts(scene, o.precision, Detail::Events, &mut runs)?.remove(0)
+    };
+    let free = matches!(report.outcome, Outcome::Completed) && report.transitions == 0 && sink.margin.is_some_and(|m| m.clear());
+    Ok((free.then(|| run_cell(scene, &report, &sink, o.kick)), report.steps_done))
+}
+
 /// What one cell runs.
 #[derive(Clone, Copy, Debug)]
 pub struct CellOptions {
@@ -249,7 +344,15 @@ pub struct CellOptions {
 /// The cell of `scene` (already built from the base scene and the cell's values): linear
 /// analysis, the run from sliding (unless steady sliding does not exist: then its regime is
 /// the reason, sprag or contact_loss), the run from rest. Returns the steps run.
-pub fn cell(index: usize, params: &[(String, f64)], scene: std::result::Result<Scene, String>, o: CellOptions) -> Result<(CellJson, u64)> {
+/// `from_sliding`: the run from sliding already run for a scene that differs from this one
+/// only in mu_s and read no mu_s ([`sliding_run_free_of_mu_s`]): taken as this cell's.
+pub fn cell(
+    index: usize,
+    params: &[(String, f64)],
+    scene: std::result::Result<Scene, String>,
+    o: CellOptions,
+    from_sliding: Option<&RunCell>,
+) -> Result<(CellJson, u64)> {
     let params: serde_json::Map<String, serde_json::Value> =
         params.iter().map(|(k, v)| (k.clone(), serde_json::Value::from(*v))).collect();
     let scene = match scene {
@@ -276,11 +379,17 @@ pub fn cell(index: usize, params: &[(String, f64)], scene: std::result::Result<S
             let (mut runs, steps) = run_cells(&scene, o.precision, &[rest], o.kick)?;
             (none, runs.remove(0), steps)
         }
-        None => {
-            let (mut runs, steps) = run_cells(&scene, o.precision, &[Start::Sliding { kick: o.kick }, rest], o.kick)?;
-            let from_rest = runs.remove(1);
-            (runs.remove(0), from_rest, steps)
-        }
+        None => match from_sliding.filter(|_| mu_s_free(&scene)) {
+            Some(shared) => {
+                let (mut runs, steps) = run_cells(&scene, o.precision, &[rest], o.kick)?;
+                (shared.clone(), runs.remove(0), steps)
+            }
+            None => {
+                let (mut runs, steps) = run_cells(&scene, o.precision, &[Start::Sliding { kick: o.kick }, rest], o.kick)?;
+                let from_rest = runs.remove(1);
+                (runs.remove(0), from_rest, steps)
+            }
+        },
     };
     Ok((
         CellJson { index, params, invalid: None, linear: Some(LinearCell::of(&lin)), from_sliding: Some(from_sliding), from_rest: Some(from_rest) },

@@ -83,6 +83,78 @@ pub struct MapSpec {
     pub jobs: Option<usize>,
     /// Draw the progress bar on stderr (it hides itself when stderr is not a terminal).
     pub progress: bool,
+    /// Share the run from sliding between cells that differ only in a swept mu_s where that
+    /// run read no mu_s ([`SlidingShare`]); `false` runs every cell's own (the same map, byte
+    /// for byte: the test of the sharing).
+    pub share_sliding: bool,
+}
+
+/// Cells that differ only in a swept mu_s (the groups: the cells with the same values of
+/// the other sweep) have the same run from sliding when that run never reached the velocity
+/// match or stick, the only places mu_s enters a Coulomb scene's run. One cell of each group,
+/// its representative, runs it first ([`cell::sliding_run_free_of_mu_s`], which tests that);
+/// the others take it where their scene is the representative's with its mu_s. A beta x mu_s
+/// map of the thesis model runs one run from sliding per beta instead of one per cell.
+struct SlidingShare {
+    /// Which sweep is mu_s.
+    mu_s_sweep: usize,
+    /// Per group: the representative's scene and its shared run (None: not shared).
+    runs: Vec<Option<(Scene, cell::RunCell)>>,
+}
+
+impl SlidingShare {
+    /// The group of cell `i`: its coordinates in the sweeps other than mu_s.
+    fn group(grid: &Grid, mu_s_sweep: usize, i: usize) -> usize {
+        let coords = grid.coords(i);
+        let mut g = 0;
+        for (j, sw) in grid.sweeps.iter().enumerate().rev() {
+            if j != mu_s_sweep {
+                g = g * sw.n + coords[j];
+            }
+        }
+        g
+    }
+
+    /// The shared runs of the groups of `indices` (None: the map sweeps no mu_s, or its base
+    /// scene's runs read mu_s in slip). Returns the steps run.
+    fn build(spec: &MapSpec, indices: &[usize]) -> Result<(Option<SlidingShare>, u64)> {
+        let grid = &spec.grid;
+        let Some(mu_s_sweep) = grid.sweeps.iter().position(|sw| sw.key == "mu_s") else { return Ok((None, 0)) };
+        if !spec.share_sliding || !cell::mu_s_free(&spec.base) {
+            return Ok((None, 0));
+        }
+        let groups = grid.cells() / grid.sweeps[mu_s_sweep].n;
+        // the representative: the group's first cell (in this shard) with a valid scene
+        let mut rep: Vec<Option<(usize, Scene)>> = vec![None; groups];
+        for &i in indices {
+            let g = Self::group(grid, mu_s_sweep, i);
+            if rep[g].is_none() {
+                if let Ok(sc) = grid.scene(&spec.base, i) {
+                    rep[g] = Some((i, sc));
+                }
+            }
+        }
+        let runs: Vec<(Option<(Scene, cell::RunCell)>, u64)> = rep
+            .par_iter()
+            .map(|r| match r {
+                Some((_, sc)) => {
+                    let (run, steps) = cell::sliding_run_free_of_mu_s(sc, spec.options)?;
+                    Ok((run.map(|rc| (*sc, rc)), steps))
+                }
+                None => Ok((None, 0)),
+            })
+            .collect::<Result<_>>()?;
+        let steps = runs.iter().map(|r| r.1).sum();
+        Ok((Some(SlidingShare { mu_s_sweep, runs: runs.into_iter().map(|r| r.0).collect() }), steps))
+    }
+
+    /// The shared run for cell `i` of scene `scene`: where its group has one and the scene is
+    /// the representative's but for mu_s.
+    fn for_cell(&self, grid: &Grid, i: usize, scene: &std::result::Result<Scene, String>) -> Option<&cell::RunCell> {
+        let (rep, run) = self.runs[Self::group(grid, self.mu_s_sweep, i)].as_ref()?;
+        let scene = scene.as_ref().ok()?;
+        (Scene { mu_s: rep.mu_s, ..*scene } == *rep).then_some(run)
+    }
 }
 
 /// How long the map took (stderr only: the JSON stays reproducible).
@@ -113,11 +185,15 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
     );
     let steps = AtomicU64::new(0);
     let t0 = Instant::now();
+    let (share, shared_steps) = pool.install(|| SlidingShare::build(spec, &indices))?;
+    steps.fetch_add(shared_steps, Ordering::Relaxed);
     let cells: Result<Vec<CellJson>> = pool.install(|| {
         indices
             .par_iter()
             .map(|&i| {
-                let (c, n) = cell::cell(i, &spec.grid.params(i), spec.grid.scene(&spec.base, i), spec.options)?;
+                let scene = spec.grid.scene(&spec.base, i);
+                let from_sliding = share.as_ref().and_then(|sh| sh.for_cell(&spec.grid, i, &scene));
+                let (c, n) = cell::cell(i, &spec.grid.params(i), scene, spec.options, from_sliding)?;
                 steps.fetch_add(n, Ordering::Relaxed);
                 bar.inc(1);
                 Ok(c)
