@@ -62,6 +62,26 @@ fn runs_that_would_take_hours_halt_as_budget() {
 }
 
 #[test]
+fn scenes_at_the_ends_of_the_number_range_end_in_an_outcome_not_a_hang() {
+    // each of these once hung in the set-up: a row of the system matrix summing to inf (k_g =
+    // 1e308 over m = 0.3 kg overflows), and the balancing before the matrix exponential and
+    // before the eigenvalues halved inf for ever. Each scene is valid (every value a finite
+    // number > 0); what the run makes of it must be a classified outcome.
+    let dir = scratch("hardening-range-ends");
+    for (i, keys) in ["k_g = 1e308\n", "f_n = 1e307\n", "m = 1e-310\n", "inertia = 1e-320\n", "k_l = 1e308\n"].iter().enumerate() {
+        let f = scene(&dir, &format!("ends_{i}.toml"), keys);
+        let j = json(&["simulate", &f, "--duration", "0.01", "--stats-from", "0.005", "--json"]);
+        let outcome = j["outcome"].as_str().unwrap_or_default().to_string();
+        assert!(!outcome.is_empty(), "{keys}: {j}");
+        let s = json(&["sil", &f, "--duration", "0.01", "--stats-from", "0.005", "--json"]);
+        assert!(s["outcome"].is_string(), "{keys}: {s}");
+    }
+    // the map's linear analysis: its eigenvalues of the same overflowing matrix
+    let m = json(&["map", "push_center", "--sweep", "k_g=1e307:1.7e308:2:log", "--duration", "0.01", "--stats-from", "0.005", "--json"]);
+    assert_eq!(m["cells"].as_array().map(Vec::len), Some(2), "{m}");
+}
+
+#[test]
 fn counts_are_capped_and_name_their_option() {
     bad(&["map", "push_center", "--sweep", "beta=0.01:0.07:1000000000"], &["--sweep", "1000000000", "100000"]);
     bad(&["map", "push_center", "--sweep", "beta=0.01:0.07:10000", "--sweep", "mu_s=0.4:0.8:10000"], &["cells", "10000000"]);

@@ -80,7 +80,8 @@ fn balance<const N: usize>(a: &MatN<N>) -> (MatN<N>, [f64; N]) {
                     r += libm::fabs(b[i][j]);
                 }
             }
-            if c == 0.0 || r == 0.0 {
+            // (a row or column that sums to inf or NaN is left as it is: halving inf never ends)
+            if c == 0.0 || r == 0.0 || !(c + r).is_finite() {
                 continue;
             }
             let mut f = 1.0;

@@ -242,7 +242,8 @@ fn eigenvalues(mut j: DMatrix<f64>) -> Vec<nalgebra::Complex<f64>> {
         for i in 0..n {
             let c: f64 = (0..n).filter(|&k| k != i).map(|k| j[(k, i)].abs()).sum();
             let r: f64 = (0..n).filter(|&k| k != i).map(|k| j[(i, k)].abs()).sum();
-            if c == 0.0 || r == 0.0 {
+            // (a row or column that sums to inf or NaN is left as it is: halving inf never ends)
+            if c == 0.0 || r == 0.0 || !(c + r).is_finite() {
                 continue;
             }
             let mut f = 1.0;
