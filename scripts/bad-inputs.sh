@@ -151,6 +151,8 @@ t error "--set" cases --set bogus
 # map
 t error "--sweep" map push_center --sweep beta=0.01:0.07:1000000000
 t error "--sweep" map push_center --sweep beta=0.01:0.07:0
+t error "--sweep" map push_center --sweep beta=0.01:0.07:1
+t error "--duration" map push_center --sweep duration=0.2:0.3:2 --duration 0.5
 t error "--sweep" map push_center --sweep beta=0.01:0.07:-3
 t error "--sweep" map push_center --sweep beta=0.07:0.01:3:log
 t error "--sweep" map push_center --sweep beta=0:0.07:3:log
@@ -268,6 +270,7 @@ t error "--horizons" "${F[@]}" --table thesis_table_3_1 --horizons nan
 t error "--bounds" "${F[@]}" --table thesis_table_3_1 --bounds mu_k=1:0.5
 t error "--bounds" "${F[@]}" --table thesis_table_3_1 --bounds mu_k=0.5:0.9
 t error "--bounds" "${F[@]}" --table thesis_table_3_1 --bounds warp=1:2
+t error "bounded twice" "${F[@]}" --table thesis_table_3_1 --bounds mu_k=0.2:0.4 --bounds mu_k=0.1:0.44
 t error "--weights" "${F[@]}" --table thesis_table_3_1 --weights pp=-1
 t error "--weights" "${F[@]}" --table thesis_table_3_1 --weights warp=1
 t error "--holdout" "${F[@]}" --table thesis_table_3_1 --holdout warp_case

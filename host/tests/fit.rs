@@ -217,6 +217,11 @@ fn bad_tables_name_the_line() {
         ("header.csv", "case,chan,statistic,value\n", "line 1: the header must be"),
         ("twice.csv", "case,channel,statistic,value\npull_center,pad_x,pp,1\npull_center,pad_x,pp,2\n", "line 3: pull_center pad_x pp is given twice"),
         ("case.csv", "case,channel,statistic,value\npush_middle,pad_x,pp,1\n", "line 2: unknown case `push_middle`"),
+        // the line counted as an editor counts it: CRLF line ends, blank and comment lines
+        ("crlf.csv", "case,channel,statistic,value\r\npull_center,pad_x,pp,1\r\npull_center,pad_x,rms,abc\r\n", "line 3: value `abc`"),
+        ("blank.csv", "case,channel,statistic,value\npull_center,pad_x,pp,1\n\n\npull_center,pad_x,rms,abc\n", "line 5: value `abc`"),
+        ("comment.csv", "# made by hand\ncase,channel,statistic,value\n# a note\npull_center,pad_x,rms,abc\n", "line 4: value `abc`"),
+        ("crlf_blank.csv", "case,channel,statistic,value\r\n\r\npull_center,pad_z,pp,1\r\n", "line 3: unknown channel `pad_z`"),
     ];
     for (name, text, needle) in cases {
         let f = write(&dir, name, text);

@@ -58,9 +58,14 @@ pub(super) fn free_keys(scene: &NamedScene, free: &[String], bounds: &[String], 
     if keys.is_empty() {
         return Err(HostError::Input("--free: give at least one scene key to fit, e.g. --free mu_s,mu_k,v_s".into()));
     }
+    let mut bounded: Vec<&str> = Vec::new();
     for b in bounds.iter().flat_map(|f| f.split(',')).map(str::trim).filter(|s| !s.is_empty()) {
         let bad = |m: String| HostError::Input(format!("--bounds {b}: {m}"));
         let (k, range) = b.split_once('=').ok_or_else(|| bad("give KEY=LO:HI".into()))?;
+        if bounded.contains(&k.trim()) {
+            return Err(bad(format!("`{}` is bounded twice; give one range", k.trim())));
+        }
+        bounded.push(k.trim());
         let (lo, hi) = range.split_once(':').ok_or_else(|| bad("give KEY=LO:HI".into()))?;
         let num = |s: &str| s.trim().parse::<f64>().map_err(|_| bad(format!("`{s}` is not a number")));
         let (lo, hi) = (num(lo)?, num(hi)?);

@@ -79,6 +79,24 @@ fn sane_range(stat: Stat) -> (f64, f64, &'static str) {
     }
 }
 
+/// The line (from 1) of the record that starts at `byte` of `text`, or after it: the blank
+/// and comment lines the reader skipped before it are passed over (the CSV reader's own line
+/// count is one short after a blank line and on CRLF files).
+fn line_at(text: &str, byte: u64) -> u64 {
+    let bytes = text.as_bytes();
+    let mut at = (byte as usize).min(bytes.len());
+    loop {
+        let end = bytes[at..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |p| at + p);
+        let line = &text[at..end];
+        let skipped = line.trim().is_empty() || line.trim_start().starts_with('#');
+        if !skipped || end >= bytes.len() {
+            break;
+        }
+        at = end + 1;
+    }
+    bytes[..at].iter().filter(|&&b| b == b'\n').count() as u64 + 1
+}
+
 /// Reads a table of measured statistics. `label` names it in errors; errors name the line.
 pub fn read_table(label: &str, text: &str) -> Result<Vec<Measured>> {
     let bad = |line: u64, m: String| HostError::Input(format!("{label}: line {line}: {m}"));
@@ -94,10 +112,10 @@ pub fn read_table(label: &str, text: &str) -> Result<Vec<Measured>> {
     let mut fields = 4;
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line());
+            let line = e.position().map_or(0, |p| line_at(text, p.byte()));
             bad(line, format!("not CSV: {e}"))
         })?;
-        let line = rec.position().map_or(0, |p| p.line());
+        let line = rec.position().map_or(0, |p| line_at(text, p.byte()));
         if !header_seen {
             let h: Vec<&str> = rec.iter().collect();
             if h != ["case", "channel", "statistic", "value"] && h != ["case", "channel", "statistic", "value", "sigma"] {

@@ -86,9 +86,16 @@ pub fn markdown(m: &MapJson) -> String {
     let sweeps: Vec<String> = m.sweeps.iter().map(|w| w.spec()).collect();
     s.push_str(&format!("# Regime map of `{}`: {}\n\n", m.scene, sweeps.join(" x ")));
     let shard = m.shard.map_or(String::new(), |sh| format!(" (shard {}/{}: {} of them)", sh.k, sh.n, m.cells.len()));
+    // a swept run setting is the cell's, not the base scene's
+    let setting = |key: &str, v: String| if m.sweeps.iter().any(|w| w.key == key) { format!("{key} swept") } else { v };
     s.push_str(&format!(
-        "{} cells{shard}; each: the linear stability of steady sliding, a run from steady sliding with a velocity kick of {} V, and a run from the stuck start; runs of {} s (dt {} s, {}), statistics from {} s.\n\n",
-        m.cells_total, m.kick, m.duration_s, sig4(m.dt_s), m.precision, m.stats_from_s
+        "{} cells{shard}; each: the linear stability of steady sliding, a run from steady sliding with a velocity kick of {} V, and a run from the stuck start; runs of {} (dt {}, {}), statistics from {}.\n\n",
+        m.cells_total,
+        m.kick,
+        setting("duration", format!("{} s", m.duration_s)),
+        setting("dt", format!("{} s", sig4(m.dt_s))),
+        m.precision,
+        setting("stats_from", format!("{} s", m.stats_from_s))
     ));
     // linear
     let count = |f: &dyn Fn(&CellJson) -> bool| m.cells.iter().filter(|c| f(c)).count();

@@ -55,6 +55,9 @@ impl Sweep {
         if n >= 2 && from == to {
             return bad(format!("FROM = TO = {from} with N = {n}: give N = 1 or a range"));
         }
+        if n == 1 && from != to {
+            return bad(format!("N = 1 runs one value, but FROM = {from} and TO = {to} differ: give {from}:{from}:1, or N >= 2 for the range"));
+        }
         if log && !(from > 0.0 && to > 0.0) {
             return bad("a log sweep needs FROM > 0 and TO > 0".into());
         }
