@@ -321,3 +321,104 @@ fn a_constant_signal_has_no_groan_and_compare_and_fit_heed_the_verdict() {
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(err.contains("nothing left to fit"), "{err}");
 }
+
+/// A two-channel WAV at 25.6 kHz: `codes[i]` per frame, each `valid` bits, written
+/// left-justified (the most significant bits) into `container`-byte little-endian samples
+/// (8 bits: unsigned, offset 128); a plain PCM header with wBitsPerSample `valid`, or a
+/// WAVE_FORMAT_EXTENSIBLE one with wBitsPerSample the container's and wValidBitsPerSample
+/// `valid`; `extra` (whole chunks) between `fmt ` and `data`.
+fn wav_of_codes(ext: bool, container: usize, valid: u32, extra: &[u8], codes: &[[i64; 2]]) -> Vec<u8> {
+    let (ch, fs) = (2u16, 25_600u32);
+    let block = container as u16 * ch;
+    let mut fmt = Vec::new();
+    fmt.extend((if ext { 0xFFFEu16 } else { 1 }).to_le_bytes());
+    fmt.extend(ch.to_le_bytes());
+    fmt.extend(fs.to_le_bytes());
+    fmt.extend((fs * block as u32).to_le_bytes());
+    fmt.extend(block.to_le_bytes());
+    if ext {
+        fmt.extend((8 * container as u16).to_le_bytes());
+        fmt.extend(22u16.to_le_bytes());
+        fmt.extend((valid as u16).to_le_bytes());
+        fmt.extend(3u32.to_le_bytes());
+        // KSDATAFORMAT_SUBTYPE_PCM
+        fmt.extend([1, 0, 0, 0, 0, 0, 0x10, 0, 0x80, 0, 0, 0xaa, 0, 0x38, 0x9b, 0x71]);
+    } else {
+        fmt.extend((valid as u16).to_le_bytes());
+    }
+    let mut data = Vec::new();
+    for f in codes {
+        for &c in f {
+            let raw = c << (8 * container as u32 - valid);
+            let raw = if container == 1 { raw + 128 } else { raw };
+            data.extend(&raw.to_le_bytes()[..container]);
+        }
+    }
+    let mut body = b"WAVEfmt ".to_vec();
+    body.extend((fmt.len() as u32).to_le_bytes());
+    body.extend(&fmt);
+    body.extend(extra);
+    body.extend(b"data");
+    body.extend((data.len() as u32).to_le_bytes());
+    body.extend(&data);
+    let mut out = b"RIFF".to_vec();
+    out.extend((body.len() as u32).to_le_bytes());
+    out.extend(body);
+    out
+}
+
+/// disc_x 0.05 sin(2 pi 50 t) and pad_x 0.5 sin(2 pi 200 t) of full scale, 4096 frames at
+/// 25.6 kHz (whole periods; the 200 Hz sine's samples reach its crests), as `valid`-bit codes.
+fn sine_codes(valid: u32) -> Vec<[i64; 2]> {
+    let top = ((1i64 << (valid - 1)) - 1) as f64;
+    (0..4096)
+        .map(|i| {
+            let t = i as f64 / 25_600.0;
+            let s = |a: f64, f: f64| (a * top * (2.0 * std::f64::consts::PI * f * t).sin()).round() as i64;
+            [s(0.05, 50.0), s(0.5, 200.0)]
+        })
+        .collect()
+}
+
+#[test]
+fn wav_samples_are_decoded_by_their_container_with_the_valid_bits_left_justified() {
+    let dir = scratch("formats-wav-containers");
+    let map = ["--channel", "disc_x=#1*10", "--channel", "pad_x=#2*10"];
+    // an odd-sized LIST chunk and its pad byte (RIFF chunks are word-aligned)
+    let mut list = b"LIST".to_vec();
+    list.extend(19u32.to_le_bytes());
+    list.extend(b"INFOISFT\x07\0\0\0gen.py\0\0");
+    for (name, ext, container, valid, extra) in [
+        ("24in32_ext", true, 4, 24, &[][..]),
+        ("20in24_ext", true, 3, 20, &[][..]),
+        ("24in24_ext", true, 3, 24, &[][..]),
+        ("12in16", false, 2, 12, &[][..]),
+        ("16_oddlist", false, 2, 16, &list[..]),
+        ("8", false, 1, 8, &[][..]),
+    ] {
+        let codes = sine_codes(valid);
+        let f = write(&dir, &format!("{name}.wav"), wav_of_codes(ext, container, valid, extra, &codes));
+        let v = json(&[&["analyze", &f, "--json"][..], &map[..]].concat());
+        // closed form: a valid-bit code k is k / 2^(valid - 1) of full scale, 10 m/s^2
+        let full = (1i64 << (valid - 1)) as f64;
+        for (c, ch) in [(0, "disc_x"), (1, "pad_x")] {
+            let hi = codes.iter().map(|f| f[c]).max().unwrap() as f64;
+            let lo = codes.iter().map(|f| f[c]).min().unwrap() as f64;
+            let ms = codes.iter().map(|f| (f[c] as f64 / full * 10.0).powi(2)).sum::<f64>() / codes.len() as f64;
+            let pp = num(&v, &["channels", ch, "pp"]);
+            assert!((pp - (hi - lo) / full * 10.0).abs() <= 1e-9, "{name} {ch}: pp {pp}");
+            let rms = num(&v, &["channels", ch, "rms"]);
+            assert!((rms - ms.sqrt()).abs() <= 1e-9, "{name} {ch}: rms {rms}");
+        }
+        // and the signal's own: pad_x 5 m/s^2 of amplitude at 200 Hz, to a count
+        let pp = num(&v, &["channels", "pad_x", "pp"]);
+        assert!((pp - 10.0).abs() <= 10.0 * 2.0 / full, "{name}: pad_x pp {pp} against 10");
+        assert_eq!(num(&v, &["channels", "pad_x", "peak_hz"]), 200.0, "{name}");
+    }
+    // more valid bits than the container holds
+    let f = write(&dir, "24in16_ext.wav", wav_of_codes(true, 2, 16, &[], &sine_codes(16)));
+    let mut b = std::fs::read(&f).unwrap();
+    b[38] = 24;
+    std::fs::write(&f, b).unwrap();
+    bad(&[&["analyze", &f][..], &map[..]].concat(), &[&f, "24 valid bits", "16-bit samples"]);
+}

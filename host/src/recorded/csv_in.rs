@@ -221,6 +221,10 @@ pub struct Row {
     /// The time column's printed resolution at this row [s] (place value of its last digit).
     pub t_resolution: f64,
     pub accel: [f64; 4],
+    /// Per channel (bit c: disc_x, pad_x, pad_trail, pad_lead), the sample is at its format's
+    /// extreme codes (an integer WAV's full scale: [`super::wav`]); 0 where the format has no
+    /// full scale (CSV, UFF).
+    pub full_scale: u8,
 }
 
 /// Splits one line into fields with the csv crate (quotes handled).
@@ -518,6 +522,7 @@ impl<R: Read> RowReader<R> {
                 t: t_value,
                 t_resolution: t.resolution() * self.layout.time_scale,
                 accel,
+                full_scale: 0,
             }));
         }
     }

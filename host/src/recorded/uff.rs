@@ -536,6 +536,6 @@ impl UffRows {
         }
         let t = self.x0 + self.i as f64 * self.dx;
         self.i += 1;
-        Ok(Some(Row { line: self.i, t, t_resolution: 0.0, accel }))
+        Ok(Some(Row { line: self.i, t, t_resolution: 0.0, accel, full_scale: 0 }))
     }
 }
