@@ -422,3 +422,35 @@ fn wav_samples_are_decoded_by_their_container_with_the_valid_bits_left_justified
     std::fs::write(&f, b).unwrap();
     bad(&[&["analyze", &f][..], &map[..]].concat(), &[&f, "24 valid bits", "16-bit samples"]);
 }
+
+#[test]
+fn a_name_that_matches_several_columns_or_records_is_an_error() {
+    let dir = scratch("formats-ambiguous-names");
+    // UFF: every record's ID lines 3 to 5 are NONE
+    let uff = data("rec_58.uff");
+    bad(
+        &["analyze", &uff, "--channel", "pad_x=NONE"],
+        &[&uff, "--channel pad_x=NONE matches records #1 `pad_lead`, #2 `pad_x`, #3 `disc_x`, #4 `pad_trail`", "#N"],
+    );
+    // UFF: two records named pad_x, found by name
+    let text = std::fs::read_to_string(&uff).unwrap();
+    assert!(text.contains("\npad_lead   "));
+    let f = write(&dir, "two_pad_x.uff", text.replacen("\npad_lead   ", "\npad_x      ", 1));
+    bad(&["analyze", &f], &[&f, "records #1 (`pad_x`) and #2 (`pad_x`) both name `pad_x`", "--channel pad_x=#N"]);
+    // either, mapped by number, is read
+    let v = json(&["analyze", &f, "--json", "--channel", "pad_x=#2", "--channel", "pad_lead=#1"]);
+    let base = json(&["analyze", &uff, "--json"]);
+    assert_eq!(num(&v, &["channels", "pad_x", "pp"]), num(&base, &["channels", "pad_x", "pp"]));
+    // CSV: two columns whose names match once the unit is stripped
+    let mut s = String::from("t,Acc [m/s^2],Acc [g],disc_x\n");
+    for i in 0..2048 {
+        let x = (2.0 * std::f64::consts::PI * 200.0 * i as f64 / 25_600.0).sin();
+        s.push_str(&format!("{},{},{},0\n", i as f64 / 25_600.0, 5.0 * x, 0.25 * x));
+    }
+    let f = write(&dir, "acc_twice.csv", s);
+    bad(&["analyze", &f, "--channel", "pad_x=Acc"], &[&f, "line 1", "--channel pad_x=Acc: columns 2 (`Acc [m/s^2]`) and 3 (`Acc [g]`) both match `Acc`", "#N"]);
+    // the full name picks one: 0.25 g of amplitude, its crests sampled (128 samples a period)
+    let v = json(&["analyze", &f, "--json", "--channel", "pad_x=Acc [g]"]);
+    let pp = num(&v, &["channels", "pad_x", "pp"]);
+    assert!((pp - 0.5 * 9.80665).abs() <= 1e-9, "{pp}");
+}

@@ -385,10 +385,24 @@ impl<R: Read> RowReader<R> {
             // the mapped channels: by name, or #N = the N-th column after time
             for sp in &map.specs {
                 let col = match &sp.source {
-                    ChannelSource::Name(_) => names.iter().position(|n| {
-                        let (bare, _) = name_and_unit(n);
-                        ChannelMap::matches_name(sp, &[n, &bare])
-                    }),
+                    ChannelSource::Name(_) => {
+                        let hits: Vec<usize> = (0..names.len())
+                            .filter(|&j| {
+                                let (bare, _) = name_and_unit(&names[j]);
+                                ChannelMap::matches_name(sp, &[&names[j], &bare])
+                            })
+                            .collect();
+                        if hits.len() > 1 {
+                            let cols: Vec<String> = hits.iter().map(|&j| format!("{} (`{}`)", j + 1, names[j].trim())).collect();
+                            return Err(bad(format!(
+                                "line {line_no}: --channel {}: columns {} both match {}: give #N (the N-th column after time) or a name only one has",
+                                sp.arg,
+                                cols.join(" and "),
+                                sp.source_text()
+                            )));
+                        }
+                        hits.first().copied()
+                    }
                     ChannelSource::Index(k) => (0..names.len()).filter(|&j| j != ti).nth(k - 1),
                 };
                 let Some(col) = col else {
