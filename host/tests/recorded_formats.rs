@@ -454,3 +454,37 @@ fn a_name_that_matches_several_columns_or_records_is_an_error() {
     let pp = num(&v, &["channels", "pad_x", "pp"]);
     assert!((pp - 0.5 * 9.80665).abs() <= 1e-9, "{pp}");
 }
+
+#[test]
+fn a_wav_clipped_at_its_own_full_scale_is_saturated() {
+    let dir = scratch("formats-wav-full-scale");
+    let map = ["--channel", "disc_x=#1*4", "--channel", "pad_x=#2*4"];
+    for (ext, container, valid) in [(false, 2, 16), (true, 4, 24)] {
+        let top = (1i64 << (valid - 1)) - 1;
+        // pad_x 1.5 x full scale at 200 Hz, clipped at +-top (a symmetric writer's rails)
+        let codes: Vec<[i64; 2]> = sine_codes(valid).iter().map(|f| [f[0], (3 * f[1]).clamp(-top, top)]).collect();
+        let clipped = codes.iter().filter(|f| f[1].abs() >= top).count() as f64;
+        assert!(clipped > 100.0);
+        let f = write(&dir, &format!("clipped_{valid}.wav"), wav_of_codes(ext, container, valid, &[], &codes));
+        let v = json(&[&["analyze", &f, "--json"][..], &map[..]].concat());
+        assert_eq!(num(&v, &["samples_at_full_scale", "pad_x"]), clipped, "{valid} bits");
+        assert_eq!(num(&v, &["samples_at_full_scale", "disc_x"]), 0.0);
+        assert_eq!(v["estimator"]["health"]["pad_x"][0], "saturated", "{valid} bits: {}", v["estimator"]["health"]);
+        assert!(v["estimator"]["health"]["disc_x"].as_array().unwrap().is_empty());
+        assert!(v["stick_fraction"].is_null() && v["stick_slip_hz"].is_null());
+        assert!(v["estimator"]["undecided"].as_str().unwrap().contains("pad_x saturated"), "{}", v["estimator"]["undecided"]);
+        let md = ok(&[&["analyze", &f][..], &map[..]].concat());
+        assert!(md.contains(&format!("Warning: pad_x: {clipped} samples at the file's full scale")) && md.contains("cannot decide"), "{md}");
+    }
+    // one sample at full scale (a recording normalised to its peak) is not clipping
+    let mut codes = sine_codes(16);
+    codes[1000][1] = 32767;
+    let f = write(&dir, "one_peak.wav", wav_of_codes(false, 2, 16, &[], &codes));
+    let v = json(&[&["analyze", &f, "--json"][..], &map[..]].concat());
+    assert_eq!(num(&v, &["samples_at_full_scale", "pad_x"]), 1.0);
+    assert!(v["estimator"]["health"]["pad_x"].as_array().unwrap().is_empty(), "{}", v["estimator"]["health"]);
+    assert!(v["estimator"]["undecided"].is_null());
+    // a CSV has no full scale
+    let v = json(&["analyze", &data("rec.csv"), "--json"]);
+    assert!(v["samples_at_full_scale"].is_null());
+}

@@ -58,7 +58,7 @@ impl Analyzer {
             ChannelHealth::assess(
                 channels[c].pp as f32,
                 channels[c].rms as f32,
-                r.at_range_ch[c] > 0,
+                r.at_range_ch[c] > 0 || self.at_full_scale[c] >= super::super::wav::FULL_SCALE_MIN_SAMPLES,
                 // a floor found in the stick phases is a noise floor of a_rel, pad_x and disc_x
                 // only: the pad still rotates in stick, so the edge sensors' is not theirs
                 r.floor.as_ref().filter(|f| f.quiet_blocks == 0 || c == PAD_X || c == DISC_X).map(|f| (f.report.mean_m_s2[c], f.report.sigma_m_s2[c])),
@@ -95,6 +95,8 @@ impl Analyzer {
             breakaway_jump_m_s2: self.cfg.breakaway_jump_m_s2,
             floor: r.floor,
             at_range: r.at_range_ch,
+            at_full_scale: self.at_full_scale,
+            full_scale: self.full_scale,
             undecided,
             health,
             spectrum,
