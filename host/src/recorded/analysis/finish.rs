@@ -76,6 +76,18 @@ impl Analyzer {
             }
             format!("{}: the contact estimate (stick fraction, frequency) would be a guess", bad.join(", "))
         });
+        // the estimator starts at START_RUN quiet rows in a row (Running::process): a shorter
+        // record never runs it, and its rows would all count as slip
+        let short = (self.rows < START_RUN as u64).then(|| {
+            format!(
+                "{} rows: the rig's estimator starts at {START_RUN} rows in a row within its stick level, so a record of fewer rows never runs it",
+                self.rows
+            )
+        });
+        let undecided = match (short, undecided) {
+            (Some(s), Some(u)) => Some(format!("{s}; {u}")),
+            (s, u) => s.or(u),
+        };
         Ok(Analysis {
             channels,
             stick_fraction: r.stick as f64 / n,
