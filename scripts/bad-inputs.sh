@@ -339,6 +339,24 @@ t error "r_col.csv" compare push_center r_col.csv
 t error "--noise" compare push_center r_ok.csv --noise 1e300
 t error "--gain" compare push_center r_ok.csv --gain 1e-300
 t error "--quiet-lead" compare push_center r_ok.csv --quiet-lead 1e9
+# foreign recordings: ambiguous names, a record too short for the estimator, a WAV clipped at
+# its own full scale, a WAV whose valid bits exceed its container
+printf 't,Acc [m/s^2],Acc [g]\n0,0,0\n0.001,1,0.1\n0.002,0,0\n' >r_acc2.csv
+printf 't,pad_x\n0,0\n0.0001,0.001\n0.0002,0\n0.0003,0.001\n' >r_short.csv
+python3 -c "
+import math, struct
+def wav(name, fmt, data):
+    body = b'WAVEfmt ' + struct.pack('<I', len(fmt)) + fmt + b'data' + struct.pack('<I', len(data)) + data
+    open(name, 'wb').write(b'RIFF' + struct.pack('<I', len(body)) + body)
+codes = [max(-32767, min(32767, round(3 * 16383 * math.sin(2 * math.pi * 200 * i / 25600)))) for i in range(4096)]
+wav('w_clip.wav', struct.pack('<HHIIHH', 1, 1, 25600, 51200, 2, 16), struct.pack('<%dh' % len(codes), *codes))
+sub = bytes([1, 0, 0, 0, 0, 0, 0x10, 0, 0x80, 0, 0, 0xaa, 0, 0x38, 0x9b, 0x71])
+wav('w_valid.wav', struct.pack('<HHIIHHHHI', 0xFFFE, 1, 25600, 51200, 2, 16, 22, 24, 4) + sub, struct.pack('<%dh' % len(codes), *codes))
+"
+t error "pad_x=Acc" analyze r_acc2.csv --channel pad_x=Acc
+t halt "cannot decide" analyze r_short.csv
+t halt "cannot decide" analyze w_clip.wav --channel pad_x=#1*4
+t error "24 valid bits" analyze w_valid.wav --channel pad_x=#1*4
 
 # decode
 "$bin" decode --help >/dev/null

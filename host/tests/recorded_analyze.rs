@@ -293,3 +293,33 @@ fn windows_to_an_unwritable_path_is_a_clear_error() {
     assert!(err.starts_with("error: ") && err.contains("w.csv: cannot write the windows"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+/// A pad at rest (pad_x about 0.001 m/s^2, far below the default stick level of 8.3 m/s^2):
+/// from 16 rows on the estimator starts (16 quiet rows in a row) and calls every row stick;
+/// below 16 it never starts, and a stick fraction would be a guess (it was 0: every row
+/// counted as slip), so it is null with the reason, while the per-channel figures stand.
+#[test]
+fn a_record_too_short_to_start_the_estimator_has_no_stick_fraction() {
+    let dir = scratch("short-records");
+    for rows in [2usize, 10, 15, 16, 17] {
+        let mut s = String::from("t,pad_x\n");
+        for i in 0..rows {
+            s.push_str(&format!("{:.8},{:.4}\n", i as f64 / 25_600.0, 0.001 * (i % 3) as f64));
+        }
+        let f = write(&dir, &format!("rest_{rows}.csv"), s);
+        let v = json(&["analyze", &f, "--json"]);
+        let pp = num(&v, &["channels", "pad_x", "pp"]);
+        let want = 0.001 * (rows - 1).min(2) as f64;
+        assert!((pp - want).abs() <= 1e-12, "{rows} rows: pp {pp} against {want}");
+        if rows < 16 {
+            assert!(v["stick_fraction"].is_null() && v["stick_slip_hz"].is_null(), "{rows} rows: {}", v["stick_fraction"]);
+            let why = v["estimator"]["undecided"].as_str().unwrap_or_default().to_string();
+            assert!(why.starts_with(&format!("{rows} rows: ")) && why.contains("16 rows in a row"), "{rows} rows: {why}");
+            let md = ok(&["analyze", &f]);
+            assert!(md.contains("cannot decide") && !md.contains("Stick fraction: 0"), "{md}");
+        } else {
+            assert_eq!(num(&v, &["stick_fraction"]), 1.0, "{rows} rows");
+            assert!(v["estimator"]["undecided"].is_null());
+        }
+    }
+}

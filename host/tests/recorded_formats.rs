@@ -321,3 +321,170 @@ fn a_constant_signal_has_no_groan_and_compare_and_fit_heed_the_verdict() {
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(err.contains("nothing left to fit"), "{err}");
 }
+
+/// A two-channel WAV at 25.6 kHz: `codes[i]` per frame, each `valid` bits, written
+/// left-justified (the most significant bits) into `container`-byte little-endian samples
+/// (8 bits: unsigned, offset 128); a plain PCM header with wBitsPerSample `valid`, or a
+/// WAVE_FORMAT_EXTENSIBLE one with wBitsPerSample the container's and wValidBitsPerSample
+/// `valid`; `extra` (whole chunks) between `fmt ` and `data`.
+fn wav_of_codes(ext: bool, container: usize, valid: u32, extra: &[u8], codes: &[[i64; 2]]) -> Vec<u8> {
+    let (ch, fs) = (2u16, 25_600u32);
+    let block = container as u16 * ch;
+    let mut fmt = Vec::new();
+    fmt.extend((if ext { 0xFFFEu16 } else { 1 }).to_le_bytes());
+    fmt.extend(ch.to_le_bytes());
+    fmt.extend(fs.to_le_bytes());
+    fmt.extend((fs * block as u32).to_le_bytes());
+    fmt.extend(block.to_le_bytes());
+    if ext {
+        fmt.extend((8 * container as u16).to_le_bytes());
+        fmt.extend(22u16.to_le_bytes());
+        fmt.extend((valid as u16).to_le_bytes());
+        fmt.extend(3u32.to_le_bytes());
+        // KSDATAFORMAT_SUBTYPE_PCM
+        fmt.extend([1, 0, 0, 0, 0, 0, 0x10, 0, 0x80, 0, 0, 0xaa, 0, 0x38, 0x9b, 0x71]);
+    } else {
+        fmt.extend((valid as u16).to_le_bytes());
+    }
+    let mut data = Vec::new();
+    for f in codes {
+        for &c in f {
+            let raw = c << (8 * container as u32 - valid);
+            let raw = if container == 1 { raw + 128 } else { raw };
+            data.extend(&raw.to_le_bytes()[..container]);
+        }
+    }
+    let mut body = b"WAVEfmt ".to_vec();
+    body.extend((fmt.len() as u32).to_le_bytes());
+    body.extend(&fmt);
+    body.extend(extra);
+    body.extend(b"data");
+    body.extend((data.len() as u32).to_le_bytes());
+    body.extend(&data);
+    let mut out = b"RIFF".to_vec();
+    out.extend((body.len() as u32).to_le_bytes());
+    out.extend(body);
+    out
+}
+
+/// disc_x 0.05 sin(2 pi 50 t) and pad_x 0.5 sin(2 pi 200 t) of full scale, 4096 frames at
+/// 25.6 kHz (whole periods; the 200 Hz sine's samples reach its crests), as `valid`-bit codes.
+fn sine_codes(valid: u32) -> Vec<[i64; 2]> {
+    let top = ((1i64 << (valid - 1)) - 1) as f64;
+    (0..4096)
+        .map(|i| {
+            let t = i as f64 / 25_600.0;
+            let s = |a: f64, f: f64| (a * top * (2.0 * std::f64::consts::PI * f * t).sin()).round() as i64;
+            [s(0.05, 50.0), s(0.5, 200.0)]
+        })
+        .collect()
+}
+
+#[test]
+fn wav_samples_are_decoded_by_their_container_with_the_valid_bits_left_justified() {
+    let dir = scratch("formats-wav-containers");
+    let map = ["--channel", "disc_x=#1*10", "--channel", "pad_x=#2*10"];
+    // an odd-sized LIST chunk and its pad byte (RIFF chunks are word-aligned)
+    let mut list = b"LIST".to_vec();
+    list.extend(19u32.to_le_bytes());
+    list.extend(b"INFOISFT\x07\0\0\0gen.py\0\0");
+    for (name, ext, container, valid, extra) in [
+        ("24in32_ext", true, 4, 24, &[][..]),
+        ("20in24_ext", true, 3, 20, &[][..]),
+        ("24in24_ext", true, 3, 24, &[][..]),
+        ("12in16", false, 2, 12, &[][..]),
+        ("16_oddlist", false, 2, 16, &list[..]),
+        ("8", false, 1, 8, &[][..]),
+    ] {
+        let codes = sine_codes(valid);
+        let f = write(&dir, &format!("{name}.wav"), wav_of_codes(ext, container, valid, extra, &codes));
+        let v = json(&[&["analyze", &f, "--json"][..], &map[..]].concat());
+        // closed form: a valid-bit code k is k / 2^(valid - 1) of full scale, 10 m/s^2
+        let full = (1i64 << (valid - 1)) as f64;
+        for (c, ch) in [(0, "disc_x"), (1, "pad_x")] {
+            let hi = codes.iter().map(|f| f[c]).max().unwrap() as f64;
+            let lo = codes.iter().map(|f| f[c]).min().unwrap() as f64;
+            let ms = codes.iter().map(|f| (f[c] as f64 / full * 10.0).powi(2)).sum::<f64>() / codes.len() as f64;
+            let pp = num(&v, &["channels", ch, "pp"]);
+            assert!((pp - (hi - lo) / full * 10.0).abs() <= 1e-9, "{name} {ch}: pp {pp}");
+            let rms = num(&v, &["channels", ch, "rms"]);
+            assert!((rms - ms.sqrt()).abs() <= 1e-9, "{name} {ch}: rms {rms}");
+        }
+        // and the signal's own: pad_x 5 m/s^2 of amplitude at 200 Hz, to a count
+        let pp = num(&v, &["channels", "pad_x", "pp"]);
+        assert!((pp - 10.0).abs() <= 10.0 * 2.0 / full, "{name}: pad_x pp {pp} against 10");
+        assert_eq!(num(&v, &["channels", "pad_x", "peak_hz"]), 200.0, "{name}");
+    }
+    // more valid bits than the container holds
+    let f = write(&dir, "24in16_ext.wav", wav_of_codes(true, 2, 16, &[], &sine_codes(16)));
+    let mut b = std::fs::read(&f).unwrap();
+    b[38] = 24;
+    std::fs::write(&f, b).unwrap();
+    bad(&[&["analyze", &f][..], &map[..]].concat(), &[&f, "24 valid bits", "16-bit samples"]);
+}
+
+#[test]
+fn a_name_that_matches_several_columns_or_records_is_an_error() {
+    let dir = scratch("formats-ambiguous-names");
+    // UFF: every record's ID lines 3 to 5 are NONE
+    let uff = data("rec_58.uff");
+    bad(
+        &["analyze", &uff, "--channel", "pad_x=NONE"],
+        &[&uff, "--channel pad_x=NONE matches records #1 `pad_lead`, #2 `pad_x`, #3 `disc_x`, #4 `pad_trail`", "#N"],
+    );
+    // UFF: two records named pad_x, found by name
+    let text = std::fs::read_to_string(&uff).unwrap();
+    assert!(text.contains("\npad_lead   "));
+    let f = write(&dir, "two_pad_x.uff", text.replacen("\npad_lead   ", "\npad_x      ", 1));
+    bad(&["analyze", &f], &[&f, "records #1 (`pad_x`) and #2 (`pad_x`) both name `pad_x`", "--channel pad_x=#N"]);
+    // either, mapped by number, is read
+    let v = json(&["analyze", &f, "--json", "--channel", "pad_x=#2", "--channel", "pad_lead=#1"]);
+    let base = json(&["analyze", &uff, "--json"]);
+    assert_eq!(num(&v, &["channels", "pad_x", "pp"]), num(&base, &["channels", "pad_x", "pp"]));
+    // CSV: two columns whose names match once the unit is stripped
+    let mut s = String::from("t,Acc [m/s^2],Acc [g],disc_x\n");
+    for i in 0..2048 {
+        let x = (2.0 * std::f64::consts::PI * 200.0 * i as f64 / 25_600.0).sin();
+        s.push_str(&format!("{},{},{},0\n", i as f64 / 25_600.0, 5.0 * x, 0.25 * x));
+    }
+    let f = write(&dir, "acc_twice.csv", s);
+    bad(&["analyze", &f, "--channel", "pad_x=Acc"], &[&f, "line 1", "--channel pad_x=Acc: columns 2 (`Acc [m/s^2]`) and 3 (`Acc [g]`) both match `Acc`", "#N"]);
+    // the full name picks one: 0.25 g of amplitude, its crests sampled (128 samples a period)
+    let v = json(&["analyze", &f, "--json", "--channel", "pad_x=Acc [g]"]);
+    let pp = num(&v, &["channels", "pad_x", "pp"]);
+    assert!((pp - 0.5 * 9.80665).abs() <= 1e-9, "{pp}");
+}
+
+#[test]
+fn a_wav_clipped_at_its_own_full_scale_is_saturated() {
+    let dir = scratch("formats-wav-full-scale");
+    let map = ["--channel", "disc_x=#1*4", "--channel", "pad_x=#2*4"];
+    for (ext, container, valid) in [(false, 2, 16), (true, 4, 24)] {
+        let top = (1i64 << (valid - 1)) - 1;
+        // pad_x 1.5 x full scale at 200 Hz, clipped at +-top (a symmetric writer's rails)
+        let codes: Vec<[i64; 2]> = sine_codes(valid).iter().map(|f| [f[0], (3 * f[1]).clamp(-top, top)]).collect();
+        let clipped = codes.iter().filter(|f| f[1].abs() >= top).count() as f64;
+        assert!(clipped > 100.0);
+        let f = write(&dir, &format!("clipped_{valid}.wav"), wav_of_codes(ext, container, valid, &[], &codes));
+        let v = json(&[&["analyze", &f, "--json"][..], &map[..]].concat());
+        assert_eq!(num(&v, &["samples_at_full_scale", "pad_x"]), clipped, "{valid} bits");
+        assert_eq!(num(&v, &["samples_at_full_scale", "disc_x"]), 0.0);
+        assert_eq!(v["estimator"]["health"]["pad_x"][0], "saturated", "{valid} bits: {}", v["estimator"]["health"]);
+        assert!(v["estimator"]["health"]["disc_x"].as_array().unwrap().is_empty());
+        assert!(v["stick_fraction"].is_null() && v["stick_slip_hz"].is_null());
+        assert!(v["estimator"]["undecided"].as_str().unwrap().contains("pad_x saturated"), "{}", v["estimator"]["undecided"]);
+        let md = ok(&[&["analyze", &f][..], &map[..]].concat());
+        assert!(md.contains(&format!("Warning: pad_x: {clipped} samples at the file's full scale")) && md.contains("cannot decide"), "{md}");
+    }
+    // one sample at full scale (a recording normalised to its peak) is not clipping
+    let mut codes = sine_codes(16);
+    codes[1000][1] = 32767;
+    let f = write(&dir, "one_peak.wav", wav_of_codes(false, 2, 16, &[], &codes));
+    let v = json(&[&["analyze", &f, "--json"][..], &map[..]].concat());
+    assert_eq!(num(&v, &["samples_at_full_scale", "pad_x"]), 1.0);
+    assert!(v["estimator"]["health"]["pad_x"].as_array().unwrap().is_empty(), "{}", v["estimator"]["health"]);
+    assert!(v["estimator"]["undecided"].is_null());
+    // a CSV has no full scale
+    let v = json(&["analyze", &data("rec.csv"), "--json"]);
+    assert!(v["samples_at_full_scale"].is_null());
+}

@@ -106,7 +106,9 @@ pub struct RecordingInput {
     /// SOURCE a name or #N (the N-th column after time, record or WAV channel, from 1); SCALE
     /// multiplies the values into m/s^2 (replacing a unit in the file; a WAV needs one: the
     /// acceleration at full scale). Repeat it per channel; unmapped channels are still found
-    /// by name. pad_x is required, the others may be absent
+    /// by name. A name that matches several columns or records, or two columns or records
+    /// found by name for one channel, is an error naming them (give #N). pad_x is required,
+    /// the others may be absent
     #[arg(long = "channel", value_name = "KEY=SOURCE[*SCALE]", allow_hyphen_values = true)]
     pub channels: Vec<String>,
     /// A jump forward in the time column (rows missing, a gap): `error` (one line naming it,

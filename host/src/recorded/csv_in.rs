@@ -221,6 +221,10 @@ pub struct Row {
     /// The time column's printed resolution at this row [s] (place value of its last digit).
     pub t_resolution: f64,
     pub accel: [f64; 4],
+    /// Per channel (bit c: disc_x, pad_x, pad_trail, pad_lead), the sample is at its format's
+    /// extreme codes (an integer WAV's full scale: [`super::wav`]); 0 where the format has no
+    /// full scale (CSV, UFF).
+    pub full_scale: u8,
 }
 
 /// Splits one line into fields with the csv crate (quotes handled).
@@ -381,10 +385,24 @@ impl<R: Read> RowReader<R> {
             // the mapped channels: by name, or #N = the N-th column after time
             for sp in &map.specs {
                 let col = match &sp.source {
-                    ChannelSource::Name(_) => names.iter().position(|n| {
-                        let (bare, _) = name_and_unit(n);
-                        ChannelMap::matches_name(sp, &[n, &bare])
-                    }),
+                    ChannelSource::Name(_) => {
+                        let hits: Vec<usize> = (0..names.len())
+                            .filter(|&j| {
+                                let (bare, _) = name_and_unit(&names[j]);
+                                ChannelMap::matches_name(sp, &[&names[j], &bare])
+                            })
+                            .collect();
+                        if hits.len() > 1 {
+                            let cols: Vec<String> = hits.iter().map(|&j| format!("{} (`{}`)", j + 1, names[j].trim())).collect();
+                            return Err(bad(format!(
+                                "line {line_no}: --channel {}: columns {} both match {}: give #N (the N-th column after time) or a name only one has",
+                                sp.arg,
+                                cols.join(" and "),
+                                sp.source_text()
+                            )));
+                        }
+                        hits.first().copied()
+                    }
                     ChannelSource::Index(k) => (0..names.len()).filter(|&j| j != ti).nth(k - 1),
                 };
                 let Some(col) = col else {
@@ -518,6 +536,7 @@ impl<R: Read> RowReader<R> {
                 t: t_value,
                 t_resolution: t.resolution() * self.layout.time_scale,
                 accel,
+                full_scale: 0,
             }));
         }
     }

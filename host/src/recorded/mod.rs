@@ -67,6 +67,9 @@ pub fn analyzer_for(rec: &Recording, cfg: AnalysisConfig, opts: &ReadOptions) ->
     for n in &rec.notes {
         an.note(n.clone());
     }
+    if let Some(w) = &rec.full_scale {
+        an.set_full_scale(w.clone());
+    }
     an
 }
 
@@ -76,6 +79,9 @@ fn run(mut rec: Recording, mut an: Analyzer, progress: &mut Progress, done_befor
     while let Some(row) = rec.next_row()? {
         an.push(row.line, row.t, row.t_resolution, &row.accel)
             .map_err(|m| HostError::Input(format!("{label}: {}", rec.locate(&m))))?;
+        if row.full_scale != 0 {
+            an.at_full_scale(row.t, row.full_scale);
+        }
         if an.rows() % PROGRESS_ROWS == 0 {
             progress.update(done_before + rec.counter.get());
         }

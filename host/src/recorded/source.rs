@@ -83,6 +83,9 @@ pub struct Recording<'a> {
     pub counter: Counter,
     /// The file's size [bytes] (0: standard input).
     pub size: u64,
+    /// The format's full scale in words, where it has one (an integer WAV's extreme codes:
+    /// rows mark the samples at them, `Row::full_scale`).
+    pub full_scale: Option<String>,
     rows: Rows<'a>,
 }
 
@@ -113,6 +116,7 @@ impl<'a> Recording<'a> {
             .map_err(|e| HostError::Input(format!("{label}: cannot read: {e}")))?;
         let format = sniff(&head);
         let rest: Box<dyn Read + 'a> = Box::new(Cursor::new(head).chain(input));
+        let mut full_scale = None;
         let (rows, present, notes) = match format {
             Format::Csv => {
                 let r = RowReader::with_channels(&label, rest, map)?;
@@ -123,6 +127,7 @@ impl<'a> Recording<'a> {
                 let mut r = WavRows::open(&label, rest, map)?;
                 let n = std::mem::take(&mut r.notes);
                 let p = r.present();
+                full_scale = r.full_scale.clone();
                 (Rows::Wav(r), p, n)
             }
             Format::Uff => {
@@ -139,7 +144,7 @@ impl<'a> Recording<'a> {
                 (Rows::Uff(r), p, n)
             }
         };
-        Ok(Recording { label, format, present, notes, counter, size, rows })
+        Ok(Recording { label, format, present, notes, counter, size, full_scale, rows })
     }
 
     /// The next row, or `None` at the end.

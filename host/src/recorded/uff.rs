@@ -410,7 +410,19 @@ impl UffRows {
         for sp in &map.specs {
             let rec = match &sp.source {
                 ChannelSource::Index(k) => records.get(k - 1),
-                ChannelSource::Name(_) => records.iter().find(|r| ChannelMap::matches_name(sp, &r.ids.iter().map(String::as_str).collect::<Vec<_>>())),
+                ChannelSource::Name(_) => {
+                    let hits: Vec<&Record> =
+                        records.iter().filter(|r| ChannelMap::matches_name(sp, &r.ids.iter().map(String::as_str).collect::<Vec<_>>())).collect();
+                    if hits.len() > 1 {
+                        let which: Vec<String> = hits.iter().map(|r| format!("#{} `{}`", r.index, r.ids[0])).collect();
+                        return Err(HostError::Input(format!(
+                            "{label}: --channel {} matches records {}: give #N or a text that names one",
+                            sp.arg,
+                            which.join(", ")
+                        )));
+                    }
+                    hits.first().copied()
+                }
             };
             let rec = rec.ok_or_else(|| {
                 HostError::Input(format!("{label}: --channel {}: no dataset-58 record {} (the records: {})", sp.arg, sp.source_text(), listing()))
@@ -424,8 +436,23 @@ impl UffRows {
                         ChannelSource::Index(k) => *k == rec.index,
                         ChannelSource::Name(n) => rec.ids.iter().any(|i| fold(i) == fold(n)),
                     });
-                    if chosen[c].is_none() && map.get(c).is_none() && !mapped {
-                        chosen[c] = Some((rec, None));
+                    if map.get(c).is_some() || mapped {
+                        continue;
+                    }
+                    match chosen[c] {
+                        None => chosen[c] = Some((rec, None)),
+                        Some((other, _)) if other.index != rec.index => {
+                            return Err(HostError::Input(format!(
+                                "{label}: records #{} (`{}`) and #{} (`{}`) both name `{}`: map one with --channel {}=#N",
+                                other.index,
+                                other.ids[0],
+                                rec.index,
+                                rec.ids[0],
+                                super::channels::key_name(c),
+                                super::channels::key_name(c)
+                            )))
+                        }
+                        Some(_) => {}
                     }
                 }
             }
@@ -536,6 +563,6 @@ impl UffRows {
         }
         let t = self.x0 + self.i as f64 * self.dx;
         self.i += 1;
-        Ok(Some(Row { line: self.i, t, t_resolution: 0.0, accel }))
+        Ok(Some(Row { line: self.i, t, t_resolution: 0.0, accel, full_scale: 0 }))
     }
 }

@@ -58,7 +58,7 @@ impl Analyzer {
             ChannelHealth::assess(
                 channels[c].pp as f32,
                 channels[c].rms as f32,
-                r.at_range_ch[c] > 0,
+                r.at_range_ch[c] > 0 || self.at_full_scale[c] >= super::super::wav::FULL_SCALE_MIN_SAMPLES,
                 // a floor found in the stick phases is a noise floor of a_rel, pad_x and disc_x
                 // only: the pad still rotates in stick, so the edge sensors' is not theirs
                 r.floor.as_ref().filter(|f| f.quiet_blocks == 0 || c == PAD_X || c == DISC_X).map(|f| (f.report.mean_m_s2[c], f.report.sigma_m_s2[c])),
@@ -76,6 +76,18 @@ impl Analyzer {
             }
             format!("{}: the contact estimate (stick fraction, frequency) would be a guess", bad.join(", "))
         });
+        // the estimator starts at START_RUN quiet rows in a row (Running::process): a shorter
+        // record never runs it, and its rows would all count as slip
+        let short = (self.rows < START_RUN as u64).then(|| {
+            format!(
+                "{} rows: the rig's estimator starts at {START_RUN} rows in a row within its stick level, so a record of fewer rows never runs it",
+                self.rows
+            )
+        });
+        let undecided = match (short, undecided) {
+            (Some(s), Some(u)) => Some(format!("{s}; {u}")),
+            (s, u) => s.or(u),
+        };
         Ok(Analysis {
             channels,
             stick_fraction: r.stick as f64 / n,
@@ -95,6 +107,8 @@ impl Analyzer {
             breakaway_jump_m_s2: self.cfg.breakaway_jump_m_s2,
             floor: r.floor,
             at_range: r.at_range_ch,
+            at_full_scale: self.at_full_scale,
+            full_scale: self.full_scale,
             undecided,
             health,
             spectrum,

@@ -229,6 +229,11 @@ pub struct Analysis {
     pub floor: Option<FloorOutcome>,
     /// Analysed samples at or beyond the sensor range, per channel.
     pub at_range: [u64; CH],
+    /// Analysed samples at the format's full scale (an integer WAV's extreme codes), per
+    /// channel: from [`super::wav::FULL_SCALE_MIN_SAMPLES`] on, the channel is saturated.
+    pub at_full_scale: [u64; CH],
+    /// The format's full scale in words, where it has one.
+    pub full_scale: Option<String>,
     /// Why the estimator cannot decide stick from slip on this record (its stick fraction
     /// and frequency are then not reported), or `None`.
     pub undecided: Option<String>,
@@ -322,6 +327,9 @@ pub struct Analyzer {
     gap_pending: bool,
     floor_note: Option<String>,
     notes: Vec<String>,
+    /// Samples at the format's full scale per channel (t >= from_s), and the full scale in words.
+    at_full_scale: [u64; CH],
+    full_scale: Option<String>,
 }
 
 impl Analyzer {
@@ -346,6 +354,8 @@ impl Analyzer {
             gap_pending: false,
             floor_note: None,
             notes: Vec::new(),
+            at_full_scale: [0; CH],
+            full_scale: None,
         }
     }
 
@@ -375,6 +385,27 @@ impl Analyzer {
     /// A sentence for the report's notes.
     pub fn note(&mut self, n: String) {
         self.notes.push(n);
+    }
+
+    /// The record's format has a full scale (`what`, in words: an integer WAV's extreme codes).
+    pub fn set_full_scale(&mut self, what: String) {
+        self.full_scale = Some(what);
+    }
+
+    /// The row just pushed (at time `t`) has samples at the format's full scale (bit c:
+    /// channel c): counted where the statistics are (t >= `from_s`, to a quarter of an
+    /// interval). From [`super::wav::FULL_SCALE_MIN_SAMPLES`] of them the channel is saturated,
+    /// as at the sensors' range.
+    pub fn at_full_scale(&mut self, t: f64, bits: u8) {
+        let quarter = if self.rows >= 2 { 0.25 * self.mean_interval() } else { 0.0 };
+        if !(t >= self.cfg.from_s - quarter) {
+            return;
+        }
+        for c in 0..CH {
+            if bits & (1 << c) != 0 {
+                self.at_full_scale[c] += 1;
+            }
+        }
     }
 
     /// Rows taken so far.

@@ -146,6 +146,9 @@ pub struct AnalysisJson {
     pub t_last_s: f64,
     pub time_resolution_s: f64,
     pub samples_at_range: u64,
+    /// Per channel, the analysed samples at the format's full scale (an integer WAV's extreme
+    /// codes); null for a format without one.
+    pub samples_at_full_scale: Option<Channels<u64>>,
     pub spectrum: Option<SpectrumJson>,
     pub estimator: EstimatorJson,
     /// The jumps in the time column analysed around (`--gaps split`).
@@ -185,6 +188,7 @@ impl AnalysisJson {
             t_last_s: a.t_last,
             time_resolution_s: a.time_resolution_s,
             samples_at_range: a.samples_at_range,
+            samples_at_full_scale: a.full_scale.as_ref().map(|_| Channels::from_fn(|c| a.at_full_scale[c])),
             spectrum: spectrum_json(a),
             estimator: EstimatorJson::new(a),
             gaps: a.gaps.iter().map(|g| GapJson { line: g.line, t_before_s: g.t_before, t_after_s: g.t_after, intervals: g.intervals }).collect(),
@@ -305,6 +309,14 @@ pub fn analysis_markdown(file: &str, a: &Analysis) -> String {
             "Warning: {} samples at or beyond the accelerometers' range (700 m/s^2): clipped?\n",
             a.samples_at_range
         ));
+    }
+    if let Some(what) = &a.full_scale {
+        for c in 0..a.at_full_scale.len() {
+            let n = a.at_full_scale[c];
+            if n >= crate::recorded::wav::FULL_SCALE_MIN_SAMPLES {
+                s.push_str(&format!("Warning: {}: {n} samples at the file's full scale ({what}): clipped.\n", ACCEL_NAMES[c]));
+            }
+        }
     }
     s
 }
