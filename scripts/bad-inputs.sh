@@ -371,10 +371,12 @@ for i, x in enumerate(b):
     start = b[i] == 0
 open('other.defmt', 'wb').write(b)
 open('junk.defmt', 'wb').write(bytes((i * 37 + 11) % 255 + 1 if i % 9 else 0 for i in range(4000)))
+open('text.csv', 'w').write('t,pad_x\n' + ''.join(f'{i / 25600},{i % 7}\n' for i in range(400)))
 EOF
 t error "other.defmt" decode --elf "$fixture.elf" other.defmt
 t error "junk.defmt" decode --elf "$fixture.elf" junk.defmt
 t error "random.bin" decode --elf "$fixture.elf" random.bin
+t error "text.csv" decode --elf "$fixture.elf" text.csv
 t error "/dev/zero" decode --elf /dev/zero "$fixture.defmt"
 t error "push.toml" decode --elf push.toml "$fixture.defmt"
 t error "random.bin" decode --elf random.bin "$fixture.defmt"

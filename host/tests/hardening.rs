@@ -247,3 +247,23 @@ fn errors_are_short_and_blame_what_the_user_gave() {
     // dt = 0.8 s: round(1 / 0.8) = 1 step, the window starting at step round(0.5 / 0.8) = 1
     bad(&["simulate", "push_center", "--dt", "0.8"], &["--dt", "holds no step"]);
 }
+
+#[test]
+fn a_scene_key_that_does_nothing_in_its_scene_gets_a_note() {
+    let dir = scratch("hardening-inert-keys");
+    // v_s under Coulomb friction, k_b without the band: the run is the base scene's, and
+    // stderr says which value was not used and why
+    for (keys, needle) in [("v_s = 0.001\n", "`v_s` = 0.001"), ("k_b = 1e5\n", "`k_b` = ")] {
+        let f = scene(&dir, &format!("inert_{}.toml", &keys[..3]), keys);
+        let o = stickslip(&["simulate", &f, "--duration", "0.02", "--stats-from", "0.01", "--json"]);
+        assert_eq!(o.status.code(), Some(0), "{keys}");
+        let err = stderr(&o);
+        assert!(err.contains(needle) && err.contains("does nothing") && err.contains(&f), "{keys}: {err}");
+    }
+    // a file that sets every key at its default (as `scenes show` writes it) gets no note
+    let shown = ok(&["scenes", "show", "push_center"]);
+    let f = write(&dir, "shown.toml", &shown);
+    let o = stickslip(&["simulate", &f, "--duration", "0.02", "--stats-from", "0.01", "--json"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(!stderr(&o).contains("does nothing"), "{}", stderr(&o));
+}

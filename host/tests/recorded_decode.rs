@@ -424,6 +424,15 @@ fn the_command_line() {
     bad(&["decode", "--elf", STREAM, STREAM], &["not a usable firmware ELF"]);
     bad(&["decode", "--elf", "/nonexistent.elf", STREAM], &["/nonexistent.elf", "cannot read"]);
     bad(&["decode", "--elf", ELF, "/nonexistent.defmt"], &["/nonexistent.defmt", "cannot open"]);
+    // a CSV given as the stream: no zero byte, so no frame; not an empty log
+    let dir = scratch("decode-not-a-stream");
+    let csv_text: String = std::iter::once("t,pad_x\n".to_string()).chain((0..200).map(|i| format!("{},{}\n", i as f64 / 25600.0, i % 7))).collect();
+    assert!(csv_text.len() >= 1024);
+    let f = write(&dir, "recording.csv", &csv_text);
+    bad(&["decode", "--elf", ELF, &f], &["recording.csv", "no frame", "not this firmware's defmt stream"]);
+    // a short one (a capture cut before its first frame ended) still decodes to nothing
+    let short = write(&dir, "short.defmt", "abc");
+    ok(&["decode", "--elf", ELF, &short]);
     bad(
         &["decode", "--elf", ELF, STREAM, "--kind", "transition"],
         &[

@@ -428,11 +428,24 @@ pub fn run(a: &DecodeRequest) -> Result<String> {
 /// Fewest frames for [`check_match`] to judge a stream by.
 pub const MATCH_MIN_FRAMES: u64 = 8;
 
+/// A stream of at least this many bytes must decode a frame ([`check_match`]).
+pub const NOT_A_STREAM_BYTES: u64 = 1024;
+
 /// Whether the stream is the ELF's: with [`MATCH_MIN_FRAMES`] frames or more, at least half
 /// must decode and fit their format's length exactly ([`fitted`]). A stream of another build
 /// (its format indices naming other formats here) fails that; so does a stream damaged beyond
-/// use. The error names both files.
+/// use. A stream of [`NOT_A_STREAM_BYTES`] or more of which no frame decodes fails too. The
+/// error names both files.
 pub fn check_match(label: &str, elf_label: &str, st: &StreamStats) -> Result<()> {
+    // a stream of some size from which nothing decodes (a CSV, a text file, another program's
+    // binary) is not an empty log: the rig's frames are a few tens of bytes
+    if st.frames_decoded == 0 && st.bytes >= NOT_A_STREAM_BYTES {
+        return Err(HostError::Input(format!(
+            "{label}: no frame of the defmt table of {elf_label} decodes from its {} bytes ({} frames dropped, {} bytes of an \
+             incomplete frame): not this firmware's defmt stream (a raw RTT capture or defmt-semihosting output)",
+            st.bytes, st.frames_dropped, st.incomplete_bytes
+        )));
+    }
     let total = st.frames_decoded + st.frames_dropped;
     if total >= MATCH_MIN_FRAMES && st.frames_dropped * 2 > total {
         return Err(HostError::Input(format!(

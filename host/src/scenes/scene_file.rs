@@ -536,6 +536,22 @@ pub fn inert_key(s: &Scene, key: &str) -> Option<&'static str> {
     }
 }
 
+/// The keys a scene file sets to a value other than the default pad's that do nothing in its
+/// scene ([`inert_key`]: `v_s` under Coulomb friction, the band's keys without the band, ...),
+/// each as a note naming the key, its value and why (the file still runs: the value is unused,
+/// and a file written by `scenes show` sets every key at its default).
+pub fn inert_notes(text: &str, s: &Scene) -> Vec<String> {
+    NUMERIC_KEYS
+        .iter()
+        .filter(|k| key_line(text, k).is_some())
+        .filter_map(|k| {
+            let why = inert_key(s, k)?;
+            let (v, d) = (get_numeric(s, k)?, get_numeric(&DEFAULT_SCENE, k)?);
+            (v.to_bits() != d.to_bits()).then(|| format!("`{k}` = {} does nothing: {why}", crate::output::format::short(v)))
+        })
+        .collect()
+}
+
 /// Sets the numeric key `key` of `s` to `value` (SI units, as in a scene file). A damping ratio
 /// (`zeta_x`, `zeta_phi`, `zeta_b`) sets its viscous coefficient from the scene's stiffness and
 /// inertia as they are now, so set it after them. The scene is not validated here. Errors:

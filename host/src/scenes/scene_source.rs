@@ -82,6 +82,9 @@ pub fn load_file(path: &Path) -> Result<NamedScene> {
             .map_or(String::new(), |(l, c)| format!("line {l}, column {c}: "));
         HostError::Input(format!("{shown}: {at}{}", e.message))
     })?;
+    for note in scene_file::inert_notes(&text, &parsed.scene) {
+        eprintln!("stickslip: {shown}: note: {note}");
+    }
     let stem = path
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());

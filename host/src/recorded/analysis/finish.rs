@@ -2,6 +2,11 @@
 
 use super::*;
 
+/// A pad_x whose standard deviation exceeds this fraction of the stick level moves: with the
+/// scene's thresholds (no quiet rows) and no slip onset, its stick fraction is not told
+/// (noise of a clamped pad is far below: 0.01 to 0.1 m/s^2 against a stick level of 8.3).
+pub const MOVING_FRACTION_OF_STICK_LEVEL: f64 = 0.1;
+
 impl Analyzer {
     /// The statistics. Errors (one line, starting with what is wrong): no rows, a single row,
     /// no row at or after `from_s`.
@@ -42,7 +47,8 @@ impl Analyzer {
             mean: r.sum[c] / n,
             min: r.extremes.min[c],
             max: r.extremes.max[c],
-            peak_hz: spectrum.as_ref().and_then(|s| s.peak(c)).map(|p| p.1),
+            // a constant channel has no spectral peak (its segments' round-off is not one)
+            peak_hz: spectrum.as_ref().and_then(|s| s.peak(c)).map(|p| p.1).filter(|_| r.extremes.pp(c) > 0.0),
             groan_rms: (r.groan_sq[c] / n).sqrt(),
             step: if r.step[c].is_finite() { r.step[c] } else { 0.0 },
         });
@@ -87,6 +93,29 @@ impl Analyzer {
         let undecided = match (short, undecided) {
             (Some(s), Some(u)) => Some(format!("{s}; {u}")),
             (s, u) => s.or(u),
+        };
+        // thresholds from the scene's breakaway jump because no quiet rows were found (the
+        // floor's note says why; not a jump the user gave): a pad that moves without one onset
+        // above the scene's level may slip below it (a sliding oscillation) or stick: the
+        // estimate cannot tell
+        let pad_sd = (channels[PAD_X].rms.powi(2) - channels[PAD_X].mean.powi(2)).max(0.0).sqrt();
+        let stick_level = f64::from(thresholds.stick_max_m_s2);
+        let below_guess = (r.floor.is_none()
+            && self.floor_note.is_some()
+            && r.onsets.count() == 0
+            && pad_sd > MOVING_FRACTION_OF_STICK_LEVEL * stick_level)
+            .then(|| {
+                format!(
+                    "no quiet rows set the contact thresholds, and pad_x moves (standard deviation {} m/s^2) without one slip onset \
+                     above the scene's level ({} m/s^2, from its breakaway jump): a slip below it cannot be told from stick \
+                     (give --quiet FROM:TO or --breakaway-jump)",
+                    crate::output::format::short(pad_sd),
+                    crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
+                )
+            });
+        let undecided = match (undecided, below_guess) {
+            (Some(u), Some(b)) => Some(format!("{u}; {b}")),
+            (u, b) => u.or(b),
         };
         Ok(Analysis {
             channels,
