@@ -82,9 +82,6 @@ pub fn load_file(path: &Path) -> Result<NamedScene> {
             .map_or(String::new(), |(l, c)| format!("line {l}, column {c}: "));
         HostError::Input(format!("{shown}: {at}{}", e.message))
     })?;
-    for note in scene_file::inert_notes(&text, &parsed.scene) {
-        eprintln!("stickslip: {shown}: note: {note}");
-    }
     let stem = path
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
@@ -178,6 +175,20 @@ pub fn prepare(mut ns: NamedScene, ov: &Overrides) -> Result<NamedScene> {
             short(s.duration),
             short(s.dt)
         )));
+    }
+    // a valid file's keys that do nothing in its scene: a note each, once per process (a fit
+    // prepares its scene per case)
+    if let Origin::File(path, text) = &ns.origin {
+        static NOTED: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+        for note in scene_file::inert_notes(text, &ns.scene) {
+            let line = format!("stickslip: {}: note: {note}", path.display());
+            if let Ok(mut seen) = NOTED.lock() {
+                if !seen.contains(&line) {
+                    eprintln!("{line}");
+                    seen.push(line);
+                }
+            }
+        }
     }
     Ok(ns)
 }
