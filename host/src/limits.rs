@@ -51,7 +51,7 @@ pub const MAX_JOBS: usize = 1024;
 
 /// Work budget of one run: substeps per step (the quarter-radian rule of the exact steppers:
 /// the fastest mode turns by at most a quarter radian per substep) times the steps, at most
-/// 2^27 (134,217,728: a 5,000 s run at 25.6 kHz and one substep per step, about 10 s of
+/// 2^27 (134,217,728: a 5,243 s run at 25.6 kHz and one substep per step, about 10 s of
 /// computing; a substep of the model-2 stepper in Stribeck slip costs up to 1 us). A run over
 /// it is halted before its first step with the outcome `budget`.
 pub const SUBSTEP_BUDGET: u64 = 1 << 27;

@@ -315,6 +315,9 @@ fn bad_input_is_one_line_and_exit_2() {
     // an input that does not open, an ELF without defmt data
     bad(&["record", "--elf", ELF, "--input", &d("nope.defmt"), "--out", &d("new2")], &["nope.defmt", "cannot open"]);
     assert!(!dir.join("new2").exists(), "no folder for an input that does not open");
+    // a folder as the input opens on Unix; it is refused before the output folder is made
+    bad(&["record", "--elf", ELF, "--input", dir.to_str().unwrap(), "--out", &d("new4")], &["a folder, not a stream"]);
+    assert!(!dir.join("new4").exists(), "no folder for a folder as the input");
     bad(&["record", "--elf", STREAM, "--input", STREAM, "--out", &d("new3")], &["not a usable firmware ELF"]);
     bad(&["record", "--elf", ELF, "--input", STREAM, "--probe", "0483:374b"], &["--probe", "--input"]);
 }

@@ -126,3 +126,10 @@ fn options_and_files_that_do_not_exist() {
     bad(&["sil", "thesis-mu", "--quiet-lead", "0"], &["thesis-mu", "not positive", "--breakaway-jump"]);
     bad(&["analyze", &f, "--scene", "thesis-mu"], &["thesis-mu", "--breakaway-jump"]);
 }
+
+#[test]
+fn a_channel_mapped_to_the_time_column_is_named_as_such() {
+    let dir = scratch("channel-on-time");
+    let f = write(&dir, "rec.csv", "time,acc\n0,1\n0.001,2\n0.002,3\n");
+    bad(&["analyze", &f, "--channel", "pad_x=time"], &["rec.csv", "line 1", "--channel names the time column `time`"]);
+}

@@ -331,6 +331,13 @@ impl<R: Read> RowReader<R> {
                 let role = if mapped { Role::Other } else { classify(name).map_err(|m| bad(format!("line {line_no}: {m}")))? };
                 roles.push(role);
                 if mapped {
+                    // a --channel naming the time column would leave the file without one
+                    if let Ok(Role::Time(_)) = classify(name) {
+                        return Err(bad(format!(
+                            "line {line_no}: --channel names the time column `{}`: a channel's source must be another column",
+                            name.trim()
+                        )));
+                    }
                     known += 1;
                 }
             }

@@ -266,6 +266,11 @@ pub fn run(a: &RecordRequest) -> Result<String> {
         }
         Some(path) => {
             let f = File::open(path).map_err(|e| HostError::Input(format!("{path}: cannot open the stream: {e}")))?;
+            // a folder opens on Unix and fails only at the first read, after the output
+            // folder was made: refuse it here
+            if f.metadata().is_ok_and(|m| m.is_dir()) {
+                return Err(HostError::Input(format!("{path}: a folder, not a stream (give the capture's file)")));
+            }
             source::spawn_reader(f, tx);
             path.to_string()
         }
