@@ -90,10 +90,6 @@ impl Analyzer {
                 self.rows
             )
         });
-        let undecided = match (short, undecided) {
-            (Some(s), Some(u)) => Some(format!("{s}; {u}")),
-            (s, u) => s.or(u),
-        };
         // thresholds from the scene's breakaway jump because no quiet rows were found (the
         // floor's note says why; not a jump the user gave): a pad that moves without one onset
         // above the scene's level may slip below it (a sliding oscillation) or stick: the
@@ -113,10 +109,9 @@ impl Analyzer {
                     crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
                 )
             });
-        let undecided = match (undecided, below_guess) {
-            (Some(u), Some(b)) => Some(format!("{u}; {b}")),
-            (u, b) => u.or(b),
-        };
+        // every reason the contact estimate is not told, in this order
+        let reasons: Vec<String> = [short, undecided, below_guess].into_iter().flatten().collect();
+        let undecided = (!reasons.is_empty()).then(|| reasons.join("; "));
         Ok(Analysis {
             channels,
             stick_fraction: r.stick as f64 / n,
