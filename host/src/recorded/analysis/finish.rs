@@ -1,11 +1,34 @@
 //! The statistics of a finished analysis ([`Analyzer::finish`]).
 
 use super::*;
+use stickslip_model::rig::contact::{ONSET_QUANTA, ONSET_SIGMAS};
+use stickslip_model::rig::health::NOISY_RMS_FACTOR;
 
 /// A pad_x whose standard deviation exceeds this fraction of the stick level moves: with the
 /// scene's thresholds (no quiet rows) and no slip onset, its stick fraction is not told
 /// (noise of a clamped pad is far below: 0.01 to 0.1 m/s^2 against a stick level of 8.3).
 pub const MOVING_FRACTION_OF_STICK_LEVEL: f64 = 0.1;
+
+/// The largest relative sliding velocity at which a slip may end and be believed [m/s]: a
+/// slip ends where v_r comes back to zero; one that the estimator's drift guard (or the
+/// record's end) closes at 1 m/s, against a band pulled at mm/s to cm/s, is the estimator
+/// integrating an offset of a_rel (a biased pad_x channel) or a slip slower than its guard,
+/// not a motion.
+pub const MAX_PLAUSIBLE_V_R_M_S: f64 = 1.0;
+
+/// Where the contact thresholds are set by the converter's count (the quiet rows moved by less
+/// than one or two), pad_x must span at least this many counts for the estimate to be told: the
+/// stick level is then one count, and at fewer counts the slips' edges are lost in it (the
+/// virtual rig at the default gain: rig_quiet_push_center spans 5.7 counts and gives a stick
+/// fraction of 0.036 for 0.326; rig_push_center spans 38 and gives 0.312 for 0.309).
+pub const MIN_SPAN_COUNTS: f64 = 16.0;
+
+/// Slips shorter than this on average are noise crossing the onset level, not stick-slip [s]
+/// (and at least [`MIN_MEAN_SLIP_SAMPLES`]): the groan band's top, 500 Hz, is a 2 ms period,
+/// and a stick-slip cycle's slip lasts a good part of one.
+pub const MIN_MEAN_SLIP_S: f64 = 2e-4;
+/// ... and at least this many samples on average.
+pub const MIN_MEAN_SLIP_SAMPLES: f64 = 4.0;
 
 impl Analyzer {
     /// The statistics. Errors (one line, starting with what is wrong): no rows, a single row,
@@ -97,7 +120,7 @@ impl Analyzer {
         let pad_sd = (channels[PAD_X].rms.powi(2) - channels[PAD_X].mean.powi(2)).max(0.0).sqrt();
         let stick_level = f64::from(thresholds.stick_max_m_s2);
         let below_guess = (r.floor.is_none()
-            && self.floor_note.is_some()
+            && (self.floor_note.is_some() || self.cfg.floor == FloorSource::Lead)
             && r.onsets.count() == 0
             && pad_sd > MOVING_FRACTION_OF_STICK_LEVEL * stick_level)
             .then(|| {
@@ -109,8 +132,90 @@ impl Analyzer {
                     crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
                 )
             });
+        // thresholds from a floor that the converter's count set rather than its noise (the
+        // quiet rows moved by less than a count or two: onset = ONSET_QUANTA counts >= ONSET_SIGMAS
+        // sigma), no onset, and pad_x moves (changes by a count or more: a flat one is told
+        // above): a slip whose accelerations stay within the
+        // onset's counts (a coarse range: a low front-end gain) cannot be told from stick
+        let coarse = r
+            .floor
+            .as_ref()
+            .filter(|f| f.quantum_m_s2 > 0.0 && ONSET_QUANTA * f.quantum_m_s2 >= ONSET_SIGMAS * f64::from(f.report.sigma_m_s2[A_REL]))
+            .filter(|f| {
+                let pp = channels[PAD_X].pp;
+                pp > 0.0 && (r.onsets.count() == 0 || pp < MIN_SPAN_COUNTS * f.quantum_m_s2)
+            })
+            .map(|f| {
+                format!(
+                    "the contact thresholds are set by the converter's count ({} m/s^2: the quiet rows moved by less), the slip onset at {ONSET_QUANTA} counts ({} m/s^2), \
+                     and pad_x spans {} counts (peak-to-peak {} m/s^2) with {} slip onsets: too coarse to tell stick from slip \
+                     (it takes a span of {MIN_SPAN_COUNTS} counts or more and an onset: more front-end gain)",
+                    crate::output::format::short(f.quantum_m_s2),
+                    crate::output::format::short(f64::from(thresholds.slip_onset_m_s2)),
+                    crate::output::format::short((channels[PAD_X].pp / f.quantum_m_s2).round()),
+                    crate::output::format::short(channels[PAD_X].pp),
+                    r.onsets.count()
+                )
+            });
+        // thresholds from a noise floor, no onset, and a_rel carries more than noise (its
+        // standard deviation over NOISY_RMS_FACTOR of the floor's sigma): the pad moves below
+        // the onset level, or the floor was not a noise floor (blocks taken in slips): either
+        // way stick cannot be told from slip
+        let n_rows = r.n.max(1) as f64;
+        let rel_sd = (r.rel_sq / n_rows - (r.rel_sum / n_rows).powi(2)).max(0.0).sqrt();
+        let moves_below = r
+            .floor
+            .as_ref()
+            .map(|f| f64::from(f.report.sigma_m_s2[A_REL]))
+            .filter(|&sigma| sigma > 0.0 && r.onsets.count() == 0 && rel_sd > f64::from(NOISY_RMS_FACTOR) * sigma)
+            .map(|sigma| {
+                format!(
+                    "no slip onset, yet a_rel's standard deviation ({} m/s^2) is {} times its noise floor's sigma ({} m/s^2): \
+                     the pad moves below the slip onset ({} m/s^2), or the floor's rows were not quiet; stick cannot be told from slip \
+                     (give --quiet FROM:TO over a stretch known to be still, or --breakaway-jump)",
+                    crate::output::format::short(rel_sd),
+                    crate::output::format::short(rel_sd / sigma),
+                    crate::output::format::short(sigma),
+                    crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
+                )
+            });
+        // a slip that ended (or the record ended in) at a sliding velocity no pad reaches on
+        // the rig: the estimator integrated an offset, and its drift guard (or the record's end)
+        // cut the slip rather than v_r's return to zero
+        let open_slip = if r.started && r.prev_v_r != 0.0 { r.prev_v_r.abs() } else { 0.0 };
+        let end_v = r.slip_end_v_r.max(open_slip);
+        let runaway = (end_v > MAX_PLAUSIBLE_V_R_M_S).then(|| {
+            format!(
+                "a slip ended at an estimated sliding velocity of {} m/s (more than {MAX_PLAUSIBLE_V_R_M_S} m/s against a band pulled at mm/s to cm/s): \
+                 a_rel did not return within the stick level where v_r came back to zero, as an offset of pad_x against disc_x or a slow slip \
+                 makes it; the stick fraction would be a guess",
+                crate::output::format::short(end_v)
+            )
+        });
+        // slips of a sample or two: noise crossing the onset level
+        let slip_s = (r.n - r.stick.min(r.n)) as f64 / sample_rate_hz;
+        let min_slip_s = MIN_MEAN_SLIP_S.max(MIN_MEAN_SLIP_SAMPLES / sample_rate_hz);
+        let blips = (r.onsets.count() > 0 && slip_s / f64::from(r.onsets.count()) < min_slip_s).then(|| {
+            format!(
+                "{} slip onsets whose slips last {} ms on average (less than {} ms): noise crossing the onset level ({} m/s^2), not stick-slip",
+                r.onsets.count(),
+                crate::output::format::short(1e3 * slip_s / f64::from(r.onsets.count())),
+                crate::output::format::short(1e3 * min_slip_s),
+                crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
+            )
+        });
+        // the estimator never started (no START_RUN rows in a row within its stick level): no
+        // stick and no onset seen, every row counted slip
+        let never_started = (self.rows >= START_RUN as u64 && r.stick == 0 && r.onsets.count() == 0).then(|| {
+            format!(
+                "the rig's estimator never started: no {START_RUN} rows in a row within its stick level ({} m/s^2), so it saw neither stick nor a slip onset \
+                 (noise or a signal above the stick level throughout)",
+                crate::output::format::short(stick_level)
+            )
+        });
         // every reason the contact estimate is not told, in this order
-        let reasons: Vec<String> = [short, undecided, below_guess].into_iter().flatten().collect();
+        let reasons: Vec<String> =
+            [short, undecided, below_guess, coarse, moves_below, runaway, blips, never_started].into_iter().flatten().collect();
         let undecided = (!reasons.is_empty()).then(|| reasons.join("; "));
         Ok(Analysis {
             channels,

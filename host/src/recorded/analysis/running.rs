@@ -29,6 +29,15 @@ pub(super) struct Running {
     pub(super) prev: [f64; CH],
     pub(super) step: [f64; CH],
     pub(super) stick: u64,
+    /// a_rel (pad_x - disc_x + the face term) over the statistics' rows: sum and sum of
+    /// squares [m/s^2, m^2/s^4].
+    pub(super) rel_sum: f64,
+    pub(super) rel_sq: f64,
+    /// The largest |v_r| [m/s] at which a slip ended (its last sample before the estimator
+    /// went back to stick), over the statistics' rows; and the last played sample's v_r (a slip
+    /// still open at the record's end counts with it, see `finish`).
+    pub(super) slip_end_v_r: f64,
+    pub(super) prev_v_r: f64,
     pub(super) onsets: OnsetRate,
     pub(super) first_onset: Option<f64>,
     pub(super) at_range: u64,
@@ -140,6 +149,7 @@ impl Running {
         }
         let mut stick = false;
         let mut onset_lead = None;
+        let mut slip_end = None;
         if played {
             let cal = Calibrated {
                 accel_m_s2: a.map(|v| v as f32),
@@ -158,6 +168,10 @@ impl Running {
                 self.first_onset = Some(t - s.contact.lead_samples as f64 / self.fs);
             }
             stick = s.contact.regime == Regime::Stick;
+            if matches!(s.contact.event, Some(e) if e.kind == ContactEventKind::SlipToStick) {
+                slip_end = Some(self.prev_v_r.abs());
+            }
+            self.prev_v_r = f64::from(s.contact.v_r_m_s);
             onset_lead = onset.then_some(s.contact.lead_samples);
         }
         if t < self.from_eff {
@@ -194,6 +208,12 @@ impl Running {
         if stick {
             self.stick += 1;
         }
+        if let Some(v) = slip_end {
+            self.slip_end_v_r = self.slip_end_v_r.max(v);
+        }
+        let rel = (a[1] - a[0]) + f64::from(self.face) * (a[3] - a[2]);
+        self.rel_sum += rel;
+        self.rel_sq += rel * rel;
         if let Some(lead_samples) = onset_lead {
             // the estimator dates the slip back by its lead: those samples were counted stick
             let lead = (lead_samples as u64).min(self.stick);
