@@ -29,6 +29,10 @@ pub const MIN_SPAN_COUNTS: f64 = 16.0;
 pub const MIN_MEAN_SLIP_S: f64 = 2e-4;
 /// ... and at least this many samples on average.
 pub const MIN_MEAN_SLIP_SAMPLES: f64 = 4.0;
+/// Stick-slip cycles shorter than this many rows on average are noise crossing the onset
+/// level: the estimator needs [`START_RUN`] rows within its stick level to start, and a cycle
+/// holds a stick and a slip (24 rows: 1067 Hz at 25.6 kHz, 83 Hz at 2 kHz).
+pub const MIN_CYCLE_ROWS: f64 = 24.0;
 
 impl Analyzer {
     /// The statistics. Errors (one line, starting with what is wrong): no rows, a single row,
@@ -195,12 +199,26 @@ impl Analyzer {
         // slips of a sample or two: noise crossing the onset level
         let slip_s = (r.n - r.stick.min(r.n)) as f64 / sample_rate_hz;
         let min_slip_s = MIN_MEAN_SLIP_S.max(MIN_MEAN_SLIP_SAMPLES / sample_rate_hz);
-        let blips = (r.onsets.count() > 0 && slip_s / f64::from(r.onsets.count()) < min_slip_s).then(|| {
+        let onsets = f64::from(r.onsets.count());
+        let cycle_rows = stick_slip_hz.map(|hz| sample_rate_hz / hz);
+        let short_slips = (onsets > 0.0 && slip_s / onsets < min_slip_s).then(|| {
             format!(
-                "{} slip onsets whose slips last {} ms on average (less than {} ms): noise crossing the onset level ({} m/s^2), not stick-slip",
+                "slips of {} ms on average (a slip lasts {} ms or more)",
+                crate::output::format::short(1e3 * slip_s / onsets),
+                crate::output::format::short(1e3 * min_slip_s)
+            )
+        });
+        let short_cycles = cycle_rows.filter(|&c| c < MIN_CYCLE_ROWS).map(|c| {
+            format!(
+                "cycles of {} rows on average ({MIN_CYCLE_ROWS} or more: the estimator starts at {START_RUN} rows within its stick level)",
+                crate::output::format::short(c)
+            )
+        });
+        let blips = (short_slips.is_some() || short_cycles.is_some()).then(|| {
+            format!(
+                "{} slip onsets with {}: noise crossing the onset level ({} m/s^2), not stick-slip",
                 r.onsets.count(),
-                crate::output::format::short(1e3 * slip_s / f64::from(r.onsets.count())),
-                crate::output::format::short(1e3 * min_slip_s),
+                [short_slips, short_cycles].into_iter().flatten().collect::<Vec<_>>().join(" and "),
                 crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
             )
         });
