@@ -127,8 +127,8 @@ fn the_rig_set_is_recovered_from_30_percent_off() {
             ..FitRequest::default()
         };
         let r = fit::run_fit(named("rig_push_center", with(factor)), &req).expect("the fit runs");
-        assert!(r.converged, "start x {factor}: the search converged");
-        assert!(r.identifiable(), "start x {factor}: no flat direction");
+        assert!(r.converged, "start x {factor}: the search converged: {:?}", r.notes);
+        assert!(r.identifiable(), "start x {factor}: no flat direction: {:?}", r.notes);
         assert_eq!(r.stages.len(), 2, "start x {factor}: two horizon stages");
         // every key within 2 %: the whole record's statistics are rough in v_s at the percent
         // scale (dips about 1 % apart along the keys' valley), and a single local search from

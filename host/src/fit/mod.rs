@@ -207,7 +207,33 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
     let (goodness, chi2_scale) = judge(&problem, &sol, &r, &mut notes).map_err(HostError::Input)?;
     let j = solve::jacobian(&problem, &sol.u, &r);
-    let unc = solve::uncertainty(&j, &r);
+    let mut unc = solve::uncertainty(&j, &r);
+    // a statistics cost that fits: are the standard errors what the data determine?
+    let checks = if !problem.time_domain() && goodness.verdict == goodness::Verdict::Fits {
+        check_errors(&problem, &sol, &j, &unc, chi2_scale, &goodness, &mut notes)
+    } else {
+        Vec::new()
+    };
+    for c in &checks {
+        let k = c.key;
+        // the accepted starts' spread: the standard error widened to half of it (the
+        // covariance's row and column scaled, so that the correlations stay)
+        if let Some(sd_u) = c.widen_u {
+            let f = sd_u / unc.cov_u[(k, k)].sqrt();
+            if f.is_finite() && f > 1.0 {
+                for i in 0..free.len() {
+                    unc.cov_u[(k, i)] *= f;
+                    unc.cov_u[(i, k)] *= f;
+                }
+            }
+        }
+        let widened_flat = c.widen_u.is_some_and(|sd_u| sd_u > solve::FLAT_LOG);
+        if widened_flat && !unc.flat.iter().any(|f| f.direction.iter().enumerate().all(|(i, d)| (i == k) == (d.abs() > 0.5))) {
+            let direction = (0..free.len()).map(|i| if i == k { 1.0 } else { 0.0 }).collect();
+            let std_log = unc.cov_u[(k, k)].sqrt();
+            unc.flat.push(solve::Flat { direction, std_log, singular_value: f64::NAN });
+        }
+    }
     let first_steps: Vec<f64> = (0..free.len()).map(|k| unc.cov_u[(k, k)].sqrt()).collect();
     // intervals where the model fits: a misfit's profile would measure the model's error, not
     // the data's (and not_converged has no one optimum to profile)
@@ -318,6 +344,110 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         intervals,
         profiles,
     })
+}
+
+/// A start whose values lie this many standard errors (Jacobian) or more from the best's, at
+/// a cost the noise explains too, shows that the data accept more than the standard errors
+/// say: the key's standard error is widened to half the accepted starts' spread.
+pub const SPREAD_STDS: f64 = 3.0;
+
+/// What [`check_errors`] found for one free key.
+#[derive(Clone, Copy, Debug)]
+pub struct ErrorCheck {
+    pub key: usize,
+    /// The standard error in u (ln p) that half the accepted starts' spread asks for.
+    pub widen_u: Option<f64>,
+    /// The cost leaves the accepted region (chi^2 above its limit) within one standard error
+    /// of the optimum, where the Jacobian's quadratic keeps it well inside: a needle finer than
+    /// the Jacobian's step, to which the standard error is then widened.
+    pub rough: bool,
+}
+
+/// Whether the standard errors of a statistics cost that fits say what the data determine, per
+/// free key: (1) another start ends [`SPREAD_STDS`] standard errors or more away at a cost the
+/// noise explains as well (chi^2 within the limit): the standard error is widened to half the
+/// spread; (2) the cost one standard error either side of the optimum leaves the accepted
+/// region although the Jacobian's quadratic predicts a rise of less than half the room: a
+/// stick-slip statistic (stick fraction, frequency, first slip) moves in steps of the sample
+/// grid and the events, so its cost can be a needle at that scale, finer than the Jacobian's
+/// step ([`solve::JACOBIAN_STEP`], 1 %) that measured the slope: the standard error is widened
+/// to that step (a campaign's fits of push_center recordings missed their truth by 8 to 400
+/// Jacobian standard errors, all within a few per cent). Each finding gets a note.
+#[allow(clippy::too_many_arguments)] // the optimum, its Jacobian, uncertainty and goodness
+fn check_errors(
+    problem: &Problem,
+    sol: &solve::Solution,
+    j: &DMatrix<f64>,
+    unc: &solve::Uncertainty,
+    chi2_scale: f64,
+    goodness: &goodness::Goodness,
+    notes: &mut Vec<String>,
+) -> Vec<ErrorCheck> {
+    let n = problem.free.len();
+    let values = problem.values(&sol.u);
+    let accept = goodness::chi2_limit(goodness.dof) * goodness.dof.max(1) as f64;
+    let room = accept - sol.cost * chi2_scale;
+    let mut out = Vec::new();
+    for k in 0..n {
+        let key = &problem.free[k].key;
+        let sd_u = unc.cov_u[(k, k)].sqrt();
+        if !(sd_u.is_finite() && sd_u > 0.0) {
+            continue;
+        }
+        let scale = problem.free[k].scale(values[k]);
+        let std_v = scale * sd_u;
+        let mut check = ErrorCheck { key: k, widen_u: None, rough: false };
+        // (1) accepted starts far from the best
+        let accepted: Vec<f64> = sol.starts.iter().filter(|s| s.cost.is_finite() && s.cost * chi2_scale <= accept).map(|s| s.values[k]).collect();
+        let far = accepted.iter().filter(|v| (**v - values[k]).abs() > SPREAD_STDS * std_v).count();
+        if far > 0 {
+            let (lo, hi) = accepted.iter().fold((values[k], values[k]), |(a, b), v| (a.min(*v), b.max(*v)));
+            let half_u = 0.5 * (hi - lo) / scale;
+            check.widen_u = Some(half_u);
+            notes.push(format!(
+                "{key}: {far} start(s) ended {SPREAD_STDS} standard errors or more from the best at a cost the noise explains as well (chi^2 within the limit): \
+                 the data accept {key} from {} to {} at least, so its standard error is half that spread ({}), not the optimum's local slope ({})",
+                crate::output::format::short(lo),
+                crate::output::format::short(hi),
+                crate::output::format::short(0.5 * (hi - lo)),
+                crate::output::format::short(std_v)
+            ));
+        }
+        // (2) the cost one standard error either side
+        let jk2: f64 = j.column(k).iter().map(|x| x * x).sum();
+        let pred = 0.5 * sd_u * sd_u * jk2 * chi2_scale;
+        if !(room > 0.0 && pred < 0.5 * room) {
+            out.push(check);
+            continue;
+        }
+        let mut seen = Vec::new();
+        for sign in [-1.0, 1.0] {
+            let mut u = sol.u.clone();
+            u[k] += sign * sd_u;
+            let Ok(r) = problem.residuals(&u) else { continue };
+            let c = solve::cost_of(&r);
+            if c.is_finite() {
+                seen.push((sign, (c - sol.cost) * chi2_scale));
+            }
+        }
+        if seen.iter().any(|(_, d)| *d > room) && sd_u < solve::JACOBIAN_STEP {
+            check.rough = true;
+            check.widen_u = Some(check.widen_u.unwrap_or(0.0).max(solve::JACOBIAN_STEP));
+            notes.push(format!(
+                "{key}: the cost one standard error ({}) either side of the optimum rises by {} in chi^2, out of the accepted region ({} of room), \
+                 where the Jacobian predicts {}: the cost is a needle at that scale (a statistic moving in steps of the sample grid and the events), \
+                 finer than the Jacobian's step ({} % of {key}) that measured its slope; the standard error is widened to that step ({})",
+                crate::output::format::short(std_v),
+                seen.iter().map(|(s, d)| format!("{}{}", if *s < 0.0 { "-: " } else { "+: " }, crate::output::format::short(*d))).collect::<Vec<_>>().join(", "),
+                crate::output::format::short(room),
+                crate::output::format::short(pred),
+                100.0 * solve::JACOBIAN_STEP,
+                crate::output::format::short(scale * solve::JACOBIAN_STEP)
+            ));
+        }
+        out.push(check);
+    }
+    out
 }
 
 /// The goodness of the fit at the optimum `sol` (residuals `r`), and the factor that turns
