@@ -489,3 +489,46 @@ fn a_wav_clipped_at_its_own_full_scale_is_saturated() {
     let v = json(&["analyze", &data("rec.csv"), "--json"]);
     assert!(v["samples_at_full_scale"].is_null());
 }
+
+/// A 64-bit IEEE float WAV (format code 3, wBitsPerSample 64: what numpy/scipy and some
+/// loggers write for doubles), two channels in m/s^2: read as written, exactly (it was refused
+/// before).
+#[test]
+fn a_64_bit_float_wav_is_read_exactly() {
+    let dir = scratch("formats-wav-f64");
+    let (ch, fs) = (2u16, 25_600u32);
+    let block = 8 * ch;
+    let frames: Vec<[f64; 2]> = (0..4096)
+        .map(|i| {
+            let t = i as f64 / fs as f64;
+            [0.3 * (2.0 * std::f64::consts::PI * 50.0 * t).sin(), 7.25 * (2.0 * std::f64::consts::PI * 200.0 * t).sin() + 0.125]
+        })
+        .collect();
+    let mut fmt = Vec::new();
+    fmt.extend(3u16.to_le_bytes());
+    fmt.extend(ch.to_le_bytes());
+    fmt.extend(fs.to_le_bytes());
+    fmt.extend((fs * block as u32).to_le_bytes());
+    fmt.extend(block.to_le_bytes());
+    fmt.extend(64u16.to_le_bytes());
+    let data: Vec<u8> = frames.iter().flat_map(|f| f.iter().flat_map(|v| v.to_le_bytes())).collect();
+    let mut body = b"WAVEfmt ".to_vec();
+    body.extend((fmt.len() as u32).to_le_bytes());
+    body.extend(&fmt);
+    body.extend(b"data");
+    body.extend((data.len() as u32).to_le_bytes());
+    body.extend(&data);
+    let mut wav = b"RIFF".to_vec();
+    wav.extend((body.len() as u32).to_le_bytes());
+    wav.extend(body);
+    let f = write(&dir, "f64.wav", wav);
+    let v = json(&["analyze", &f, "--channel", "disc_x=#1", "--channel", "pad_x=#2", "--json"]);
+    assert_eq!(v["format"].as_str().map(|s| s.contains("WAV")), Some(true), "{}", v["format"]);
+    for (c, name) in [(0, "disc_x"), (1, "pad_x")] {
+        let hi = frames.iter().map(|f| f[c]).fold(f64::NEG_INFINITY, f64::max);
+        let lo = frames.iter().map(|f| f[c]).fold(f64::INFINITY, f64::min);
+        let rms = (frames.iter().map(|f| f[c] * f[c]).sum::<f64>() / frames.len() as f64).sqrt();
+        assert!((num(&v, &["channels", name, "pp"]) - (hi - lo)).abs() <= 1e-12, "{name} pp");
+        assert!((num(&v, &["channels", name, "rms"]) - rms).abs() <= 1e-12, "{name} rms");
+    }
+}

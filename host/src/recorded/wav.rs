@@ -1,5 +1,5 @@
 //! WAV recordings (RIFF/WAVE as many data acquisition systems and recorders write them), read
-//! by this module's own RIFF reader: integer PCM in containers of 1 to 4 bytes and 32-bit float,
+//! by this module's own RIFF reader: integer PCM in containers of 1 to 4 bytes and 32- or 64-bit float,
 //! plain (`WAVE_FORMAT_PCM`, `WAVE_FORMAT_IEEE_FLOAT`) or `WAVE_FORMAT_EXTENSIBLE`, any number
 //! of channels, streamed one frame at a time.
 //!
@@ -49,6 +49,8 @@ enum Coding {
     Int { bytes: usize, valid: u32 },
     /// 32-bit IEEE float.
     Float,
+    /// 64-bit IEEE float.
+    Float64,
 }
 
 /// The rows of a WAV file.
@@ -172,10 +174,15 @@ impl<R: Read> WavRows<R> {
                 Coding::Int { bytes: container, valid }
             }
             3 => {
-                if container != 4 || bits != 32 {
-                    return Err(bad(format!("{bits}-bit float in {container}-byte samples: only 32-bit float or 8- to 32-bit integer samples are read")));
+                match (container, bits) {
+                    (4, 32) => Coding::Float,
+                    (8, 64) => Coding::Float64,
+                    _ => {
+                        return Err(bad(format!(
+                            "{bits}-bit float in {container}-byte samples: only 32- or 64-bit float or 8- to 32-bit integer samples are read"
+                        )))
+                    }
                 }
-                Coding::Float
             }
             t => return Err(bad(format!("format code {t:#06x}: only integer PCM (1) and IEEE float (3) are read"))),
         };
@@ -184,6 +191,7 @@ impl<R: Read> WavRows<R> {
             Coding::Int { bytes, valid } if valid == 8 * bytes as u32 => format!("{valid}-bit integer PCM"),
             Coding::Int { bytes, valid } => format!("{valid}-bit integer PCM in {}-bit samples", 8 * bytes),
             Coding::Float => "32-bit float".to_string(),
+            Coding::Float64 => "64-bit float".to_string(),
         };
         if data_len % block_align as u64 != 0 {
             return Err(bad(format!(
@@ -259,6 +267,7 @@ impl<R: Read> WavRows<R> {
         let b = &self.block[ch * self.container..(ch + 1) * self.container];
         match self.coding {
             Coding::Float => (f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64, false),
+            Coding::Float64 => (f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]), false),
             Coding::Int { bytes, valid } => {
                 // the container's bits, sign-extended (8 bits: unsigned, offset 128)
                 let raw: i64 = if bytes == 1 {
