@@ -25,7 +25,9 @@ pub const MIN_SPAN_COUNTS: f64 = 16.0;
 
 /// Slips shorter than this on average are noise crossing the onset level, not stick-slip [s]
 /// (and at least [`MIN_MEAN_SLIP_SAMPLES`]): the groan band's top, 500 Hz, is a 2 ms period,
-/// and a stick-slip cycle's slip lasts a good part of one.
+/// and a stick-slip cycle's slip lasts a good part of one. Sticks shorter than this between
+/// slips are the estimated velocity crossing zero in a sliding oscillation (`sil thesis-mu`,
+/// a pad that ends up sliding: 65 onsets between sticks of 3 rows).
 pub const MIN_MEAN_SLIP_S: f64 = 2e-4;
 /// ... and at least this many samples on average.
 pub const MIN_MEAN_SLIP_SAMPLES: f64 = 4.0;
@@ -222,6 +224,18 @@ impl Analyzer {
                 crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
             )
         });
+        // sticks of a sample or two between slips: the estimated velocity crossing zero in a
+        // sliding oscillation, not a stick
+        let stick_s = r.stick.min(r.n) as f64 / sample_rate_hz;
+        let blip_sticks = (onsets >= 2.0 && stick_s > 0.0 && stick_s / onsets < min_slip_s).then(|| {
+            format!(
+                "{} slip onsets between sticks of {} ms on average (a stick lasts {} ms or more): the estimated sliding velocity crossing zero \
+                 in a sliding oscillation, not stick-slip",
+                r.onsets.count(),
+                crate::output::format::short(1e3 * stick_s / onsets),
+                crate::output::format::short(1e3 * min_slip_s)
+            )
+        });
         // the estimator never started (no START_RUN rows in a row within its stick level): no
         // stick and no onset seen, every row counted slip
         let never_started = (self.rows >= START_RUN as u64 && r.stick == 0 && r.onsets.count() == 0).then(|| {
@@ -233,7 +247,7 @@ impl Analyzer {
         });
         // every reason the contact estimate is not told, in this order
         let reasons: Vec<String> =
-            [short, undecided, below_guess, coarse, moves_below, runaway, blips, never_started].into_iter().flatten().collect();
+            [short, undecided, below_guess, coarse, moves_below, runaway, blips, blip_sticks, never_started].into_iter().flatten().collect();
         let undecided = (!reasons.is_empty()).then(|| reasons.join("; "));
         Ok(Analysis {
             channels,
