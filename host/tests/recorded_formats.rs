@@ -354,13 +354,18 @@ fn wav_of_codes(ext: bool, container: usize, valid: u32, extra: &[u8], codes: &[
             data.extend(&raw.to_le_bytes()[..container]);
         }
     }
+    riff_wave(&fmt, extra, &data)
+}
+
+/// A RIFF WAVE file of a `fmt ` chunk's body, `extra` whole chunks, and a `data` chunk's body.
+fn riff_wave(fmt: &[u8], extra: &[u8], data: &[u8]) -> Vec<u8> {
     let mut body = b"WAVEfmt ".to_vec();
     body.extend((fmt.len() as u32).to_le_bytes());
-    body.extend(&fmt);
+    body.extend(fmt);
     body.extend(extra);
     body.extend(b"data");
     body.extend((data.len() as u32).to_le_bytes());
-    body.extend(&data);
+    body.extend(data);
     let mut out = b"RIFF".to_vec();
     out.extend((body.len() as u32).to_le_bytes());
     out.extend(body);
@@ -512,16 +517,7 @@ fn a_64_bit_float_wav_is_read_exactly() {
     fmt.extend(block.to_le_bytes());
     fmt.extend(64u16.to_le_bytes());
     let data: Vec<u8> = frames.iter().flat_map(|f| f.iter().flat_map(|v| v.to_le_bytes())).collect();
-    let mut body = b"WAVEfmt ".to_vec();
-    body.extend((fmt.len() as u32).to_le_bytes());
-    body.extend(&fmt);
-    body.extend(b"data");
-    body.extend((data.len() as u32).to_le_bytes());
-    body.extend(&data);
-    let mut wav = b"RIFF".to_vec();
-    wav.extend((body.len() as u32).to_le_bytes());
-    wav.extend(body);
-    let f = write(&dir, "f64.wav", wav);
+    let f = write(&dir, "f64.wav", riff_wave(&fmt, &[], &data));
     let v = json(&["analyze", &f, "--channel", "disc_x=#1", "--channel", "pad_x=#2", "--json"]);
     assert_eq!(v["format"].as_str().map(|s| s.contains("WAV")), Some(true), "{}", v["format"]);
     for (c, name) in [(0, "disc_x"), (1, "pad_x")] {
