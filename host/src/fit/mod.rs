@@ -216,8 +216,8 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     };
     for c in &checks {
         let k = c.key;
-        // the accepted starts' spread: the standard error widened to half of it (the
-        // covariance's row and column scaled, so that the correlations stay)
+        // the standard error widened (the covariance's row and column scaled, so that the
+        // correlations stay)
         if let Some(sd_u) = c.widen_u {
             let f = sd_u / unc.cov_u[(k, k)].sqrt();
             if f.is_finite() && f > 1.0 {
@@ -355,12 +355,9 @@ pub const SPREAD_STDS: f64 = 3.0;
 #[derive(Clone, Copy, Debug)]
 pub struct ErrorCheck {
     pub key: usize,
-    /// The standard error in u (ln p) that half the accepted starts' spread asks for.
+    /// The standard error in u (ln p) it is widened to: half the accepted starts' spread, or
+    /// at least the Jacobian's step where the cost is a needle finer than that step.
     pub widen_u: Option<f64>,
-    /// The cost leaves the accepted region (chi^2 above its limit) within one standard error
-    /// of the optimum, where the Jacobian's quadratic keeps it well inside: a needle finer than
-    /// the Jacobian's step, to which the standard error is then widened.
-    pub rough: bool,
 }
 
 /// Whether the standard errors of a statistics cost that fits say what the data determine, per
@@ -396,7 +393,7 @@ fn check_errors(
         }
         let scale = problem.free[k].scale(values[k]);
         let std_v = scale * sd_u;
-        let mut check = ErrorCheck { key: k, widen_u: None, rough: false };
+        let mut check = ErrorCheck { key: k, widen_u: None };
         // (1) accepted starts far from the best
         let accepted: Vec<f64> = sol.starts.iter().filter(|s| s.cost.is_finite() && s.cost * chi2_scale <= accept).map(|s| s.values[k]).collect();
         let far = accepted.iter().filter(|v| (**v - values[k]).abs() > SPREAD_STDS * std_v).count();
@@ -431,7 +428,6 @@ fn check_errors(
             }
         }
         if seen.iter().any(|(_, d)| *d > room) && sd_u < solve::JACOBIAN_STEP {
-            check.rough = true;
             check.widen_u = Some(check.widen_u.unwrap_or(0.0).max(solve::JACOBIAN_STEP));
             notes.push(format!(
                 "{key}: the cost one standard error ({}) either side of the optimum rises by {} in chi^2, out of the accepted region ({} of room), \

@@ -29,7 +29,7 @@ pub(super) struct Running {
     pub(super) prev: [f64; CH],
     pub(super) step: [f64; CH],
     pub(super) stick: u64,
-    /// a_rel (pad_x - disc_x + the face term) over the statistics' rows: sum and sum of
+    /// a_rel ([`a_rel`], as the estimator takes it) over the statistics' rows: sum and sum of
     /// squares [m/s^2, m^2/s^4].
     pub(super) rel_sum: f64,
     pub(super) rel_sq: f64,
@@ -118,7 +118,7 @@ impl Running {
         if self.started {
             return self.process_row(t, a, true);
         }
-        let rel = (a[1] - a[0]) as f32 + self.face * (a[3] - a[2]) as f32 - self.start_bias;
+        let rel = a_rel(a, self.face) - self.start_bias;
         self.held.push((t, *a));
         if rel.abs() <= self.start_level {
             if self.held.len() >= START_RUN {
@@ -211,7 +211,7 @@ impl Running {
         if let Some(v) = slip_end {
             self.slip_end_v_r = self.slip_end_v_r.max(v);
         }
-        let rel = (a[1] - a[0]) + f64::from(self.face) * (a[3] - a[2]);
+        let rel = f64::from(a_rel(a, self.face));
         self.rel_sum += rel;
         self.rel_sq += rel * rel;
         if let Some(lead_samples) = onset_lead {
@@ -233,7 +233,14 @@ impl Running {
 
 /// a_rel of a buffered row: pad_x - disc_x + the face term.
 pub(super) fn a_rel_of(p: &Pending, face_coefficient: f32) -> f32 {
-    (p.a[1] - p.a[0]) as f32 + face_coefficient * (p.a[3] - p.a[2]) as f32
+    a_rel(&p.a, face_coefficient)
+}
+
+/// a_rel of a row as the rig's estimator takes it (f32): pad_x - disc_x + the face term
+/// (face_coefficient x (pad_lead - pad_trail)).
+#[inline]
+pub(super) fn a_rel(a: &[f64; CH], face_coefficient: f32) -> f32 {
+    (a[1] - a[0]) as f32 + face_coefficient * (a[3] - a[2]) as f32
 }
 
 pub(super) enum Phase {
