@@ -44,7 +44,7 @@ fn shard_json() -> Value {
         scene_name: "fuzz".into(),
         base,
         grid: Grid::new(sweeps).unwrap(),
-        options: CellOptions { precision: Precision::F64, kick: 0.01 },
+        options: CellOptions { precision: Precision::F64, kick: 0.01, stick_jump: true },
         shard: None,
         jobs: Some(1),
         progress: false,

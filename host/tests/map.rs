@@ -24,7 +24,7 @@ fn spec(base: Scene, sweeps: &[&str], shard: Option<Shard>, jobs: Option<usize>)
         scene_name: "test".into(),
         base,
         grid: Grid::new(sweeps).expect("a good grid"),
-        options: CellOptions { precision: Precision::F64, kick: 0.01 },
+        options: CellOptions { precision: Precision::F64, kick: 0.01, stick_jump: true },
         shard,
         jobs,
         progress: false,
@@ -137,7 +137,7 @@ fn the_linear_growth_rate_matches_the_runs_early_envelope_on_three_unstable_cell
         s.duration = 8.0;
         s.stats_from = 1.0;
         // the map's linear analysis of this cell
-        let (c, _) = cell::cell(0, &[("v".into(), v)], Ok(s), CellOptions { precision: Precision::F64, kick: 0.01 }, None).expect("a cell");
+        let (c, _) = cell::cell(0, &[("v".into(), v)], Ok(s), CellOptions { precision: Precision::F64, kick: 0.01, stick_jump: true }, None, &Default::default()).expect("a cell");
         let lin = c.linear.expect("valid");
         assert!(!lin.stable, "v = {v} < V_cr is unstable");
         let rate = lin.max_growth_rate.expect("finite");

@@ -48,7 +48,7 @@ pub mod stats;
 pub mod stickslip;
 
 pub use coefficients::Coefficients;
-pub use exact::{ExactState, ExactStepper, ExactTables, Halt, Observer, Segment, State, Transition};
+pub use exact::{ExactState, ExactStepper, ExactTables, Halt, Observer, Segment, State, StickJump, Transition};
 pub use real::Real;
 pub use catalogue::{rig_set, DEFAULT_SCENE};
 pub use scene::{BandDrive, Caliper, ContactLaw, FrictionLaw, Scene, SceneError};

@@ -100,6 +100,12 @@ pub fn fastest_rate(scene: &Scene, co: &Coefficients) -> f64 {
     rate
 }
 
+/// Everything [`Propagator::new`] reads, as bit patterns: the step, the fastest rate (which
+/// sets the substeps) and the three regimes' system matrices. Scenes with equal keys have
+/// bit-identical propagators (e.g. a map's cells that differ only in mu_s, V, the duration
+/// or the window), so a caller may build one and share it ([`Propagator::key`]).
+pub type PropagatorKey = [u64; 2 + 3 * 25];
+
 /// Tabulated exact flows of the three regimes for one substep length.
 #[derive(Clone, Copy, Debug)]
 pub struct Propagator<T: Real> {
@@ -118,9 +124,9 @@ impl<T: Real> Propagator<T> {
     /// Units per substep, 2^LEVELS.
     pub const UNITS: u64 = 1u64 << T::DYADIC_LEVELS;
 
-    /// Builds the tables for a validated scene and step `dt`.
-    pub fn new(scene: &Scene, co: &Coefficients, dt: f64) -> Self {
-        // at most a quarter radian of the fastest mode per substep
+    /// Substeps per step of `dt`: at most a quarter radian of the fastest mode per substep
+    /// (1 to 1e6).
+    pub fn substeps(scene: &Scene, co: &Coefficients, dt: f64) -> u32 {
         let rate = fastest_rate(scene, co);
         let mut n_sub = libm::ceil(dt * rate / 0.25);
         if !(n_sub >= 1.0) {
@@ -129,7 +135,12 @@ impl<T: Real> Propagator<T> {
         if n_sub > 1e6 {
             n_sub = 1e6;
         }
-        let n_sub = n_sub as u32;
+        n_sub as u32
+    }
+
+    /// Builds the tables for a validated scene and step `dt`.
+    pub fn new(scene: &Scene, co: &Coefficients, dt: f64) -> Self {
+        let n_sub = Self::substeps(scene, co, dt);
         let h_sub = dt / n_sub as f64;
         let mut tables = [T::empty_table(), T::empty_table(), T::empty_table()];
         let mut accel = [[[T::zero(); 5]; 2]; 3];
@@ -151,6 +162,23 @@ impl<T: Real> Propagator<T> {
             }
         }
         Propagator { tables, accel, h_sub, n_sub }
+    }
+
+    /// The key of the propagator [`Self::new`] builds for `scene` and `dt`: equal keys, equal
+    /// tables, bit for bit (the tables are a function of the key's values alone).
+    pub fn key(scene: &Scene, co: &Coefficients, dt: f64) -> PropagatorKey {
+        let mut k = [0u64; 2 + 3 * 25];
+        k[0] = dt.to_bits();
+        k[1] = fastest_rate(scene, co).to_bits();
+        for regime in Regime::ALL {
+            let a = system_matrix(scene, co, regime);
+            for r in 0..5 {
+                for c in 0..5 {
+                    k[2 + regime.index() * 25 + r * 5 + c] = a[r][c].to_bits();
+                }
+            }
+        }
+        k
     }
 
     /// Flow over 2^level units of `regime`.

@@ -32,6 +32,7 @@ use crate::error::Result;
 use crate::scenes::run::{self, Detail, Outcome, Precision, RunReport, Start};
 use crate::scenes::series::{Sample, Sink};
 use crate::scenes::sliding::{self, SlidingStability};
+use crate::scenes::table_cache::PropagatorCache;
 
 /// A completed run whose window never sticks is steady sliding while its sliding velocity's
 /// peak-to-peak is at most `STEADY_PP` kick V.
@@ -128,6 +129,10 @@ struct CellSink {
     filter_from: f64,
     groan: Option<BandPass<GROAN_SECTIONS>>,
     groan_state: CascadeState<GROAN_SECTIONS>,
+    /// The filter's free response in closed form, for stick phases ([`RingDown`]).
+    ring: Option<RingDown>,
+    /// Take stick phases whole ([`Sink::takes_stick_runs`]).
+    stick_runs: bool,
     acc: (f64, f64),
     v: (f64, f64),
     groan_sq: f64,
@@ -196,12 +201,15 @@ impl CellSink {
 
     fn new(scene: &Scene) -> CellSink {
         let start = run::window_start(scene);
+        let groan = BandPass::butterworth(GROAN_BAND_HZ.0, GROAN_BAND_HZ.1, 1.0 / scene.dt).ok();
         CellSink {
             // sample times are step ends: the window's first sample is the step ending at its start
             window_from: start - 0.5 * scene.dt,
             filter_from: start - GROAN_SETTLE_S - 0.5 * scene.dt,
-            groan: BandPass::butterworth(GROAN_BAND_HZ.0, GROAN_BAND_HZ.1, 1.0 / scene.dt).ok(),
+            groan,
             groan_state: Default::default(),
+            ring: groan.as_ref().and_then(RingDown::of),
+            stick_runs: true,
             acc: (f64::INFINITY, f64::NEG_INFINITY),
             v: (f64::INFINITY, f64::NEG_INFINITY),
             groan_sq: 0.0,
@@ -211,9 +219,238 @@ impl CellSink {
     }
 }
 
+impl CellSink {
+    /// `n` samples of zero input through the groan filter, summed if `in_window`: by the filter itself when the run is shorter than the
+    /// filter's decay ([`RingDown::decay_samples`]), else in closed form.
+    fn zero_input(&mut self, n: u64, in_window: bool) {
+        let Some(bp) = &self.groan else { return };
+        match &self.ring {
+            Some(ring) if n >= ring.decay_samples => {
+                if in_window {
+                    self.groan_sq += ring.energy(&self.groan_state);
+                }
+                self.groan_state = CascadeState::ZERO;
+            }
+            Some(ring) if n > RING_LOOP_MAX => {
+                // the sum over n samples: the whole free response's less what follows them
+                let s = RingDown::values(&self.groan_state);
+                let after = ring.advance(&s, n);
+                if in_window {
+                    self.groan_sq += (ring.quad(&s) - ring.quad(&after)).max(0.0);
+                }
+                self.groan_state = RingDown::state(&after);
+            }
+            _ => {
+                for _ in 0..n {
+                    let g = bp.run(&mut self.groan_state, 0.0) as f64;
+                    if in_window {
+                        self.groan_sq += g * g;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The first step k in `from..to` whose time k dt is at or after `t` (`to` if none), times
+/// formed as the run forms them.
+fn first_at(from: u64, to: u64, dt: f64, t: f64) -> u64 {
+    let mut k = ((t / dt).ceil().max(from as f64) as u64).clamp(from, to);
+    while k > from && (k - 1) as f64 * dt >= t {
+        k -= 1;
+    }
+    while k < to && (k as f64 * dt) < t {
+        k += 1;
+    }
+    k
+}
+
+/// The groan filter's free response (zero input) in closed form: from the cascade's past
+/// values s, the outputs are y_k = c Phi^k s, and their squares sum to s' G s with
+/// G = sum over k >= 0 of (Phi^k)' c' c Phi^k (the observability Gramian, summed by
+/// doubling in f64 with the filter's f32 coefficients). A run of zero input at least
+/// `decay_samples` long leaves past values below 1e-9 of where they started (|Phi^k| <
+/// 1e-9): the closed form then replaces the run, its sum the Gramian's and the past values
+/// zero. Against the filter run sample by sample in f32 this differs by the f32 loop's own
+/// rounding (about 1e-7 relative of the ring-down's sum) and the dropped 1e-9 tail.
+struct RingDown {
+    gram: [[f64; RING_DIM]; RING_DIM],
+    decay_samples: u64,
+    /// pow[j] = Phi^(2^j), for 2^j < decay_samples.
+    pow: Vec<RingMat>,
+}
+
+/// Zero-input runs shorter than this go through the filter sample by sample.
+const RING_LOOP_MAX: u64 = 32;
+
+/// The groan cascade's past values: two inputs and two outputs a section.
+const RING_DIM: usize = 2 + 2 * GROAN_SECTIONS;
+type RingMat = [[f64; RING_DIM]; RING_DIM];
+
+impl RingDown {
+    /// Past values: x[-1], x[-2], then each section's y[-1], y[-2].
+    fn values(st: &CascadeState<GROAN_SECTIONS>) -> [f64; RING_DIM] {
+        let mut v = [0.0; RING_DIM];
+        let x = st.past_inputs();
+        v[0] = f64::from(x[0]);
+        v[1] = f64::from(x[1]);
+        for (k, y) in st.past_outputs().iter().enumerate() {
+            v[2 + 2 * k] = f64::from(y[0]);
+            v[3 + 2 * k] = f64::from(y[1]);
+        }
+        v
+    }
+
+    /// One zero-input step of the cascade, as [`BandPass::run`] does it, in f64: the next
+    /// past values and the output.
+    fn step(bp: &BandPass<GROAN_SECTIONS>, s: &[f64; RING_DIM]) -> ([f64; RING_DIM], f64) {
+        let mut out = [0.0; RING_DIM];
+        let (mut v, mut v2) = (0.0, s[1]);
+        out[1] = s[0];
+        for (k, sec) in bp.sections.iter().enumerate() {
+            let (y0, y1) = (s[2 + 2 * k], s[3 + 2 * k]);
+            let o = f64::from(sec.b0) * (v - v2) - f64::from(sec.a1) * y0 - f64::from(sec.a2) * y1;
+            v2 = y1;
+            out[2 + 2 * k] = o;
+            out[3 + 2 * k] = y0;
+            v = o;
+        }
+        (out, v)
+    }
+
+    fn of(bp: &BandPass<GROAN_SECTIONS>) -> Option<RingDown> {
+        const D: usize = RING_DIM;
+        // Phi (column i: the step of unit vector i) and c
+        let mut phi = [[0.0; D]; D];
+        let mut c = [0.0; D];
+        for i in 0..D {
+            let mut e = [0.0; D];
+            e[i] = 1.0;
+            let (next, y) = Self::step(bp, &e);
+            for r in 0..D {
+                phi[r][i] = next[r];
+            }
+            c[i] = y;
+        }
+        let mul = |a: &RingMat, b: &RingMat| -> RingMat {
+            let mut m = [[0.0; D]; D];
+            for i in 0..D {
+                for j in 0..D {
+                    m[i][j] = (0..D).map(|k| a[i][k] * b[k][j]).sum();
+                }
+            }
+            m
+        };
+        let norm = |a: &RingMat| a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        // G_1 = c'c, P = Phi; G_2m = G_m + P' G_m P, P = P^2 (P = Phi^m)
+        let mut g = [[0.0; D]; D];
+        for i in 0..D {
+            for j in 0..D {
+                g[i][j] = c[i] * c[j];
+            }
+        }
+        let mut p = phi;
+        let mut m: u64 = 1;
+        let mut decay = None;
+        let mut pow = vec![phi];
+        for _ in 0..40 {
+            let mut pt = [[0.0; D]; D];
+            for i in 0..D {
+                for j in 0..D {
+                    pt[i][j] = p[j][i];
+                }
+            }
+            let pgp = mul(&pt, &mul(&g, &p));
+            for i in 0..D {
+                for j in 0..D {
+                    g[i][j] += pgp[i][j];
+                }
+            }
+            p = mul(&p, &p);
+            m *= 2;
+            if decay.is_none() {
+                pow.push(p);
+            }
+            let np = norm(&p);
+            if decay.is_none() && np < 1e-9 {
+                decay = Some(m);
+            }
+            if np < 1e-18 {
+                break;
+            }
+        }
+        let ok = norm(&p) < 1e-18 && g.iter().flatten().all(|v| v.is_finite());
+        ok.then(|| RingDown { gram: g, decay_samples: decay.unwrap_or(m), pow })
+    }
+
+    /// The past values `n` zero-input samples on (n < 2^pow.len()).
+    fn advance(&self, s: &[f64; RING_DIM], n: u64) -> [f64; RING_DIM] {
+        let mut v = *s;
+        for (j, p) in self.pow.iter().enumerate() {
+            if n & (1 << j) != 0 {
+                let mut w = [0.0; RING_DIM];
+                for (r, wr) in w.iter_mut().enumerate() {
+                    *wr = (0..RING_DIM).map(|k| p[r][k] * v[k]).sum();
+                }
+                v = w;
+            }
+        }
+        v
+    }
+
+    /// s' G s for past values s.
+    fn quad(&self, s: &[f64; RING_DIM]) -> f64 {
+        let mut e = 0.0;
+        for i in 0..RING_DIM {
+            let gi: f64 = (0..RING_DIM).map(|j| self.gram[i][j] * s[j]).sum();
+            e += s[i] * gi;
+        }
+        e
+    }
+
+    /// The cascade's state at past values `v` (rounded to f32).
+    fn state(v: &[f64; RING_DIM]) -> CascadeState<GROAN_SECTIONS> {
+        let mut y = [[0.0f32; 2]; GROAN_SECTIONS];
+        for (k, yk) in y.iter_mut().enumerate() {
+            *yk = [v[2 + 2 * k] as f32, v[3 + 2 * k] as f32];
+        }
+        CascadeState::from_past([v[0] as f32, v[1] as f32], y)
+    }
+
+    /// The sum of the squared outputs of the free response from `st`.
+    fn energy(&self, st: &CascadeState<GROAN_SECTIONS>) -> f64 {
+        self.quad(&Self::values(st))
+    }
+}
+
 impl Sink for CellSink {
     fn wants_forces(&self) -> bool {
         false
+    }
+
+    fn takes_stick_runs(&self) -> bool {
+        self.stick_runs
+    }
+
+    fn stick_samples(&mut self, first: u64, n: u64, dt: f64) -> Result<()> {
+        if n == 0 {
+            return Ok(());
+        }
+        if let Some(m) = &mut self.margin {
+            m.broken = true;
+        }
+        let end = first + n;
+        let f0 = first_at(first, end, dt, self.filter_from);
+        let w0 = first_at(f0, end, dt, self.window_from);
+        // before the window: the filter runs, nothing is summed
+        self.zero_input(w0 - f0, false);
+        if end > w0 {
+            self.zero_input(end - w0, true);
+            self.acc = (self.acc.0.min(0.0), self.acc.1.max(0.0));
+            self.v = (self.v.0.min(0.0), self.v.1.max(0.0));
+            self.n += end - w0;
+        }
+        Ok(())
     }
 
     fn wants_kinematics(&self) -> bool {
@@ -297,10 +534,11 @@ fn run_cell(scene: &Scene, report: &RunReport, sink: &CellSink, kick: f64) -> Ru
 
 /// Runs `scene` from each of `starts` (one stepper set-up) and classifies each run; also
 /// returns the steps they took.
-pub fn run_cells(scene: &Scene, precision: Precision, starts: &[Start], kick: f64) -> Result<(Vec<RunCell>, u64)> {
-    let mut sinks: Vec<CellSink> = starts.iter().map(|_| CellSink::new(scene)).collect();
+pub fn run_cells(scene: &Scene, o: CellOptions, starts: &[Start], cache: &PropagatorCache) -> Result<(Vec<RunCell>, u64)> {
+    let (precision, kick) = (o.precision, o.kick);
+    let mut sinks: Vec<CellSink> = starts.iter().map(|_| CellSink { stick_runs: o.stick_jump, ..CellSink::new(scene) }).collect();
     let mut runs: Vec<(Start, &mut CellSink)> = starts.iter().copied().zip(sinks.iter_mut()).collect();
-    let reports = run::run_starts(scene, precision, Detail::Events, &mut runs)?;
+    let reports = run::run_starts_cached(scene, precision, Detail::Events, &mut runs, Some(cache))?;
     let steps = reports.iter().map(|r| r.steps_done).sum();
     Ok((reports.iter().zip(&sinks).map(|(r, s)| run_cell(scene, r, s, kick)).collect(), steps))
 }
@@ -320,14 +558,14 @@ pub fn mu_s_free(scene: &Scene) -> bool {
 /// ([`SlipMargin`]: no velocity match was located, so neither stick's limit nor the
 /// velocity match's rule was read); `None` otherwise (each cell then runs its own). Returns
 /// the steps run.
-pub fn sliding_run_free_of_mu_s(scene: &Scene, o: CellOptions) -> Result<(Option<RunCell>, u64)> {
+pub fn sliding_run_free_of_mu_s(scene: &Scene, o: CellOptions, cache: &PropagatorCache) -> Result<(Option<RunCell>, u64)> {
     if !mu_s_free(scene) || sliding::sliding_stability(scene).invalid.is_some() {
         return Ok((None, 0));
     }
-    let mut sink = CellSink::with_margin(scene);
+    let mut sink = CellSink { stick_runs: o.stick_jump, ..CellSink::with_margin(scene) };
     let report = {
         let mut runs = [(Start::Sliding { kick: o.kick }, &mut sink)];
-        run::run_starts(scene, o.precision, Detail::Events, &mut runs)?.remove(0)
+        run::run_starts_cached(scene, o.precision, Detail::Events, &mut runs, Some(cache))?.remove(0)
     };
     let free = matches!(report.outcome, Outcome::Completed) && report.transitions == 0 && sink.margin.is_some_and(|m| m.clear());
     Ok((free.then(|| run_cell(scene, &report, &sink, o.kick)), report.steps_done))
@@ -339,6 +577,12 @@ pub struct CellOptions {
     pub precision: Precision,
     /// The relative velocity kick of the start from steady sliding ([`Start::Sliding`]).
     pub kick: f64,
+    /// Stick at event speed in the thesis model's runs: the stepper jumps over stick while a
+    /// closed-form bound keeps the guard ([`stickslip_model::StickJump`]) and the groan
+    /// filter's zero input is summed in closed form. `false` samples every step (the same
+    /// map to rounding except where the run is sensitive at the last digit: the test of the
+    /// jump).
+    pub stick_jump: bool,
 }
 
 /// The cell of `scene` (already built from the base scene and the cell's values): linear
@@ -346,12 +590,14 @@ pub struct CellOptions {
 /// the reason, sprag or contact_loss), the run from rest. Returns the steps run.
 /// `from_sliding`: the run from sliding already run for a scene that differs from this one
 /// only in mu_s and read no mu_s ([`sliding_run_free_of_mu_s`]): taken as this cell's.
+/// `cache`: the thesis stepper's propagators by key, shared by the map's cells.
 pub fn cell(
     index: usize,
     params: &[(String, f64)],
     scene: std::result::Result<Scene, String>,
     o: CellOptions,
     from_sliding: Option<&RunCell>,
+    cache: &PropagatorCache,
 ) -> Result<(CellJson, u64)> {
     let params: serde_json::Map<String, serde_json::Value> =
         params.iter().map(|(k, v)| (k.clone(), serde_json::Value::from(*v))).collect();
@@ -376,16 +622,16 @@ pub fn cell(
                 open_fraction_trail: None,
                 open_fraction_lead: None,
             };
-            let (mut runs, steps) = run_cells(&scene, o.precision, &[rest], o.kick)?;
+            let (mut runs, steps) = run_cells(&scene, o, &[rest], cache)?;
             (none, runs.remove(0), steps)
         }
         None => match from_sliding.filter(|_| mu_s_free(&scene)) {
             Some(shared) => {
-                let (mut runs, steps) = run_cells(&scene, o.precision, &[rest], o.kick)?;
+                let (mut runs, steps) = run_cells(&scene, o, &[rest], cache)?;
                 (shared.clone(), runs.remove(0), steps)
             }
             None => {
-                let (mut runs, steps) = run_cells(&scene, o.precision, &[Start::Sliding { kick: o.kick }, rest], o.kick)?;
+                let (mut runs, steps) = run_cells(&scene, o, &[Start::Sliding { kick: o.kick }, rest], cache)?;
                 let from_rest = runs.remove(1);
                 (runs.remove(0), from_rest, steps)
             }

@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 use stickslip_model::Scene;
 
 use crate::error::{HostError, Result};
+use crate::scenes::table_cache::PropagatorCache;
 use cell::{CellJson, CellOptions};
 use sweep::{Grid, Sweep};
 
@@ -117,7 +118,7 @@ impl SlidingShare {
 
     /// The shared runs of the groups of `indices` (None: the map sweeps no mu_s, or its base
     /// scene's runs read mu_s in slip). Returns the steps run.
-    fn build(spec: &MapSpec, indices: &[usize]) -> Result<(Option<SlidingShare>, u64)> {
+    fn build(spec: &MapSpec, indices: &[usize], cache: &PropagatorCache) -> Result<(Option<SlidingShare>, u64)> {
         let grid = &spec.grid;
         let Some(mu_s_sweep) = grid.sweeps.iter().position(|sw| sw.key == "mu_s") else { return Ok((None, 0)) };
         if !spec.share_sliding || !cell::mu_s_free(&spec.base) {
@@ -138,7 +139,7 @@ impl SlidingShare {
             .par_iter()
             .map(|r| match r {
                 Some((_, sc)) => {
-                    let (run, steps) = cell::sliding_run_free_of_mu_s(sc, spec.options)?;
+                    let (run, steps) = cell::sliding_run_free_of_mu_s(sc, spec.options, cache)?;
                     Ok((run.map(|rc| (*sc, rc)), steps))
                 }
                 None => Ok((None, 0)),
@@ -185,7 +186,9 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
     );
     let steps = AtomicU64::new(0);
     let t0 = Instant::now();
-    let (share, shared_steps) = pool.install(|| SlidingShare::build(spec, &indices))?;
+    // the thesis stepper's tables, one build per distinct key (a beta x mu_s map: one per beta)
+    let cache = PropagatorCache::new();
+    let (share, shared_steps) = pool.install(|| SlidingShare::build(spec, &indices, &cache))?;
     steps.fetch_add(shared_steps, Ordering::Relaxed);
     let cells: Result<Vec<CellJson>> = pool.install(|| {
         indices
@@ -193,7 +196,7 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
             .map(|&i| {
                 let scene = spec.grid.scene(&spec.base, i);
                 let from_sliding = share.as_ref().and_then(|sh| sh.for_cell(&spec.grid, i, &scene));
-                let (c, n) = cell::cell(i, &spec.grid.params(i), scene, spec.options, from_sliding)?;
+                let (c, n) = cell::cell(i, &spec.grid.params(i), scene, spec.options, from_sliding, &cache)?;
                 steps.fetch_add(n, Ordering::Relaxed);
                 bar.inc(1);
                 Ok(c)

@@ -14,3 +14,4 @@ pub mod series;
 pub mod pneumatic;
 pub mod unilateral;
 pub mod sliding;
+pub mod table_cache;

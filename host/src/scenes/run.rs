@@ -7,12 +7,13 @@ use stickslip_model::model2::event_run::edges::EdgeStats;
 use stickslip_model::model3::pneumatic_run::DriveStats;
 use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition};
 use stickslip_model::{
-    Coefficients, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, Segment, State, Transition,
+    Coefficients, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, Segment, State, StickJump, Transition,
 };
 
 use crate::scenes::cycles::{CycleObserver, CycleStats};
 use crate::error::{HostError, Result};
 use crate::scenes::series::{Sample, Sink};
+use crate::scenes::table_cache::{Cached, PropagatorCache};
 
 /// The floating-point type the stepper runs in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -305,6 +306,18 @@ pub fn run_starts<S: Sink + ?Sized>(
     detail: Detail,
     runs: &mut [(Start, &mut S)],
 ) -> Result<Vec<RunReport>> {
+    run_starts_cached(scene, precision, detail, runs, None)
+}
+
+/// [`run_starts`] with the thesis stepper's propagator from `cache` (built there on a miss):
+/// the same runs, bit for bit; the maps' cells share the tables of equal keys.
+pub fn run_starts_cached<S: Sink + ?Sized>(
+    scene: &Scene,
+    precision: Precision,
+    detail: Detail,
+    runs: &mut [(Start, &mut S)],
+    cache: Option<&PropagatorCache>,
+) -> Result<Vec<RunReport>> {
     let mut starts = Vec::with_capacity(runs.len());
     for (start, sink) in runs.iter_mut() {
         starts.push((start_state(scene, *start)?, &mut **sink));
@@ -317,8 +330,8 @@ pub fn run_starts<S: Sink + ?Sized>(
         return crate::scenes::pneumatic::runs(scene, precision, full, &mut starts);
     }
     match (precision, scene.uses_model2()) {
-        (Precision::F32, false) => thesis_runs::<f32, S>(scene, precision, full, &mut starts),
-        (Precision::F64, false) => thesis_runs::<f64, S>(scene, precision, full, &mut starts),
+        (Precision::F32, false) => thesis_runs::<f32, S>(scene, precision, full, &mut starts, cache),
+        (Precision::F64, false) => thesis_runs::<f64, S>(scene, precision, full, &mut starts, cache),
         (Precision::F32, true) => model2_runs::<f32, S>(scene, precision, full, &mut starts),
         (Precision::F64, true) => model2_runs::<f64, S>(scene, precision, full, &mut starts),
     }
@@ -326,12 +339,22 @@ pub fn run_starts<S: Sink + ?Sized>(
 
 pub(crate) type Starts<'a, S> = [(Option<[f64; 8]>, &'a mut S)];
 
-fn thesis_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
+fn thesis_runs<T: Cached, S: Sink + ?Sized>(
+    scene: &Scene,
+    precision: Precision,
+    full: bool,
+    starts: &mut Starts<S>,
+    cache: Option<&PropagatorCache>,
+) -> Result<Vec<RunReport>> {
     // The caller validated the scene; a failure here still gets a message, not a panic.
-    let proto = ExactStepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
-    let budget = OverBudget::of(proto.propagator().n_sub, planned_steps(scene));
+    let (tables, state) = match cache {
+        Some(c) => c.tables::<T>(scene),
+        None => ExactTables::<T>::new(scene),
+    }
+    .map_err(|e| HostError::Input(e.to_string()))?;
+    let budget = OverBudget::of(tables.propagator().n_sub, planned_steps(scene));
     // each run on the set-up's tables, from a copy of its state
-    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, proto.shared(), *z0, full, budget, &mut **sink)).collect()
+    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, ExactStepper::on(&tables, state), *z0, full, budget, &mut **sink)).collect()
 }
 
 fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
@@ -472,6 +495,10 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     })
 }
 
+/// Steps a thesis run of [`Detail::Events`] steps in stick before it tries the jump over
+/// stick again ([`run_in`]).
+const JUMP_RETRY_STEPS: u64 = 16;
+
 /// Start of the statistics window [s]: the step boundary nearest stats_from (as the thesis
 /// stepper's statistics take it).
 pub fn window_start(scene: &Scene) -> f64 {
@@ -510,7 +537,26 @@ fn run_in<T: Real, S: Sink + ?Sized>(
     let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
-    for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
+    let steps_to_run = if budget.is_some() { 0 } else { steps_planned };
+    // stick at event speed where the sink takes stick phases whole (the maps' cells)
+    let jump = (!full && sink.takes_stick_runs()).then(|| StickJump::<T>::new(scene));
+    let mut next_jump_try = 0u64;
+    while steps_done < steps_to_run {
+        if let Some(jump) = &jump {
+            if stepper.regime() == Regime::Stick && steps_done >= next_jump_try {
+                let (tables, state) = stepper.parts_mut();
+                let first = state.steps() + 1;
+                let n = tables.jump_stick(jump, state, steps_to_run - steps_done);
+                // after a jump the guard is near; after a refusal the bound rarely clears at
+                // once: step a while before trying again
+                next_jump_try = steps_done + n + JUMP_RETRY_STEPS;
+                if n > 0 {
+                    steps_done += n;
+                    sink.stick_samples(first, n, scene.dt)?;
+                    continue;
+                }
+            }
+        }
         let stepped = if full {
             stepper.step_observed(&mut obs)
         } else {

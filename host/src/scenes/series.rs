@@ -48,6 +48,21 @@ pub trait Sink {
     fn samples_from(&self) -> f64 {
         f64::NEG_INFINITY
     }
+    /// Whether the sink takes the steps of a stick phase as one run ([`Sink::stick_samples`])
+    /// instead of one sample each: a thesis-model run of [`crate::scenes::run::Detail::Events`]
+    /// then jumps over stick at event speed ([`stickslip_model::ExactTables::jump_stick`]).
+    /// The default: no, every step is sampled.
+    fn takes_stick_runs(&self) -> bool {
+        false
+    }
+    /// The samples at the ends of steps `first_step .. first_step + n` (times k dt [s], k the
+    /// step's number, as the run forms them), all in stick: the pad moves with the band, so
+    /// x'' = 0 and the sliding velocity is 0; the state between is not given. Called only
+    /// when [`Sink::takes_stick_runs`] says yes, for every step the run jumped, whatever
+    /// [`Sink::samples_from`] says.
+    fn stick_samples(&mut self, _first_step: u64, _n: u64, _dt: f64) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// Takes nothing.

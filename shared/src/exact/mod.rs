@@ -34,7 +34,8 @@
 //! Files: this one holds the public types, the tables' and the state's fields and the state's
 //! accessors; [`setup`] the set-up and the start and restart of a state; [`step`] the step
 //! (fast path, substeps, checks); [`events`] the crests and the resolution of a substep with a
-//! fired guard; [`pair`] [`ExactStepper`].
+//! fired guard; [`pair`] [`ExactStepper`]; [`stick_jump`] the jump over stick at event speed
+//! ([`ExactTables::jump_stick`], for runs that want no state between transitions).
 
 use crate::coefficients::Coefficients;
 use crate::halt::Limits;
@@ -49,8 +50,10 @@ mod events;
 mod pair;
 mod setup;
 mod step;
+mod stick_jump;
 
 pub use pair::ExactStepper;
+pub use stick_jump::{StickJump, JUMP_LEVELS};
 
 /// Transitions kept per step for [`ExactStepper::transitions`]; more are counted in
 /// [`ExactStepper::transitions_dropped`] (an observer still sees every one).

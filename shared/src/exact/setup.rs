@@ -10,6 +10,23 @@ impl<T: Real> ExactTables<T> {
         scene.validate()?;
         let co = Coefficients::of(scene);
         let prop = Propagator::<T>::new(scene, &co, scene.dt);
+        Ok(Self::on_propagator(scene, &co, prop))
+    }
+
+    /// [`Self::new`] on a propagator already built for a scene with this scene's
+    /// [`Propagator::key`] (a cache's: the dyadic tables are most of the set-up's cost): the
+    /// same tables, bit for bit, as [`Self::new`] builds. The caller keys its cache with
+    /// [`Propagator::key`]; a propagator of another key gives another scene's flows.
+    pub fn with_propagator(scene: &Scene, prop: &Propagator<T>) -> Result<(Self, ExactState<T>), SceneError> {
+        scene.validate()?;
+        let co = Coefficients::of(scene);
+        debug_assert_eq!(prop.n_sub, Propagator::<T>::substeps(scene, &co, scene.dt));
+        Ok(Self::on_propagator(scene, &co, *prop))
+    }
+
+    /// The tables of a validated scene on its propagator.
+    fn on_propagator(scene: &Scene, co: &Coefficients, prop: Propagator<T>) -> (Self, ExactState<T>) {
+        let co = *co;
         let guards = Guards::<T>::new(scene, &co);
         let t = T::from_f64;
         let a = Self::stick_fold(&prop, scene.v);
@@ -39,7 +56,7 @@ impl<T: Real> ExactTables<T> {
             curv,
         };
         let state = tables.start_state(z);
-        Ok((tables, state))
+        (tables, state)
     }
 
     /// The state a run starts in at `z0`: in stick, at step 0, no halt, nothing reported (with

@@ -60,6 +60,22 @@ pub struct CascadeState<const N: usize> {
 impl<const N: usize> CascadeState<N> {
     /// At rest: every past value 0.
     pub const ZERO: Self = CascadeState { x: [0.0; 2], y: [[0.0; 2]; N] };
+
+    /// The cascade's last two inputs x[-1], x[-2] (for a host's closed forms of the filter's
+    /// free response).
+    pub fn past_inputs(&self) -> [f32; 2] {
+        self.x
+    }
+
+    /// Each section's last two outputs y[-1], y[-2].
+    pub fn past_outputs(&self) -> &[[f32; 2]; N] {
+        &self.y
+    }
+
+    /// The state with these past values ([`Self::past_inputs`], [`Self::past_outputs`]).
+    pub fn from_past(x: [f32; 2], y: [[f32; 2]; N]) -> Self {
+        CascadeState { x, y }
+    }
 }
 
 impl<const N: usize> Default for CascadeState<N> {
