@@ -33,7 +33,7 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
                 scene_name: ns.name.clone(),
                 base: ns.scene,
                 grid,
-                options: CellOptions { precision: a.run.precision, kick: a.kick, stick_jump: true },
+                options: CellOptions { precision: a.run.precision, kick: a.kick, stick_jump: !a.step_stick },
                 shard,
                 jobs: a.jobs.map(usize::from),
                 progress: true,

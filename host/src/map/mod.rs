@@ -11,6 +11,7 @@
 pub mod cell;
 pub mod output;
 pub mod plot;
+pub mod ring_down;
 pub mod sweep;
 
 use std::sync::atomic::{AtomicU64, Ordering};
