@@ -8,7 +8,7 @@ use stickslip::map::cell::CellOptions;
 use stickslip::map::sweep::{Grid, Sweep};
 use stickslip::map::{self, MapJson, MapSpec};
 use stickslip::scenes::run::Precision;
-use stickslip_model::{ExactStepper, Regime, Scene, StickJump};
+use stickslip_model::{ExactStepper, Real, Regime, Scene, StickJump};
 
 fn builtin(name: &str) -> Scene {
     stickslip::scenes::builtin::find(name).expect("a built-in scene").scene
@@ -32,17 +32,24 @@ fn scenes() -> Vec<(String, Scene)> {
     v
 }
 
+/// The first stick phase from rest, jumped: the jumped stepper, a stepper at the start, and
+/// the steps jumped (most of the phase).
+fn first_jump<T: Real>(name: &str, scene: &Scene) -> (ExactStepper<T>, ExactStepper<T>, u64) {
+    let jump = StickJump::<T>::new(scene);
+    let mut jumped = ExactStepper::<T>::new(scene).unwrap();
+    let stepped = jumped.clone();
+    let n = {
+        let (tables, state) = jumped.parts_mut();
+        tables.jump_stick(&jump, state, u64::MAX)
+    };
+    assert!(n > 100, "{name}: the first stick phase from rest should be jumped mostly (jumped {n} steps)");
+    (jumped, stepped, n)
+}
+
 #[test]
 fn a_jump_lands_where_the_steps_land() {
     for (name, scene) in scenes() {
-        let jump = StickJump::<f64>::new(&scene);
-        let mut jumped = ExactStepper::<f64>::new(&scene).unwrap();
-        let mut stepped = jumped.clone();
-        let n = {
-            let (tables, state) = jumped.parts_mut();
-            tables.jump_stick(&jump, state, u64::MAX)
-        };
-        assert!(n > 100, "{name}: the first stick phase from rest should be jumped mostly (jumped {n} steps)");
+        let (mut jumped, mut stepped, n) = first_jump::<f64>(&name, &scene);
         for k in 0..n {
             stepped.step().unwrap();
             assert_eq!(stepped.regime(), Regime::Stick, "{name}: the jump of {n} steps passed a breakaway at step {}", k + 1);
@@ -77,15 +84,8 @@ fn a_jump_lands_where_the_steps_land() {
 #[test]
 fn an_f32_jump_is_as_accurate_as_f32_steps() {
     for (name, scene) in scenes() {
-        let jump = StickJump::<f32>::new(&scene);
-        let mut jumped = ExactStepper::<f32>::new(&scene).unwrap();
-        let mut stepped = jumped.clone();
+        let (jumped, mut stepped, n) = first_jump::<f32>(&name, &scene);
         let mut exact = ExactStepper::<f64>::new(&scene).unwrap();
-        let n = {
-            let (tables, state) = jumped.parts_mut();
-            tables.jump_stick(&jump, state, u64::MAX)
-        };
-        assert!(n > 100, "{name}: jumped {n} steps");
         for _ in 0..n {
             stepped.step().unwrap();
             exact.step().unwrap();
