@@ -213,8 +213,7 @@ impl<T: Real> ExactTables<T> {
                 }
                 None => {
                     // a stick substep whose guard fired and came back (or a touch): keep the anchor
-                    z_end[0] = s.anchor_x
-                        + self.fast.v * (s.anchor_e0 + T::from_u32(s.anchor_subs) * self.h_sub_t);
+                    z_end[0] = self.stick_x(s, s.anchor_subs);
                 }
             }
             z_end[1] = self.fast.v;

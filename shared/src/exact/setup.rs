@@ -115,18 +115,15 @@ impl<T: Real> ExactTables<T> {
     fn stick_fold(prop: &Propagator<T>, v: f64) -> [T; 8] {
         let f = prop.substep_flow(Regime::Stick);
         let g = |i: usize| f[i].to_f64();
+        Self::fold_stick_rows([g(10), g(11), g(12), g(13), g(14)], [g(15), g(16), g(17), g(18), g(19)], v)
+    }
+
+    /// The phi and phi' rows (columns x, x', phi, phi', 1) of a stick flow in increment form,
+    /// with x' = V folded into the constant: [phi += a0 x + a1 phi + a2 phi' + a3, phi' += a4 x
+    /// + a5 phi + a6 phi' + a7] ([`FastPath::stick_rot`], the stick jump's flows).
+    pub(super) fn fold_stick_rows(phi: [f64; 5], phid: [f64; 5], v: f64) -> [T; 8] {
         let t = T::from_f64;
-        // row 2 (phi) and row 3 (phi'): columns x, x', phi, phi', 1
-        [
-            t(g(10)),
-            t(g(12)),
-            t(g(13)),
-            t(g(14) + g(11) * v),
-            t(g(15)),
-            t(g(17)),
-            t(g(18)),
-            t(g(19) + g(16) * v),
-        ]
+        [t(phi[0]), t(phi[2]), t(phi[3]), t(phi[4] + phi[1] * v), t(phid[0]), t(phid[2]), t(phid[3]), t(phid[4] + phid[1] * v)]
     }
 
     /// Replaces the state and regime of `s` (e.g. to start from a measured condition). In

@@ -64,12 +64,9 @@ impl<T: Real> ExactTables<T> {
     fn fast_substep(&self, s: &ExactState<T>, regime: Regime, z: &[T; 4]) -> [T; 4] {
         match regime {
             Regime::Stick => {
-                let x = s.anchor_x
-                    + self.fast.v * (s.anchor_e0 + T::from_u32(s.anchor_subs) * self.h_sub_t);
+                let x = self.stick_x(s, s.anchor_subs);
                 if self.rotation {
-                    let a = &self.fast.stick_rot;
-                    let phi = z[2] + (a[0] * z[0] + a[1] * z[2] + a[2] * z[3] + a[3]);
-                    let phid = z[3] + (a[4] * z[0] + a[5] * z[2] + a[6] * z[3] + a[7]);
+                    let (phi, phid) = stick_rotation(&self.fast.stick_rot, z);
                     [x, self.fast.v, phi, phid]
                 } else {
                     [x, self.fast.v, z[2], z[3]]
@@ -94,6 +91,13 @@ impl<T: Real> ExactTables<T> {
                 }
             }
         }
+    }
+
+    /// x in stick after `subs` whole substeps past the entry substep: x = anchor_x + V (e0 +
+    /// subs h_sub) (the stick anchor; the state holds x at subs = anchor_subs - 1).
+    #[inline(always)]
+    pub(super) fn stick_x(&self, s: &ExactState<T>, subs: u32) -> T {
+        s.anchor_x + self.fast.v * (s.anchor_e0 + T::from_u32(subs) * self.h_sub_t)
     }
 
     /// Whether a guard of `regime` has fired at `z` (the fast path's test).
@@ -121,4 +125,13 @@ impl<T: Real> ExactTables<T> {
     fn check(&self, s: &ExactState<T>, sub: u32) -> Result<(), Halt> {
         self.limits.check(&s.z, s.regime, || self.time_at(s, sub, Propagator::<T>::UNITS))
     }
+}
+
+/// phi and phi' after a stick flow folded as [`FastPath::stick_rot`] (`a`), from `z` (x at the
+/// flow's start).
+#[inline(always)]
+pub(super) fn stick_rotation<T: Real>(a: &[T; 8], z: &[T; 4]) -> (T, T) {
+    let phi = z[2] + (a[0] * z[0] + a[1] * z[2] + a[2] * z[3] + a[3]);
+    let phid = z[3] + (a[4] * z[0] + a[5] * z[2] + a[6] * z[3] + a[7]);
+    (phi, phid)
 }

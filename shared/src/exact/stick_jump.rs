@@ -71,17 +71,7 @@ impl<T: Real> StickJump<T> {
         let mut fold = [[T::zero(); 8]; JUMP_LEVELS + 1];
         let v = scene.v;
         for f in fold.iter_mut() {
-            let t = T::from_f64;
-            *f = [
-                t(e[2][0]),
-                t(e[2][2]),
-                t(e[2][3]),
-                t(e[2][4] + e[2][1] * v),
-                t(e[3][0]),
-                t(e[3][2]),
-                t(e[3][3]),
-                t(e[3][4] + e[3][1] * v),
-            ];
+            *f = ExactTables::<T>::fold_stick_rows(e[2], e[3], v);
             let sq = linalg::mul(&e, &e);
             for r in 0..5 {
                 for c in 0..5 {
@@ -187,17 +177,12 @@ impl<T: Real> ExactTables<T> {
             let span = 1u64 << j;
             while left >= span {
                 if self.rotation {
-                    let a = &jump.fold[j];
-                    let z = &mut s.z;
-                    let phi = z[2] + (a[0] * z[0] + a[1] * z[2] + a[2] * z[3] + a[3]);
-                    let phid = z[3] + (a[4] * z[0] + a[5] * z[2] + a[6] * z[3] + a[7]);
-                    z[2] = phi;
-                    z[3] = phid;
+                    (s.z[2], s.z[3]) = super::step::stick_rotation(&jump.fold[j], &s.z);
                 }
                 // after a stick substep x = anchor_x + V (e0 + (subs - 1) h_sub), as the step
                 // forms it (subs >= 1 here)
                 s.anchor_subs += (span * u64::from(self.prop.n_sub)) as u32;
-                s.z[0] = s.anchor_x + self.fast.v * (s.anchor_e0 + T::from_u32(s.anchor_subs - 1) * self.h_sub_t);
+                s.z[0] = self.stick_x(s, s.anchor_subs - 1);
                 left -= span;
             }
             if j == 0 {
