@@ -13,6 +13,9 @@ pub enum HostError {
     Check(String),
     /// The connection to the board (the debug probe) was lost while recording. Exit code 4.
     Link(String),
+    /// The command was cancelled from outside ([`crate::cancel`]: the Python module's Ctrl-C).
+    /// Exit code 130, as for a process that SIGINT ended.
+    Cancelled,
 }
 
 impl HostError {
@@ -22,6 +25,7 @@ impl HostError {
             HostError::Output(_) => 1,
             HostError::Check(_) => 3,
             HostError::Link(_) => 4,
+            HostError::Cancelled => 130,
         }
     }
 }
@@ -30,6 +34,7 @@ impl fmt::Display for HostError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let msg = match self {
             HostError::Input(m) | HostError::Output(m) | HostError::Check(m) | HostError::Link(m) => m,
+            HostError::Cancelled => "cancelled",
         };
         // Always one line: fold any line breaks a library put in its message.
         let mut first = true;

@@ -12,7 +12,9 @@
 //! - [`output`]: the tables, JSON and figures of the scene and numerics commands;
 //! - [`limits`]: the size of every file read whole, the caps on counts, the work budget;
 //! - [`cli`] parses, [`commands`] dispatches, [`error`] is what a command returns on failure.
+//!   [`cancel`] stops a command from outside (the Python module's Ctrl-C).
 
+pub mod cancel;
 pub mod cli;
 pub mod commands;
 pub mod error;

@@ -12,10 +12,13 @@
 //!   never unwinds into the interpreter.
 //! - The command runs on its own thread with the GIL released; the calling thread wakes every
 //!   50 ms to let Python handle signals, so Ctrl-C in a notebook raises `KeyboardInterrupt` at
-//!   once. The abandoned command runs on to its end in the background (the tool has no
-//!   cancellation points), its result dropped.
+//!   once. The abandoned command is cancelled (`stickslip::cancel`): it stops at its next
+//!   cancellation point (a map before its next cell, a fit before its next evaluation, a run
+//!   within 65,536 steps, a recording at once), its result dropped. [`running`] counts the
+//!   commands whose threads have not ended yet.
 
 use std::panic::{self, AssertUnwindSafe};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::Duration;
 
@@ -23,6 +26,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 
+use stickslip::cancel::Cancel;
 use stickslip::cli::invoke::{self, Parsed};
 
 /// How often the waiting thread lets Python look for a signal.
@@ -35,11 +39,32 @@ const WORKER_STACK_BYTES: usize = 8 << 20;
 /// What a command line came to: stdout's text, or (exit code, one-line message).
 type Outcome = Result<String, (u8, String)>;
 
-fn execute(args: Vec<String>) -> Outcome {
+/// Commands whose worker threads are still running (abandoned ones included).
+static RUNNING: AtomicUsize = AtomicUsize::new(0);
+
+/// Counts a worker thread in [`RUNNING`] for as long as it lives (a panic included).
+struct Running;
+
+impl Running {
+    fn start() -> Self {
+        RUNNING.fetch_add(1, Ordering::SeqCst);
+        Running
+    }
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        RUNNING.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+fn execute(args: Vec<String>, token: Cancel) -> Outcome {
     let argv = std::iter::once("stickslip".to_string()).chain(args);
     match invoke::parse(argv) {
         Ok(Parsed::Help(h)) => Ok(h.render().to_string()),
-        Ok(Parsed::Run(command)) => stickslip::commands::run(&command).map_err(|e| (e.exit_code(), e.to_string())),
+        Ok(Parsed::Run(command)) => {
+            stickslip::commands::run_cancellable(&command, token).map_err(|e| (e.exit_code(), e.to_string()))
+        }
         Err(line) => Err((2, line.strip_prefix("error: ").unwrap_or(&line).to_string())),
     }
 }
@@ -60,11 +85,14 @@ fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
 #[pyfunction]
 fn run(py: Python<'_>, args: Vec<String>) -> PyResult<String> {
     let (tx, rx) = mpsc::channel::<Outcome>();
+    let token = Cancel::new();
+    let worker_token = token.clone();
     std::thread::Builder::new()
         .name("stickslip".into())
         .stack_size(WORKER_STACK_BYTES)
         .spawn(move || {
-            let out = panic::catch_unwind(AssertUnwindSafe(|| execute(args)))
+            let _running = Running::start();
+            let out = panic::catch_unwind(AssertUnwindSafe(|| execute(args, worker_token)))
                 .unwrap_or_else(|p| Err((101, format!("internal error (a bug: please report it): {}", panic_message(p)))));
             // The caller may have gone (Ctrl-C): nobody to tell.
             let _ = tx.send(out);
@@ -82,7 +110,13 @@ fn run(py: Python<'_>, args: Vec<String>) -> PyResult<String> {
             Ok(Ok(text)) => return Ok(text),
             Ok(Err((2, msg))) => return Err(PyValueError::new_err(msg)),
             Ok(Err((_, msg))) => return Err(PyRuntimeError::new_err(msg)),
-            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    // Ctrl-C (or another signal handler's exception): the command is abandoned
+                    token.cancel();
+                    return Err(e);
+                }
+            }
             Err(RecvTimeoutError::Disconnected) => {
                 return Err(PyRuntimeError::new_err("the worker thread ended without a result"))
             }
@@ -139,6 +173,13 @@ fn read_series_csv(py: Python<'_>, path: std::path::PathBuf) -> PyResult<(Vec<St
     Ok((header, columns))
 }
 
+/// The number of commands whose worker threads have not ended yet: an abandoned (cancelled)
+/// command counts until it reaches its cancellation point.
+#[pyfunction]
+fn running() -> usize {
+    RUNNING.load(Ordering::SeqCst)
+}
+
 /// The tool's version (the host crate's).
 #[pyfunction]
 fn version() -> &'static str {
@@ -149,6 +190,7 @@ fn version() -> &'static str {
 fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(running, m)?)?;
     m.add_function(wrap_pyfunction!(read_series_csv, m)?)?;
     Ok(())
 }

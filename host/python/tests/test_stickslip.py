@@ -234,6 +234,39 @@ def test_ctrl_c_interrupts_a_long_call():
     assert "interrupted" in out
 
 
+def test_ctrl_c_cancels_the_abandoned_command():
+    """After Ctrl-C the abandoned command stops at its next cancellation point instead of
+    running on in the background: a 300 x 300 map of the floating rig set (about 13 minutes of
+    work on two cores) ends within a cell per thread. The deadline only guards against a hang
+    (a map left running would hold it for minutes)."""
+    import signal
+    import sys
+
+    code = (
+        "import stickslip, sys, time\n"
+        "from stickslip import _stickslip\n"
+        "print('started', flush=True)\n"
+        "try:\n"
+        "    stickslip.map('rig_float_push_center', ['beta=0.01:0.07:300', 'v=0.001:0.01:300'], duration=1.0)\n"
+        "except KeyboardInterrupt:\n"
+        "    t0 = time.monotonic()\n"
+        "    while _stickslip.running() > 0 and time.monotonic() - t0 < 60.0:\n"
+        "        time.sleep(0.01)\n"
+        "    print('running', _stickslip.running(), 'after', round(time.monotonic() - t0, 3), 's', flush=True)\n"
+        "    sys.exit(7)\n"
+        "print('finished', flush=True)\n"
+    )
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "started"
+    import time
+
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 7, (out, err)
+    assert "running 0 after" in out, (out, err)
+
+
 def test_help_is_text_not_an_error():
     assert stickslip.cli("simulate", "--help") == tool("simulate", "--help").stdout
 

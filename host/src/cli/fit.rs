@@ -36,8 +36,8 @@ pub struct FitArgs {
     /// Start of a recording's statistics on its time axis [s] (default SCENE's stats_from)
     #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = super::parse::from_time)]
     pub from: Option<f64>,
-    /// Starts of the search, 1 to 1000 (the scene's values, then points spread over +-30 %;
-    /// with horizon stages, the best points of a screen of the first horizon)
+    /// Starts of the search, 1 to 1000 (the scene's values, then the best points of a Halton
+    /// screen over the bounds; with horizon stages, of a screen of the first horizon)
     #[arg(long, value_name = "N", default_value_t = crate::fit::DEFAULT_STARTS, value_parser = super::parse::starts)]
     pub starts: usize,
     /// Horizon stages before the whole record, in stick-slip periods after each recording's

@@ -37,10 +37,15 @@ pub fn fit(a: &crate::cli::FitArgs) -> Result<String> {
         if a.out.is_some() || a.plot.is_some() || !a.holdout.is_empty() {
             return Err(HostError::Input("--profile evaluates the cost only: it takes no --out, --plot or --holdout".into()));
         }
-        let p = fit::run_profile(ns, &req, spec)?;
+        let p = fit::run_profile(ns, &req, spec);
+        // a cancelled profile's evaluations were refused: its result, or its error, is not one
+        crate::cancel::check()?;
+        let p = p?;
         return Ok(if a.json { to_json(&output::ProfileJson::new(&p)) } else { output::profile_markdown(&p) });
     }
-    let r = fit::run_fit(ns, &req)?;
+    let r = fit::run_fit(ns, &req);
+    crate::cancel::check()?;
+    let r = r?;
     if let Some(path) = &a.out {
         std::fs::write(path, output::fitted_toml(&r))
             .map_err(|e| HostError::Output(format!("{}: cannot write the fitted scene: {e}", path.display())))?;

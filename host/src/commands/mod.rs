@@ -20,6 +20,12 @@ pub use numerics::{accuracy, stability};
 pub use recordings::{analyze, compare, decode, record, sil};
 pub use simulate::{scenes, simulate};
 
+/// [`run`] with `token` as the command's cancellation ([`crate::cancel`]): cancelled, it ends
+/// at its next cancellation point with [`crate::error::HostError::Cancelled`].
+pub fn run_cancellable(command: &Command, token: crate::cancel::Cancel) -> Result<String> {
+    crate::cancel::with(Some(token), || run(command))
+}
+
 /// Runs one parsed command: what it prints on stdout, or its error.
 pub fn run(command: &Command) -> Result<String> {
     match command {

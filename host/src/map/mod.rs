@@ -136,10 +136,14 @@ impl SlidingShare {
                 }
             }
         }
+        let token = crate::cancel::current();
         let runs: Vec<(Option<(Scene, cell::RunCell)>, u64)> = rep
             .par_iter()
             .map(|r| match r {
                 Some((_, sc)) => {
+                    if let Some(t) = &token {
+                        t.check()?;
+                    }
                     let (run, steps) = cell::sliding_run_free_of_mu_s(sc, spec.options, cache)?;
                     Ok((run.map(|rc| (*sc, rc)), steps))
                 }
@@ -191,10 +195,14 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
     let cache = PropagatorCache::new();
     let (share, shared_steps) = pool.install(|| SlidingShare::build(spec, &indices, &cache))?;
     steps.fetch_add(shared_steps, Ordering::Relaxed);
+    let token = crate::cancel::current();
     let cells: Result<Vec<CellJson>> = pool.install(|| {
         indices
             .par_iter()
             .map(|&i| {
+                if let Some(t) = &token {
+                    t.check()?;
+                }
                 let scene = spec.grid.scene(&spec.base, i);
                 let from_sliding = share.as_ref().and_then(|sh| sh.for_cell(&spec.grid, i, &scene));
                 let (c, n) = cell::cell(i, &spec.grid.params(i), scene, spec.options, from_sliding, &cache)?;

@@ -451,7 +451,8 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
-    for _ in 0..if budget.is_some() { 0 } else { steps_planned } {
+    for i in 0..if budget.is_some() { 0 } else { steps_planned } {
+        crate::cancel::check_every(i)?;
         if let Err(halt) = stepper.step_observed(&mut obs) {
             outcome = Outcome::halted(scene, halt);
             break;
@@ -541,7 +542,10 @@ fn run_in<T: Real, S: Sink + ?Sized>(
     // stick at event speed where the sink takes stick phases whole (the maps' cells)
     let jump = (!full && sink.takes_stick_runs()).then(|| StickJump::<T>::new(scene));
     let mut next_jump_try = 0u64;
+    let mut iterations = 0u64;
     while steps_done < steps_to_run {
+        crate::cancel::check_every(iterations)?;
+        iterations += 1;
         if let Some(jump) = &jump {
             if stepper.regime() == Regime::Stick && steps_done >= next_jump_try {
                 let (tables, state) = stepper.parts_mut();

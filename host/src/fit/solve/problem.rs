@@ -41,6 +41,9 @@ pub struct Problem {
     pub features: bool,
     /// Damping ratios held while the free keys move ([`model::held_ratios`]).
     pub ratios: Vec<(String, f64)>,
+    /// The command's cancellation ([`crate::cancel`]), taken where the problem is made: once
+    /// cancelled, every evaluation is refused without a run.
+    pub cancel: Option<crate::cancel::Cancel>,
 }
 
 impl Problem {
@@ -67,6 +70,7 @@ impl Problem {
             traces: Vec::new(),
             features: false,
             ratios: Vec::new(),
+            cancel: crate::cancel::current(),
         }
     }
 
@@ -140,6 +144,9 @@ impl Problem {
     /// The residuals at u; an error (the first case's) where u is outside the bounds or a
     /// case's scene is invalid or its run halts.
     pub fn residuals(&self, u: &[f64]) -> Result<Vec<f64>, String> {
+        if self.cancel.as_ref().is_some_and(|c| c.is_cancelled()) {
+            return Err("cancelled".into());
+        }
         let values = self.values(u);
         for (f, v) in self.free.iter().zip(&values) {
             if !(*v >= f.lo && *v <= f.hi) {

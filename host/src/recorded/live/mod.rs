@@ -277,7 +277,16 @@ pub fn run(a: &RecordRequest) -> Result<String> {
         None => probe_source(a, &elf, tx, &stop)?,
     };
     let output = create_output(a.out, a.raw)?;
-    source::stop_on_ctrl_c(&stop).map_err(HostError::Output)?;
+    // inside the Python module the command has a cancellation token: the interpreter keeps its
+    // Ctrl-C (a SIGINT handler of ours would take it from the interpreter for good) and its
+    // cancel ends the recording as Ctrl-C does in the binary
+    let _watch = match crate::cancel::current() {
+        Some(token) => Some(source::stop_on_cancel(&stop, token)),
+        None => {
+            source::stop_on_ctrl_c(&stop).map_err(HostError::Output)?;
+            None
+        }
+    };
     let mut err = std::io::stderr();
     let _ = writeln!(err, "stickslip: recording {from} into {} (Ctrl-C stops)", output.0.display());
     let rec = record_chunks(&table, rx, &stop, output, a.status_in_place, &mut err);

@@ -118,6 +118,36 @@ pub fn stop_on_ctrl_c(stop: &Stop) -> Result<(), String> {
     result
 }
 
+/// How often [`stop_on_cancel`]'s watcher looks at the token.
+const CANCEL_POLL: std::time::Duration = std::time::Duration::from_millis(50);
+
+/// Ends the recording with [`End::Interrupted`] once `token` is cancelled (the Python module's
+/// Ctrl-C, [`crate::cancel`]), looked at every 50 ms by a thread of its own, which ends when
+/// the returned guard is dropped or the recording has been asked to stop.
+pub fn stop_on_cancel(stop: &Stop, token: crate::cancel::Cancel) -> CancelWatch {
+    let done = Arc::new(AtomicBool::new(false));
+    let (stop, watching) = (stop.clone(), done.clone());
+    std::thread::spawn(move || {
+        while !watching.load(Ordering::SeqCst) && !stop.requested() {
+            if token.is_cancelled() {
+                stop.request(End::Interrupted);
+                return;
+            }
+            std::thread::sleep(CANCEL_POLL);
+        }
+    });
+    CancelWatch(done)
+}
+
+/// Ends [`stop_on_cancel`]'s watcher when dropped.
+pub struct CancelWatch(Arc<AtomicBool>);
+
+impl Drop for CancelWatch {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+}
+
 /// The chunks as one byte stream for the decoder; each chunk goes to the raw file first.
 pub struct TeeReader {
     rx: Receiver<Chunk>,
