@@ -176,6 +176,27 @@ fn a_cost_profile_has_its_minimum_at_the_truth() {
 }
 
 #[test]
+fn a_time_domain_profile_says_so_and_shows_no_log_ratios() {
+    // a 1-DOF recording: the default cost is the time-domain one, which has no statistics
+    let (_, truth, path) = oracle_recording("fit-profile-td", 0.0);
+    let req = request("mu_k", vec![format!("oracle_stribeck={}", path.display())], 1);
+    let p = fit::run_profile(named("oracle_stribeck", truth), &req, "mu_k=0.4:0.484:3").expect("the profile runs");
+    let n = p.time_domain_residuals.expect("the time-domain cost");
+    assert!(n > 1000, "a residual per sample: {n}");
+    assert!(p.points.iter().all(|q| q.cost.is_some() && q.rms_log_ratio.is_none() && q.worst.is_none()));
+    let md = stickslip::fit::output::profile_markdown(&p);
+    assert!(md.contains(&format!("Time-domain cost: {n} residuals")), "{md}");
+    assert!(!md.contains("NaN") && !md.contains("log ratio"), "{md}");
+    let json: serde_json::Value = serde_json::from_str(&serde_json::to_string(&stickslip::fit::output::ProfileJson::new(&p)).unwrap()).unwrap();
+    assert_eq!(json["cost"], "time_domain");
+    assert_eq!(json["residuals"], n);
+    // the statistics' cost on the same recording says that
+    let stats = fit::run_profile(named("oracle_stribeck", truth), &FitRequest { cost: fit::CostKind::Statistics, ..req }, "mu_k=0.4:0.484:3").expect("runs");
+    assert_eq!(stats.time_domain_residuals, None);
+    assert!(stickslip::fit::output::profile_markdown(&stats).contains("statistics; cost = sum of the squared weighted log ratios / 2"));
+}
+
+#[test]
 fn bad_profiles_exit_2_with_one_line() {
     let args = |spec: &str| ["fit", "--scene", "rig_push_center", "--free", "mu_k", "--table", "thesis_table_3_1", "--profile", spec].map(String::from);
     for (spec, needle) in [

@@ -401,3 +401,13 @@ fn runs_from_sliding_shared_across_mu_s_give_the_map_of_every_cells_own_run() {
     let ((shared, steps_shared), (own, steps_own)) = shared_and_own(rig, &["mu_s=0.5:0.7:3"], 0.01);
     assert_eq!((shared, steps_shared), (own, steps_own), "Stribeck: no sharing");
 }
+
+#[test]
+fn a_cell_over_the_work_budget_is_not_counted_as_disagreeing_with_the_linear_analysis() {
+    // k_g = 1e18 N/m: linearly stable, its runs over the work budget (not run)
+    let m = run_map(&spec(builtin("push_center"), &["k_g=1e18:1e18:1", "beta=0.03:0.05:2"], None, Some(1)));
+    assert!(m.cells.iter().all(|c| c.linear.as_ref().is_some_and(|l| l.stable)));
+    assert!(m.cells.iter().all(|c| c.from_sliding.as_ref().is_some_and(|r| r.regime == "budget")));
+    let md = output::markdown(&m);
+    assert!(md.contains("disagrees with the linear analysis (linearly stable but not steady, or unstable but steady): 0 "), "{md}");
+}

@@ -1,5 +1,5 @@
-//! `fit --profile KEY=LO:HI:N`: the cost along one key, the other free keys refitted at each
-//! point.
+//! `fit --profile KEY=LO:HI:N`: the cost along one key, the other free keys at the scene's
+//! values (no search).
 
 use super::*;
 
@@ -24,6 +24,9 @@ pub struct Profile {
     /// The other free keys and their (fixed) values.
     pub others: Vec<(String, f64)>,
     pub statistics: usize,
+    /// The time-domain cost's residual count (the recordings' samples and cycle timings, in
+    /// units of their noise), when the cost is that one; None: the statistics' log ratios.
+    pub time_domain_residuals: Option<usize>,
     pub points: Vec<ProfilePoint>,
     pub seconds: f64,
 }
@@ -122,5 +125,6 @@ pub fn run_profile(base: NamedScene, req: &FitRequest, spec: &str) -> Result<Pro
         p.finish_and_clear();
     }
     let others = problem.free.iter().filter(|f| f.key != key).map(|f| (f.key.clone(), f.start)).collect();
-    Ok(Profile { scene: base.name.clone(), key, others, statistics: problem.rows.len(), points, seconds: t0.elapsed().as_secs_f64() })
+    let time_domain_residuals = problem.time_domain().then(|| problem.residual_count());
+    Ok(Profile { scene: base.name.clone(), key, others, statistics: problem.rows.len(), time_domain_residuals, points, seconds: t0.elapsed().as_secs_f64() })
 }

@@ -9,6 +9,10 @@ pub struct ProfileJson<'a> {
     pub key: &'a str,
     pub others: BTreeMap<&'a str, f64>,
     pub statistics: usize,
+    /// "statistics" (log ratios of the statistics) or "time_domain" (the recordings' samples).
+    pub cost: &'static str,
+    /// The time-domain cost's residual count; null for the statistics' cost.
+    pub residuals: Option<usize>,
     pub points: Vec<ProfilePointJson<'a>>,
     pub seconds: f64,
 }
@@ -30,6 +34,8 @@ impl<'a> ProfileJson<'a> {
             key: &p.key,
             others: p.others.iter().map(|(k, v)| (k.as_str(), *v)).collect(),
             statistics: p.statistics,
+            cost: if p.time_domain_residuals.is_some() { "time_domain" } else { "statistics" },
+            residuals: p.time_domain_residuals,
             points: p
                 .points
                 .iter()
@@ -49,11 +55,16 @@ impl<'a> ProfileJson<'a> {
 
 /// `fit --profile` as Markdown.
 pub fn profile_markdown(p: &super::super::Profile) -> String {
+    let what = match p.time_domain_residuals {
+        Some(n) => format!(
+            "Time-domain cost: {n} residuals (the recordings' samples and cycle timings in units of their noise); cost = sum of their squares / 2, as the fit minimises it"
+        ),
+        None => format!("{} statistics; cost = sum of the squared weighted log ratios / 2, as the fit minimises it", p.statistics),
+    };
     let mut o = format!(
-        "# Cost profile of scene `{}` along {}\n\n{} statistics; {}; {} points in {:.1} s. Cost = sum of the squared weighted log ratios / 2, as the fit minimises it.\n\n",
+        "# Cost profile of scene `{}` along {}\n\n{what}; {}; {} points in {:.1} s.\n\n",
         p.scene,
         p.key,
-        p.statistics,
         if p.others.is_empty() {
             "no other free key".to_string()
         } else {
@@ -65,6 +76,17 @@ pub fn profile_markdown(p: &super::super::Profile) -> String {
         p.points.len(),
         p.seconds
     );
+    if p.time_domain_residuals.is_some() {
+        // no statistics: no log ratios to show
+        o.push_str(&format!("| {} | cost | |\n|---:|---:|---|\n", p.key));
+        for q in &p.points {
+            match (&q.cost, &q.error) {
+                (Some(c), _) => o.push_str(&format!("| {} | {c:.6e} | |\n", num(q.value))),
+                (None, e) => o.push_str(&format!("| {} | rejected | {} |\n", num(q.value), e.as_deref().unwrap_or("-"))),
+            }
+        }
+        return o;
+    }
     o.push_str(&format!("| {} | cost | RMS ln ratio | largest ln ratio | of |\n|---:|---:|---:|---:|---|\n", p.key));
     for q in &p.points {
         match (&q.cost, &q.error) {
