@@ -109,6 +109,42 @@ def test_sil_equals_the_binary():
     same(stickslip.sil("pull_center", noise=0.01, seed=3), tool_json("sil", "pull_center", "--noise", "0.01", "--seed", "3"))
 
 
+@pytest.mark.parametrize(
+    "values, says",
+    [
+        (np.zeros((2, 1000)), "shape (2, 1000)"),
+        (np.zeros(1000, dtype=complex), "dtype complex128"),
+        (np.zeros(1000, dtype=bool), "dtype bool"),
+        (np.array(["1.0"] * 1000), "dtype <U3"),
+        (np.array([1.0, None] * 500, dtype=object), "pad_x[1] is nan"),
+        (np.array([1.0, "x"] * 500, dtype=object), "an object array"),
+        (np.r_[np.zeros(700), np.nan, np.zeros(299)], "pad_x[700] is nan"),
+        (np.r_[np.zeros(10), np.inf, -np.inf, np.zeros(988)], "pad_x[10] is inf: every sample must be a finite number (2 are not)"),
+        (np.float64(1.0), "shape ()"),
+    ],
+)
+def test_a_channel_that_is_not_a_1d_array_of_finite_numbers_is_refused_by_name(values, says):
+    """A 2-D array is not raveled into one long channel, a complex one not cut to its real part,
+    a NaN named by its index in the array (not by a line of a temporary file)."""
+    with pytest.raises(ValueError) as e:
+        stickslip.analyze({"pad_x": values}, rate=1000.0)
+    assert str(e.value).startswith("recording: pad_x"), str(e.value)
+    assert says in str(e.value), str(e.value)
+
+
+def test_the_tools_errors_on_arrays_name_the_sample_not_a_temporary_file():
+    t = np.r_[np.arange(50) / 1000.0, np.arange(50) / 1000.0]
+    with pytest.raises(ValueError) as e:
+        stickslip.analyze({"t_s": t, "pad_x": np.zeros(100)})
+    assert str(e.value).startswith("recording: sample 50: time 0 s goes back"), str(e.value)
+    assert "(sample 49)" in str(e.value) and "stickslip-" not in str(e.value), str(e.value)
+    with pytest.raises(ValueError) as e:
+        stickslip.analyze({"acc": np.zeros(100)}, rate=1000.0)
+    assert str(e.value).startswith("recording: no pad_x"), str(e.value)
+    with pytest.raises(ValueError, match="recording: the channels hold no samples"):
+        stickslip.analyze({"pad_x": []}, rate=1000.0)
+
+
 def test_analyze_equals_the_binary():
     rec = str(RECORDINGS / "rec.csv")
     same(stickslip.analyze(rec), tool_json("analyze", rec))
@@ -265,6 +301,30 @@ def test_ctrl_c_cancels_the_abandoned_command():
     out, err = p.communicate(timeout=120)
     assert p.returncode == 7, (out, err)
     assert "running 0 after" in out, (out, err)
+
+
+def test_the_package_runs_on_python_3_9():
+    """pyproject.toml says Python 3.9 or later (abi3-py39): the package's source parses with
+    3.9's grammar, and every module it imports at its top level outside a `try` is in 3.9's
+    standard library or a declared dependency (tomllib came with 3.11: it falls back to tomli,
+    which pyproject.toml requires before 3.11)."""
+    import ast
+
+    src = (Path(stickslip.__file__)).read_text()
+    tree = ast.parse(src, feature_version=(3, 9))
+    stdlib_39 = {"__future__", "csv", "json", "math", "os", "re", "tempfile", "pathlib", "typing", "sys", "io", "shutil", "subprocess", "collections", "itertools", "functools", "dataclasses", "contextlib", "warnings"}
+    declared = {"numpy"}
+    plain = []
+    for node in tree.body:
+        if isinstance(node, ast.Import):
+            plain += [a.name.split(".")[0] for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0:
+            plain.append(node.module.split(".")[0])
+    assert set(plain) <= stdlib_39 | declared, sorted(set(plain) - stdlib_39 - declared)
+    guarded = [n for n in tree.body if isinstance(n, ast.Try)]
+    assert any("tomli" in ast.dump(n) for n in guarded), "tomllib without its fallback"
+    pyproject = (REPO / "host" / "python" / "pyproject.toml").read_text()
+    assert "tomli>=1.1; python_version < '3.11'" in pyproject
 
 
 def test_help_is_text_not_an_error():

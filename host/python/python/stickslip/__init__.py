@@ -24,11 +24,15 @@ import math
 import os
 import re
 import tempfile
-import tomllib
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 import numpy as np
+
+try:  # Python 3.11 and later
+    import tomllib
+except ModuleNotFoundError:  # 3.9 and 3.10: the same parser as a package (pyproject.toml)
+    import tomli as tomllib
 
 from ._stickslip import read_series_csv as _read_series_csv
 from ._stickslip import run as _run
@@ -224,14 +228,36 @@ def cases(**kwargs: Any) -> dict:
     return _Call("cases").flags(kwargs).json()
 
 
+def _channel_array(name: str, values: Any) -> np.ndarray:
+    """One channel of a recording dict as float64: a 1-D array of finite real numbers, or a
+    ValueError naming the channel (and the first sample that is not a number)."""
+    a = np.asarray(values)
+    if a.dtype == object:
+        try:
+            a = a.astype(np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"recording: {name}: not numbers (an object array that does not convert to float)") from None
+    if a.dtype.kind not in "iuf":
+        raise ValueError(f"recording: {name}: dtype {a.dtype} is not a real number type (give floats, m/s^2 or s)")
+    if a.ndim != 1:
+        raise ValueError(f"recording: {name}: an array of shape {a.shape}; give each channel as a 1-D array of samples")
+    a = a.astype(np.float64)
+    bad = np.flatnonzero(~np.isfinite(a))
+    if bad.size:
+        raise ValueError(f"recording: {name}[{bad[0]}] is {a[bad[0]]}: every sample must be a finite number ({bad.size} are not)")
+    return a
+
+
 def _write_recording(call: _Call, arrays: Mapping[str, Any], rate: float | None) -> str:
-    columns = {k: np.asarray(v, dtype=np.float64).ravel() for k, v in arrays.items()}
+    columns = {k: _channel_array(k, v) for k, v in arrays.items()}
     if not columns:
         raise ValueError("recording: the dict holds no channel")
     n = {len(v) for v in columns.values()}
     if len(n) != 1:
         raise ValueError(f"recording: the channels differ in length ({sorted(n)} samples)")
     (n,) = n
+    if n == 0:
+        raise ValueError("recording: the channels hold no samples")
     time_keys = [k for k in columns if k in ("t", "t_s", "time", "time_s")]
     if rate is None and not time_keys:
         raise ValueError("recording: give rate= (samples per second) or a time array (t_s)")
@@ -259,8 +285,10 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
     tool's ``--channel``) with either ``rate`` [samples/s] or a time array ``t_s`` [s].
     """
     call = _Call("analyze")
+    arrays_file = None
     if isinstance(recording, Mapping):
-        call.args.append(_write_recording(call, recording, rate))
+        arrays_file = _write_recording(call, recording, rate)
+        call.args.append(arrays_file)
     elif rate is not None:
         raise ValueError("rate: only for a recording given as arrays (a file carries its own time axis)")
     else:
@@ -271,7 +299,19 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
     if scene is not None:
         kwargs["scene"] = call.scene(scene, {})
     call.flags(kwargs)
-    return call.json()
+    try:
+        return call.json()
+    except ValueError as e:
+        if arrays_file is None:
+            raise
+        raise ValueError(_of_arrays(str(e), arrays_file)) from None
+
+
+def _of_arrays(message: str, path: str) -> str:
+    """A message about the temporary CSV of a recording given as arrays, told of the arrays:
+    its name as "recording", a data line L as sample L - 2 (the header is line 1)."""
+    message = message.replace(f"{path}: line 1: ", "recording: ").replace(path, "recording")
+    return re.sub(r"\bline (\d+)", lambda m: f"sample {int(m.group(1)) - 2}" if int(m.group(1)) >= 2 else m.group(0), message)
 
 
 def sil(scene: Any = DEFAULT_SCENE, *, series: bool = False, **kwargs: Any) -> dict:
