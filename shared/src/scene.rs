@@ -225,9 +225,17 @@ pub struct SceneError {
     pub value: f64,
 }
 
+/// The scene's fields whose values are words or switches, not numbers: an error about one
+/// names the field and the rule only (its `value` is a code, or another field's number).
+const WORD_FIELDS: [&str; 7] = ["caliper", "friction", "band", "face", "rotation", "contact", "drive"];
+
 impl core::fmt::Display for SceneError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "field `{}` = {}: {}", self.field, self.value, self.rule)
+        if WORD_FIELDS.contains(&self.field) {
+            write!(f, "field `{}`: {}", self.field, self.rule)
+        } else {
+            write!(f, "field `{}` = {}: {}", self.field, self.value, self.rule)
+        }
     }
 }
 

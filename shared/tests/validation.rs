@@ -107,3 +107,13 @@ fn error_message_names_field_value_and_rule() {
     let msg = s.validate().unwrap_err().to_string();
     assert!(msg.contains("`m`") && msg.contains("-1") && msg.contains("> 0"), "{msg}");
 }
+
+#[test]
+fn an_error_about_a_word_field_shows_no_number_for_it() {
+    use stickslip_model::SceneError;
+    // a switch or a word has no number to show: the value a check carries for it is a code
+    let word = SceneError { field: "contact", rule: "needs a pad that is not hinged", value: f64::INFINITY };
+    assert_eq!(word.to_string(), "field `contact`: needs a pad that is not hinged");
+    let number = SceneError { field: "m", rule: "pad mass must be > 0 kg", value: -1.0 };
+    assert_eq!(number.to_string(), "field `m` = -1: pad mass must be > 0 kg");
+}

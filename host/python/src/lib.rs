@@ -180,6 +180,13 @@ fn running() -> usize {
     RUNNING.load(Ordering::SeqCst)
 }
 
+/// Every key a scene file may hold, in the tool's order (`stickslip::scenes::scene_file::KEYS`):
+/// the one list the module tells scene keys from flags by.
+#[pyfunction]
+fn scene_keys() -> Vec<&'static str> {
+    stickslip::scenes::scene_file::KEYS.iter().map(|(k, _)| *k).collect()
+}
+
 /// The tool's version (the host crate's).
 #[pyfunction]
 fn version() -> &'static str {
@@ -191,6 +198,7 @@ fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(running, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_keys, m)?)?;
     m.add_function(wrap_pyfunction!(read_series_csv, m)?)?;
     Ok(())
 }

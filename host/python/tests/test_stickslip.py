@@ -327,6 +327,68 @@ def test_the_package_runs_on_python_3_9():
     assert "tomli>=1.1; python_version < '3.11'" in pyproject
 
 
+def test_every_scene_key_is_a_keyword_argument_and_changes_the_scene():
+    """The module knows the tool's whole key list: model 3's keys and the damping ratios change
+    the scene (a ratio replaces the damping the scene writes), as in a scene file."""
+    import sys
+
+    by_kw = stickslip.simulate("rig_push_center", zeta_x=0.05, duration=0.2, stats_from=0.1)
+    by_file = tool_json("simulate", "rig_push_center", "--duration", "0.2", "--stats-from", "0.1")
+    assert by_kw["stick_fraction"] != by_file["stick_fraction"], "zeta_x changed nothing"
+    sc = stickslip.scene("rig_push_center")
+    del sc["c_x"]
+    sc["zeta_x"] = 0.05
+    same(by_kw, stickslip.simulate(sc, duration=0.2, stats_from=0.1))
+    uni = stickslip.simulate("rig_float_push_center", contact="unilateral", duration=0.2, stats_from=0.1)
+    assert "edges" in uni, sorted(uni)
+
+
+def test_scene_dicts_and_paths_are_checked_not_injected():
+    t = np.arange(2000) / 10000.0
+    # a key that is not one is refused by name (it is not written into the file as it is)
+    with pytest.raises(ValueError, match=re.escape("scene key 'beta = 0.03\\nmu_s': not a scene key")):
+        stickslip.simulate({"beta = 0.03\nmu_s": 0.5})
+    with pytest.raises(ValueError, match="scene key 'bet': not a scene key"):
+        stickslip.simulate({"bet": 0.03})
+    # an error about a value names its key, not a temporary file
+    with pytest.raises(ValueError) as e:
+        stickslip.simulate("push_center", mu_k=0.9)
+    assert str(e.value).startswith("scene key `mu_k`: "), str(e.value)
+    # text past U+FFFF in a string value
+    assert stickslip.simulate("push_center", name="Bremse \U0001F642", duration=0.1, stats_from=0.05)["name"] == "Bremse \U0001F642"
+    # bytes and paths name files; `-` is not standard input here; a name the tool cannot take
+    assert stickslip.scene(b"push_center")["beta"] == 0.04
+    with pytest.raises(ValueError, match="standard input"):
+        stickslip.analyze("-")
+    with pytest.raises(ValueError, match="not valid UTF-8"):
+        stickslip.simulate(Path(os.fsdecode(b"/tmp/lat\xe9in.toml")))
+    # arguments of the wrong type, each named
+    for call, says in [
+        (lambda: stickslip.analyze({"pad_x": np.zeros(100)}, rate="25600"), "rate: a number"),
+        (lambda: stickslip.map("push_center", None), "sweeps: "),
+        (lambda: stickslip.map("push_center", ["beta=0.02:0.06:2"], sweep=["mu_s=0.4:0.6:2"]), "sweep: give the sweeps once"),
+        (lambda: stickslip.fit("push_center", None), "free: "),
+        (lambda: stickslip.fit("push_center", [1]), "free: "),
+        (lambda: stickslip.fit("push_center", "mu_k", [("push_center", "x.csv")]), "recordings: a dict"),
+        (lambda: stickslip.fit("push_center", "mu_k", {"push_center": None}), "recordings['push_center']: a file name"),
+    ]:
+        with pytest.raises(ValueError, match=re.escape(says)):
+            call()
+    # the time array by any name the tool takes for it; rate= and a time array refused
+    x = np.sin(2 * np.pi * 200 * t)
+    same(without(stickslip.analyze({"pad_x": x, "Time": t}), "file"), without(stickslip.analyze({"pad_x": x, "t_s": t}), "file"))
+    with pytest.raises(ValueError, match="give rate= or a time array, not both"):
+        stickslip.analyze({"pad_x": x, "Time": t}, rate=10000.0)
+
+
+def test_series_goes_to_the_users_csv_when_given(tmp_path):
+    path = tmp_path / "run.csv"
+    out = stickslip.simulate("push_center", series=True, csv=path, duration=0.1, stats_from=0.05)
+    assert path.exists()
+    header = path.read_text().splitlines()[0].split(",")
+    assert header == list(out["series"].keys())
+
+
 def test_help_is_text_not_an_error():
     assert stickslip.cli("simulate", "--help") == tool("simulate", "--help").stdout
 

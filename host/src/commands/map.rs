@@ -41,12 +41,15 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
             };
             let (m, t) = map::run_map(&spec)?;
             eprintln!(
-                "map: {} cells, {} steps in {:.2} s on {} threads: {:.3e} steps/s",
+                "map: {} cells, {} steps ({} stepped, {} jumped over stick) in {:.2} s on {} threads: {:.3e} steps/s, {:.3e} stepped/s",
                 t.cells,
                 t.steps,
+                t.steps - t.jumped.min(t.steps),
+                t.jumped,
                 t.seconds,
                 t.threads,
-                t.steps as f64 / t.seconds.max(1e-9)
+                t.steps as f64 / t.seconds.max(1e-9),
+                (t.steps - t.jumped.min(t.steps)) as f64 / t.seconds.max(1e-9)
             );
             (m, &a.out)
         }

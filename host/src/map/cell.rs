@@ -44,6 +44,21 @@ pub const STEADY_PP: f64 = 4.0;
 /// start-up transient is down by e^-18 = 1.5e-8 when the window opens.
 pub const GROAN_SETTLE_S: f64 = 0.05;
 
+/// The steps of a cell's runs: every step of the runs (`done`), and of those the ones jumped
+/// over in stick, in closed form (`jumped`, [`Sink::stick_samples`]), not stepped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Steps {
+    pub done: u64,
+    pub jumped: u64,
+}
+
+impl std::ops::Add for Steps {
+    type Output = Steps;
+    fn add(self, o: Steps) -> Steps {
+        Steps { done: self.done + o.done, jumped: self.jumped + o.jumped }
+    }
+}
+
 /// One mode of the linearisation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModeJson {
@@ -138,6 +153,8 @@ struct CellSink {
     v: (f64, f64),
     groan_sq: f64,
     n: u64,
+    /// Steps taken whole in stick ([`Sink::stick_samples`]), not stepped.
+    jumped: u64,
     /// The sliding velocity's distance from zero over the whole run (every sample), kept only
     /// where asked ([`CellSink::with_margin`]).
     margin: Option<SlipMargin>,
@@ -215,6 +232,7 @@ impl CellSink {
             v: (f64::INFINITY, f64::NEG_INFINITY),
             groan_sq: 0.0,
             n: 0,
+            jumped: 0,
             margin: None,
         }
     }
@@ -279,6 +297,7 @@ impl Sink for CellSink {
         if n == 0 {
             return Ok(());
         }
+        self.jumped += n;
         if let Some(m) = &mut self.margin {
             m.broken = true;
         }
@@ -377,12 +396,12 @@ fn run_cell(scene: &Scene, report: &RunReport, sink: &CellSink, kick: f64) -> Ru
 
 /// Runs `scene` from each of `starts` (one stepper set-up) and classifies each run; also
 /// returns the steps they took.
-pub fn run_cells(scene: &Scene, o: CellOptions, starts: &[Start], cache: &PropagatorCache) -> Result<(Vec<RunCell>, u64)> {
+pub fn run_cells(scene: &Scene, o: CellOptions, starts: &[Start], cache: &PropagatorCache) -> Result<(Vec<RunCell>, Steps)> {
     let (precision, kick) = (o.precision, o.kick);
     let mut sinks: Vec<CellSink> = starts.iter().map(|_| CellSink { stick_runs: o.stick_jump, ..CellSink::new(scene) }).collect();
     let mut runs: Vec<(Start, &mut CellSink)> = starts.iter().copied().zip(sinks.iter_mut()).collect();
     let reports = run::run_starts_cached(scene, precision, Detail::Events, &mut runs, Some(cache))?;
-    let steps = reports.iter().map(|r| r.steps_done).sum();
+    let steps = Steps { done: reports.iter().map(|r| r.steps_done).sum(), jumped: sinks.iter().map(|s| s.jumped).sum() };
     Ok((reports.iter().zip(&sinks).map(|(r, s)| run_cell(scene, r, s, kick)).collect(), steps))
 }
 
@@ -401,9 +420,9 @@ pub fn mu_s_free(scene: &Scene) -> bool {
 /// ([`SlipMargin`]: no velocity match was located, so neither stick's limit nor the
 /// velocity match's rule was read); `None` otherwise (each cell then runs its own). Returns
 /// the steps run.
-pub fn sliding_run_free_of_mu_s(scene: &Scene, o: CellOptions, cache: &PropagatorCache) -> Result<(Option<RunCell>, u64)> {
+pub fn sliding_run_free_of_mu_s(scene: &Scene, o: CellOptions, cache: &PropagatorCache) -> Result<(Option<RunCell>, Steps)> {
     if !mu_s_free(scene) || sliding::sliding_stability(scene).invalid.is_some() {
-        return Ok((None, 0));
+        return Ok((None, Steps::default()));
     }
     let mut sink = CellSink { stick_runs: o.stick_jump, ..CellSink::with_margin(scene) };
     let report = {
@@ -411,7 +430,7 @@ pub fn sliding_run_free_of_mu_s(scene: &Scene, o: CellOptions, cache: &Propagato
         run::run_starts_cached(scene, o.precision, Detail::Events, &mut runs, Some(cache))?.remove(0)
     };
     let free = matches!(report.outcome, Outcome::Completed) && report.transitions == 0 && sink.margin.is_some_and(|m| m.clear());
-    Ok((free.then(|| run_cell(scene, &report, &sink, o.kick)), report.steps_done))
+    Ok((free.then(|| run_cell(scene, &report, &sink, o.kick)), Steps { done: report.steps_done, jumped: sink.jumped }))
 }
 
 /// What one cell runs.
@@ -441,13 +460,13 @@ pub fn cell(
     o: CellOptions,
     from_sliding: Option<&RunCell>,
     cache: &PropagatorCache,
-) -> Result<(CellJson, u64)> {
+) -> Result<(CellJson, Steps)> {
     let params: serde_json::Map<String, serde_json::Value> =
         params.iter().map(|(k, v)| (k.clone(), serde_json::Value::from(*v))).collect();
     let scene = match scene {
         Ok(s) => s,
         Err(why) => {
-            return Ok((CellJson { index, params, invalid: Some(why), linear: None, from_sliding: None, from_rest: None }, 0));
+            return Ok((CellJson { index, params, invalid: Some(why), linear: None, from_sliding: None, from_rest: None }, Steps::default()));
         }
     };
     let lin = sliding::sliding_stability(&scene);

@@ -119,11 +119,11 @@ impl SlidingShare {
 
     /// The shared runs of the groups of `indices` (None: the map sweeps no mu_s, or its base
     /// scene's runs read mu_s in slip). Returns the steps run.
-    fn build(spec: &MapSpec, indices: &[usize], cache: &PropagatorCache) -> Result<(Option<SlidingShare>, u64)> {
+    fn build(spec: &MapSpec, indices: &[usize], cache: &PropagatorCache) -> Result<(Option<SlidingShare>, cell::Steps)> {
         let grid = &spec.grid;
-        let Some(mu_s_sweep) = grid.sweeps.iter().position(|sw| sw.key == "mu_s") else { return Ok((None, 0)) };
+        let Some(mu_s_sweep) = grid.sweeps.iter().position(|sw| sw.key == "mu_s") else { return Ok((None, cell::Steps::default())) };
         if !spec.share_sliding || !cell::mu_s_free(&spec.base) {
-            return Ok((None, 0));
+            return Ok((None, cell::Steps::default()));
         }
         let groups = grid.cells() / grid.sweeps[mu_s_sweep].n;
         // the representative: the group's first cell (in this shard) with a valid scene
@@ -137,7 +137,7 @@ impl SlidingShare {
             }
         }
         let token = crate::cancel::current();
-        let runs: Vec<(Option<(Scene, cell::RunCell)>, u64)> = rep
+        let runs: Vec<(Option<(Scene, cell::RunCell)>, cell::Steps)> = rep
             .par_iter()
             .map(|r| match r {
                 Some((_, sc)) => {
@@ -147,10 +147,10 @@ impl SlidingShare {
                     let (run, steps) = cell::sliding_run_free_of_mu_s(sc, spec.options, cache)?;
                     Ok((run.map(|rc| (*sc, rc)), steps))
                 }
-                None => Ok((None, 0)),
+                None => Ok((None, cell::Steps::default())),
             })
             .collect::<Result<_>>()?;
-        let steps = runs.iter().map(|r| r.1).sum();
+        let steps = runs.iter().fold(cell::Steps::default(), |a, r| a + r.1);
         Ok((Some(SlidingShare { mu_s_sweep, runs: runs.into_iter().map(|r| r.0).collect() }), steps))
     }
 
@@ -167,7 +167,10 @@ impl SlidingShare {
 #[derive(Clone, Copy, Debug)]
 pub struct Timing {
     pub cells: usize,
+    /// Every step of the runs, those jumped over in stick included.
     pub steps: u64,
+    /// Of `steps`, those jumped over in stick in closed form (not stepped).
+    pub jumped: u64,
     pub seconds: f64,
     pub threads: usize,
 }
@@ -190,11 +193,13 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let steps = AtomicU64::new(0);
+    let jumped = AtomicU64::new(0);
     let t0 = Instant::now();
     // the thesis stepper's tables, one build per distinct key (a beta x mu_s map: one per beta)
     let cache = PropagatorCache::new();
     let (share, shared_steps) = pool.install(|| SlidingShare::build(spec, &indices, &cache))?;
-    steps.fetch_add(shared_steps, Ordering::Relaxed);
+    steps.fetch_add(shared_steps.done, Ordering::Relaxed);
+    jumped.fetch_add(shared_steps.jumped, Ordering::Relaxed);
     let token = crate::cancel::current();
     let cells: Result<Vec<CellJson>> = pool.install(|| {
         indices
@@ -206,7 +211,8 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
                 let scene = spec.grid.scene(&spec.base, i);
                 let from_sliding = share.as_ref().and_then(|sh| sh.for_cell(&spec.grid, i, &scene));
                 let (c, n) = cell::cell(i, &spec.grid.params(i), scene, spec.options, from_sliding, &cache)?;
-                steps.fetch_add(n, Ordering::Relaxed);
+                steps.fetch_add(n.done, Ordering::Relaxed);
+                jumped.fetch_add(n.jumped, Ordering::Relaxed);
                 bar.inc(1);
                 Ok(c)
             })
@@ -214,7 +220,7 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
     });
     bar.finish_and_clear();
     let cells = cells?;
-    let timing = Timing { cells: cells.len(), steps: steps.load(Ordering::Relaxed), seconds: t0.elapsed().as_secs_f64(), threads: pool.current_num_threads() };
+    let timing = Timing { cells: cells.len(), steps: steps.load(Ordering::Relaxed), jumped: jumped.load(Ordering::Relaxed), seconds: t0.elapsed().as_secs_f64(), threads: pool.current_num_threads() };
     let b = &spec.base;
     Ok((
         MapJson {

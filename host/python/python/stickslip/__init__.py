@@ -36,6 +36,7 @@ except ModuleNotFoundError:  # 3.9 and 3.10: the same parser as a package (pypro
 
 from ._stickslip import read_series_csv as _read_series_csv
 from ._stickslip import run as _run
+from ._stickslip import scene_keys as _tool_scene_keys
 from ._stickslip import version
 
 __all__ = [
@@ -68,17 +69,38 @@ def cli(*args: Any) -> str:
     ``cli("simulate", "push_center", "--json")`` is ``stickslip simulate push_center --json``.
     Raises ValueError for bad input (the tool's exit code 2), RuntimeError otherwise.
     """
-    return _run([str(a) for a in args])
+    return _run([_arg(a) for a in args])
+
+
+def _arg(a: Any, what: str = "argument") -> str:
+    """One command-line argument as text: a path (bytes or os.PathLike too) decoded as the file
+    system names it, numbers and strings as written; a path the tool cannot take (not UTF-8) is
+    a ValueError naming it."""
+    if isinstance(a, (bytes, os.PathLike)):
+        a = os.fsdecode(a)
+    s = str(a)
+    try:
+        s.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError(f"{what} {s!r}: not valid UTF-8 (a file name the tool cannot take; rename it)") from None
+    return s
+
+
+def _path(a: Any, what: str) -> str:
+    """A file argument: str, bytes or os.PathLike, else a ValueError naming `what`."""
+    if not isinstance(a, (str, bytes, os.PathLike)):
+        raise ValueError(f"{what}: a file name (str or path), not {type(a).__name__}")
+    s = _arg(a, what)
+    if s == "-":
+        raise ValueError(f"{what}: `-` (standard input) is the interpreter's own here; give a file")
+    return s
 
 
 def _scene_keys() -> set[str]:
-    """The keys a scene file may hold (those of a model-2 scene with every option written)."""
+    """The keys a scene file may hold (the tool's own list)."""
     global _scene_keys_cache
     if _scene_keys_cache is None:
-        keys: set[str] = set()
-        for name in (DEFAULT_SCENE, "rig_float_push_center", "oracle_stribeck"):
-            keys |= set(tomllib.loads(cli("scenes", "show", name)).keys())
-        _scene_keys_cache = keys
+        _scene_keys_cache = set(_tool_scene_keys())
     return _scene_keys_cache
 
 
@@ -95,11 +117,18 @@ def _toml_value(key: str, v: Any) -> str:
             return "inf" if f > 0 else "-inf"
         return repr(f)
     if isinstance(v, str):
-        return json.dumps(v)  # a TOML basic string: the same escapes
+        # a TOML basic string: JSON's escapes, which are TOML's, but for characters past U+FFFF
+        # (JSON's surrogate pairs are no TOML escape: written as they are, in UTF-8) and DEL
+        # (which TOML wants escaped)
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
     raise ValueError(f"scene key `{key}`: a number, a bool or a string, not {type(v).__name__}")
 
 
 def _scene_toml(values: Mapping[str, Any]) -> str:
+    keys = _scene_keys()
+    for k in values:
+        if not isinstance(k, str) or k not in keys:
+            raise ValueError(f"scene key {k!r}: not a scene key (the keys: `stickslip scenes show {DEFAULT_SCENE}`, and zeta_x, zeta_phi, zeta_b)")
     return "".join(f"{k} = {_toml_value(k, v)}\n" for k, v in values.items())
 
 
@@ -109,6 +138,9 @@ class _Call:
     def __init__(self, *head: Any):
         self.args: list[str] = [str(a) for a in head]
         self._dir: tempfile.TemporaryDirectory | None = None
+        # the scene file written from a dict or overrides, and its keys by line
+        self._scene_file: str | None = None
+        self._scene_keys: list[str] = []
 
     def tmp(self, name: str) -> str:
         if self._dir is None:
@@ -118,8 +150,13 @@ class _Call:
     def scene(self, scene: Any, overrides: Mapping[str, Any]) -> str:
         """The scene argument: a built-in name or a file as given, or a scene file written from
         a dict and/or scene-key overrides."""
-        if isinstance(scene, os.PathLike):
-            scene = os.fspath(scene)
+        if isinstance(scene, (bytes, os.PathLike)):
+            scene = _arg(scene, "scene")
+        if isinstance(scene, str):
+            scene = _arg(scene, "scene")
+            if scene.startswith("-"):
+                # not a flag: a file of that name, as the tool's command line would need it
+                scene = os.path.join(".", scene)
         if isinstance(scene, str) and not overrides:
             return scene
         if isinstance(scene, str):
@@ -128,10 +165,32 @@ class _Call:
             values = dict(scene)
         else:
             raise ValueError(f"scene: a built-in name, a scene file or a dict, not {type(scene).__name__}")
+        # a damping ratio given replaces the damping written in the scene (`scenes show` writes c_x)
+        for zeta, c in (("zeta_x", "c_x"), ("zeta_phi", "c_phi"), ("zeta_b", "c_b")):
+            if zeta in overrides and c not in overrides:
+                values.pop(c, None)
         values.update(overrides)
         path = self.tmp("scene.toml")
-        Path(path).write_text(_scene_toml(values))
+        Path(path).write_text(_scene_toml(values), encoding="utf-8")
+        self._scene_file, self._scene_keys = path, list(values)
         return path
+
+    def run(self, args: list[str]) -> str:
+        """Runs `args`; an error about the scene file written here names the key, not the file."""
+        try:
+            return _run(args)
+        except ValueError as e:
+            message = str(e)
+            if self._scene_file is None or self._scene_file not in message:
+                raise
+            keys = self._scene_keys
+
+            def key_of(m: "re.Match[str]") -> str:
+                i = int(m.group(1)) - 1
+                return f"scene key `{keys[i]}`: " if 0 <= i < len(keys) else m.group(0)
+
+            message = re.sub(re.escape(self._scene_file) + r": line (\d+)(?:, column \d+)?: ", key_of, message)
+            raise ValueError(message.replace(self._scene_file, "the scene (from the dict and keyword arguments)")) from None
 
     def flags(self, options: Mapping[str, Any]) -> "_Call":
         for key, v in options.items():
@@ -159,7 +218,7 @@ class _Call:
     def json(self) -> dict:
         """Runs the command line with ``--json``, then removes its temporary files."""
         try:
-            return json.loads(_run(self.args + ["--json"]))
+            return json.loads(self.run(self.args + ["--json"]))
         finally:
             self.close()
 
@@ -187,7 +246,10 @@ def scenes() -> list[dict]:
 
 def scene(name: str | os.PathLike = DEFAULT_SCENE) -> dict:
     """One scene as a dict of its keys (a built-in name or a scene file, every key written)."""
-    return tomllib.loads(cli("scenes", "show", os.fspath(name)))
+    name = _path(name, "scene")
+    if name.startswith("-"):
+        name = os.path.join(".", name)
+    return tomllib.loads(cli("scenes", "show", name))
 
 
 def _read_series(path: str) -> dict[str, np.ndarray]:
@@ -200,10 +262,11 @@ def _json_and_series(call: _Call, flags: dict, series: bool) -> dict:
     """Runs `call` with `flags` for its JSON; with `series`, also its ``--csv`` as arrays."""
     if not series:
         return call.flags(flags).json()
-    csv_path = call.tmp("series.csv")
+    # the user's --csv, when given, is the series' file (and stays); else a temporary one
+    csv_path = _path(flags["csv"], "csv") if flags.get("csv") is not None else call.tmp("series.csv")
     call.flags(dict(flags, csv=csv_path))
     try:
-        out = json.loads(_run(call.args + ["--json"]))
+        out = json.loads(call.run(call.args + ["--json"]))
         out["series"] = _read_series(csv_path)
         return out
     finally:
@@ -258,14 +321,15 @@ def _write_recording(call: _Call, arrays: Mapping[str, Any], rate: float | None)
     (n,) = n
     if n == 0:
         raise ValueError("recording: the channels hold no samples")
-    time_keys = [k for k in columns if k in ("t", "t_s", "time", "time_s")]
-    if rate is None and not time_keys:
-        raise ValueError("recording: give rate= (samples per second) or a time array (t_s)")
-    if rate is not None and time_keys:
-        raise ValueError("recording: give rate= or a time array, not both")
+    # without rate= the tool finds the time array by its name, as in a file (t_s, Time, time [ms],
+    # ...); with rate= the time axis is written here, and a time array too is refused (below)
     if rate is not None:
+        if isinstance(rate, (bool, np.bool_)) or not isinstance(rate, (int, float, np.integer, np.floating)):
+            raise ValueError(f"rate: a number of samples per second, not {type(rate).__name__} {rate!r}")
         if not (rate > 0 and math.isfinite(rate)):
             raise ValueError(f"rate: {rate} is not a sample rate > 0 [1/s]")
+        if "t_s" in columns:
+            raise ValueError("recording: give rate= or a time array, not both")
         columns = {"t_s": np.arange(n, dtype=np.float64) / float(rate), **columns}
     path = call.tmp("recording.csv")
     names = list(columns)
@@ -292,7 +356,8 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
     elif rate is not None:
         raise ValueError("rate: only for a recording given as arrays (a file carries its own time axis)")
     else:
-        call.args.append(os.fspath(recording))
+        path = _path(recording, "recording")
+        call.args.append(os.path.join(".", path) if path.startswith("-") else path)
     if "channels" in kwargs:  # the issue's name; the flag is --channel
         kwargs["channel"] = kwargs.pop("channels")
     scene = kwargs.pop("scene", None)
@@ -304,13 +369,20 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
     except ValueError as e:
         if arrays_file is None:
             raise
-        raise ValueError(_of_arrays(str(e), arrays_file)) from None
+        message = str(e)
+        if rate is None and "has no column `time" in message:
+            raise ValueError(f"recording: give rate= (samples per second) or a time array (t_s, or a name the tool takes for the time: {message.split(': ', 1)[-1]})") from None
+        if rate is not None and "both name the time" in message:
+            # column 1 is the time axis written from rate=: the other is the user's
+            message = "recording: give rate= or a time array, not both (" + message.split(": ", 1)[-1] + ", the first from rate=)"
+        raise ValueError(_of_arrays(message, arrays_file)) from None
 
 
 def _of_arrays(message: str, path: str) -> str:
     """A message about the temporary CSV of a recording given as arrays, told of the arrays:
     its name as "recording", a data line L as sample L - 2 (the header is line 1)."""
     message = message.replace(f"{path}: line 1: ", "recording: ").replace(path, "recording")
+    message = re.sub(r"\blines (\d+) to (\d+)", lambda m: f"samples {int(m.group(1)) - 2} to {int(m.group(2)) - 2}", message)
     return re.sub(r"\bline (\d+)", lambda m: f"sample {int(m.group(1)) - 2}" if int(m.group(1)) >= 2 else m.group(0), message)
 
 
@@ -351,7 +423,11 @@ def map(scene: Any, sweeps: Iterable[str] | str, jobs: int | None = None, **kwar
     """
     if isinstance(sweeps, str):
         sweeps = [sweeps]
+    if not isinstance(sweeps, (list, tuple)) or not all(isinstance(s, str) for s in sweeps):
+        raise ValueError(f"sweeps: one or two strings KEY=FROM:TO:N[:log] (a str or a list of them), not {sweeps!r}")
     overrides, flags = _split(kwargs)
+    if "sweep" in flags:
+        raise ValueError("sweep: give the sweeps once, as the second argument (sweeps=...)")
     call = _Call("map")
     call.args.append(call.scene(scene, overrides))
     call.flags({"sweep": list(sweeps), "jobs": jobs, **flags})
@@ -375,11 +451,15 @@ def fit(scene: Any, free: Iterable[str] | str, recordings: Mapping[str, Any] | N
     ``recordings``: case name -> recording file (``{"oracle": "rec.csv"}``); or give
     ``table="table.csv"``. The other options are the tool's flags (starts, bounds, cost, ...).
     """
-    if not isinstance(free, str):
+    if isinstance(free, (list, tuple)) and all(isinstance(k, str) for k in free):
         free = ",".join(free)
+    if not isinstance(free, str) or not free:
+        raise ValueError(f"free: the keys to fit, a comma-separated str or a list of str, not {free!r}")
+    if recordings is not None and not isinstance(recordings, Mapping):
+        raise ValueError(f"recordings: a dict of case name -> recording file, not {type(recordings).__name__}")
     overrides, flags = _split(kwargs)
     call = _Call("fit")
     call.flags({"scene": call.scene(scene, overrides), "free": free, **flags})
     for case, path in (recordings or {}).items():
-        call.args.append(f"{case}={os.fspath(path)}")
+        call.args.append(f"{case}={_path(path, f'recordings[{case!r}]')}")
     return call.json()
