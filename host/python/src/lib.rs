@@ -187,6 +187,14 @@ fn scene_keys() -> Vec<&'static str> {
     stickslip::scenes::scene_file::KEYS.iter().map(|(k, _)| *k).collect()
 }
 
+/// The flags of `command` (e.g. `["map"]`) that take no value, without their `--`; None for
+/// an unknown command.
+#[pyfunction]
+fn switches(command: Vec<String>) -> Option<Vec<String>> {
+    let path: Vec<&str> = command.iter().map(String::as_str).collect();
+    invoke::switches(&path)
+}
+
 /// The tool's version (the host crate's).
 #[pyfunction]
 fn version() -> &'static str {
@@ -199,6 +207,7 @@ fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(running, m)?)?;
     m.add_function(wrap_pyfunction!(scene_keys, m)?)?;
+    m.add_function(wrap_pyfunction!(switches, m)?)?;
     m.add_function(wrap_pyfunction!(read_series_csv, m)?)?;
     Ok(())
 }

@@ -389,6 +389,20 @@ def test_series_goes_to_the_users_csv_when_given(tmp_path):
     assert header == list(out["series"].keys())
 
 
+def test_flag_values_as_python_writes_them():
+    """A bool only for a switch (noise=False would silently be the default noise); arrays and
+    tuples as lists; a (lo, hi) pair as LO:HI; from_ for --from; a map's columns keep their
+    type (bools, integers)."""
+    with pytest.raises(ValueError, match="noise: takes a value, not False"):
+        stickslip.sil("push_center", noise=False)
+    gain = stickslip.sil("push_center", gain=np.array([0.2, 0.2, 10, 10]), duration=0.3, stats_from=0.1)["gain"]
+    assert list(gain.values()) == [0.2, 0.2, 10.0, 10.0]
+    p = stickslip.fit("push_center", ["mu_k"], table="thesis_table_3_1", bounds={"mu_k": (0.3, 0.449)}, from_=0.5, profile="mu_k=0.3:0.44:2")
+    assert [q["value"] for q in p["points"]] == [0.3, 0.44]
+    m = stickslip.map("push_center", ["beta=0.02:0.06:2"], jobs=1)
+    assert m["arrays"]["linear.stable"].dtype == bool and m["arrays"]["index"].dtype == np.int64
+
+
 def test_help_is_text_not_an_error():
     assert stickslip.cli("simulate", "--help") == tool("simulate", "--help").stdout
 

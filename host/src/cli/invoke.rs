@@ -9,6 +9,23 @@ use super::parse::OutOfRange;
 use super::{Cli, Command, RunOptions, SimulateArgs, DEFAULT_SCENE};
 use crate::scenes::run::Precision;
 
+/// The long flags of `command` (a subcommand path such as `["map"]` or `["map", "merge"]`)
+/// that take no value (switches such as `--json`), without their `--`; None for a command
+/// that does not exist. For the Python module, which tells a switch from a flag with a value.
+pub fn switches(command: &[&str]) -> Option<Vec<String>> {
+    use clap::CommandFactory;
+    let mut c = Cli::command();
+    for name in command {
+        c = c.find_subcommand(name)?.clone();
+    }
+    Some(
+        c.get_arguments()
+            .filter(|a| !a.get_action().takes_values())
+            .filter_map(|a| a.get_long().map(str::to_string))
+            .collect(),
+    )
+}
+
 /// What the arguments ask for.
 pub enum Parsed {
     /// A command to run (no subcommand: `simulate` of the default scene).
@@ -61,5 +78,19 @@ fn argument_error(e: &clap::Error) -> String {
         "error: bad command line (see --help)".to_string()
     } else {
         format!("{} (see --help)", msg.join(" "))
+    }
+}
+
+#[cfg(test)]
+mod switch_tests {
+    use super::switches;
+
+    #[test]
+    fn switches_are_the_flags_that_take_no_value() {
+        let map = switches(&["map"]).expect("map exists");
+        assert!(map.contains(&"json".to_string()) && map.contains(&"step-stick".to_string()), "{map:?}");
+        assert!(!map.iter().any(|f| f == "sweep" || f == "jobs"), "{map:?}");
+        assert!(switches(&["map", "merge"]).is_some());
+        assert_eq!(switches(&["no-such-command"]), None);
     }
 }

@@ -37,6 +37,7 @@ except ModuleNotFoundError:  # 3.9 and 3.10: the same parser as a package (pypro
 from ._stickslip import read_series_csv as _read_series_csv
 from ._stickslip import run as _run
 from ._stickslip import scene_keys as _tool_scene_keys
+from ._stickslip import switches as _tool_switches
 from ._stickslip import version
 
 __all__ = [
@@ -193,20 +194,28 @@ class _Call:
             raise ValueError(message.replace(self._scene_file, "the scene (from the dict and keyword arguments)")) from None
 
     def flags(self, options: Mapping[str, Any]) -> "_Call":
+        switches = set(_tool_switches(self.args[:1]) or [])
         for key, v in options.items():
-            flag = "--" + key.replace("_", "-")
+            # a trailing `_` is Python's way round a reserved word (from_ for --from)
+            name = key.rstrip("_").replace("_", "-")
+            flag = "--" + name
+            if isinstance(v, (bool, np.bool_)) and name not in switches:
+                # True or False for a flag that takes a value (noise=False) would be ambiguous
+                raise ValueError(f"{key}: takes a value, not {bool(v)}")
             if v is None or v is False:
                 continue
             if v is True:
                 self.args.append(flag)
             elif isinstance(v, Mapping):
                 for k, x in v.items():
+                    if isinstance(x, (list, tuple, np.ndarray)):
+                        x = ":".join(str(e) for e in np.asarray(x).ravel().tolist())  # (lo, hi) as LO:HI
                     self.args += [flag, f"{k}={x}"]
-            elif isinstance(v, (list, tuple)):
-                for x in v:
-                    self.args += [flag, str(x)]
+            elif isinstance(v, (list, tuple, np.ndarray)):
+                for x in np.asarray(v).ravel().tolist() if isinstance(v, np.ndarray) else v:
+                    self.args += [flag, _arg(x, key)]
             else:
-                self.args += [flag, str(v)]
+                self.args += [flag, _arg(v, key)]
         return self
 
     def close(self) -> None:
@@ -401,6 +410,10 @@ def sil(scene: Any = DEFAULT_SCENE, *, series: bool = False, **kwargs: Any) -> d
 
 def _column(values: Iterable[Any]) -> np.ndarray:
     values = list(values)
+    if values and all(isinstance(v, bool) for v in values):
+        return np.array(values, dtype=bool)
+    if values and all(isinstance(v, int) and not isinstance(v, bool) for v in values):
+        return np.array(values, dtype=np.int64)
     if all(v is None or isinstance(v, (int, float)) for v in values):
         return np.array([np.nan if v is None else float(v) for v in values], dtype=np.float64)
     return np.array(["" if v is None else str(v) for v in values])
