@@ -53,6 +53,10 @@ fn runs_that_would_take_hours_halt_as_budget() {
     // 2e4 s at 1/25600 s is 5.12e8 steps of one substep each
     let long = json(&["simulate", "push_center", "--duration", "20000", "--json"]);
     assert_eq!(long["outcome"], "budget");
+    // the virtual rig over the budget builds no quiet lead either (at dt = 1e-9 s its 0.1 s
+    // would be 1e8 frames): nothing is sampled
+    let rig = json(&["sil", "push_center", "--dt", "1e-9", "--json"]);
+    assert_eq!((rig["outcome"].as_str(), rig["samples"].as_u64()), (Some("budget"), Some(0)), "{rig}");
     // through a map: k_b = 1e6 runs; 1e18 (rate sqrt(k_b / m_b) about 1e9 1/s: 1.6e5 substeps
     // per step) and 1e30 are over the budget
     let m = json(&["map", "rig_push_center", "--sweep", "k_b=1e6:1e30:3:log", "--duration", "0.05", "--stats-from", "0.02", "--json"]);

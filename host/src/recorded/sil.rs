@@ -348,9 +348,11 @@ fn sample_run<T: Real, M: Motion<T>>(
     // the ideal path's noise: its own stream of the same generator and seed
     let mut rng = XorShift32::new(opts.seed);
     let sigma = opts.noise_m_s2;
-    // the clamped, band-still phase: quiet frames at t <= 0
-    let quiet = (opts.quiet_s / dt).round() as u64;
+    // the clamped, band-still phase: quiet frames at t <= 0 (none for a run over the work
+    // budget, which is not run: at its step they could be as many as its steps)
+    let quiet = if budget.is_some() { 0 } else { (opts.quiet_s / dt).round() as u64 };
     for q in 0..quiet {
+        crate::cancel::check_every(q)?;
         let frame = sensor.quiet_frame();
         let t = -((quiet - 1 - q) as f64) * dt;
         let a: [f64; CH] = match opts.sensor {
@@ -366,6 +368,7 @@ fn sample_run<T: Real, M: Motion<T>>(
             .map_err(|m| HostError::Input(format!("virtual rig of {}: {m}", ns.origin_label())))?;
     }
     for i in 0..if budget.is_some() { 0 } else { steps_planned } {
+        crate::cancel::check_every(i)?;
         let frame = match sensor.next_frame() {
             Ok(f) => f,
             Err(halt) => {
