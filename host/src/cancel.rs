@@ -8,8 +8,8 @@
 //! - `map`: before each cell (a cell is milliseconds);
 //! - `fit`: before each evaluation of the cost (every later one is refused at once, and the
 //!   command ends as cancelled);
-//! - a run of the thesis model or of model 2 on the command's own thread (`simulate`, `sil`,
-//!   ...): every [`CHECK_EVERY_STEPS`] steps;
+//! - a run of the thesis model or of model 2 on the command's own thread (`simulate`, ...),
+//!   and the virtual rig's frames (`sil`): every [`CHECK_EVERY_STEPS`] steps;
 //! - `record`: the recording ends as if interrupted.
 //!
 //! The token is the command thread's ([`with`]); work the command hands to other threads (the

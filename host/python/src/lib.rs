@@ -14,7 +14,7 @@
 //!   50 ms to let Python handle signals, so Ctrl-C in a notebook raises `KeyboardInterrupt` at
 //!   once. The abandoned command is cancelled (`stickslip::cancel`): it stops at its next
 //!   cancellation point (a map before its next cell, a fit before its next evaluation, a run
-//!   within 65,536 steps, a recording at once), its result dropped. [`running`] counts the
+//!   or the virtual rig within 65,536 steps, a recording within 50 ms), its result dropped. [`running`] counts the
 //!   commands whose threads have not ended yet.
 
 use std::panic::{self, AssertUnwindSafe};
