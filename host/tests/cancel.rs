@@ -32,6 +32,22 @@ fn run_with(args: &[&str], token: Cancel, limit: Duration) -> Option<Result<Stri
     rx.recv_timeout(limit).ok()
 }
 
+/// Starts `args` on a thread of its own, lets it run for `wait`, checks that it has not ended,
+/// cancels it, and returns how it ended (None: not within the hang guard).
+fn cancelled_while_running(args: &[&str], wait: Duration) -> Option<Result<String, HostError>> {
+    let token = Cancel::new();
+    let cmd = command(args);
+    let (tx, rx) = mpsc::channel();
+    let worker = token.clone();
+    std::thread::spawn(move || {
+        let _ = tx.send(commands::run_cancellable(&cmd, worker));
+    });
+    std::thread::sleep(wait);
+    assert!(rx.try_recv().is_err(), "{args:?} ended before it was cancelled");
+    token.cancel();
+    rx.recv_timeout(HANG_GUARD).ok()
+}
+
 fn cancelled(token: &Cancel) -> Cancel {
     token.cancel();
     token.clone()
@@ -66,22 +82,12 @@ fn a_cancelled_map_fit_or_run_ends_as_cancelled_with_exit_code_130() {
 
 #[test]
 fn a_map_cancelled_while_it_runs_stops_at_its_next_cell() {
-    let token = Cancel::new();
-    let cmd = command(BIG_RIG_MAP);
-    let (tx, rx) = mpsc::channel();
-    let worker = token.clone();
-    std::thread::spawn(move || {
-        let _ = tx.send(commands::run_cancellable(&cmd, worker));
-    });
-    // let it get into its cells (the set-up of a cell is milliseconds)
-    std::thread::sleep(Duration::from_millis(500));
-    assert!(rx.try_recv().is_err(), "the map ended before it was cancelled");
-    token.cancel();
-    match rx.recv_timeout(HANG_GUARD) {
-        Ok(Err(HostError::Cancelled)) => {}
-        Ok(Err(e)) => panic!("{e}, not cancelled"),
-        Ok(Ok(_)) => panic!("the map ran to its end"),
-        Err(_) => panic!("the map did not stop"),
+    // half a second gets it into its cells (the set-up of a cell is milliseconds)
+    match cancelled_while_running(BIG_RIG_MAP, Duration::from_millis(500)) {
+        Some(Err(HostError::Cancelled)) => {}
+        Some(Err(e)) => panic!("{e}, not cancelled"),
+        Some(Ok(_)) => panic!("the map ran to its end"),
+        None => panic!("the map did not stop"),
     }
 }
 
@@ -111,21 +117,11 @@ fn a_cancelled_recording_ends_as_interrupted_with_its_summary() {
     });
     let elf = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-fixture.elf");
     let out = dir.join("rec");
-    let token = Cancel::new();
     let args = ["record", "--elf", elf, "--input", fifo.to_str().unwrap(), "--out", out.to_str().unwrap()];
-    let cmd = command(&args);
-    let (tx, rx) = mpsc::channel();
-    let worker = token.clone();
-    std::thread::spawn(move || {
-        let _ = tx.send(commands::run_cancellable(&cmd, worker));
-    });
-    std::thread::sleep(Duration::from_millis(300));
-    assert!(rx.try_recv().is_err(), "the recording ended before it was cancelled");
-    token.cancel();
-    let summary = match rx.recv_timeout(HANG_GUARD) {
-        Ok(Ok(s)) => s,
-        Ok(Err(e)) => panic!("the recording failed: {e}"),
-        Err(_) => panic!("the recording did not end"),
+    let summary = match cancelled_while_running(&args, Duration::from_millis(300)) {
+        Some(Ok(s)) => s,
+        Some(Err(e)) => panic!("the recording failed: {e}"),
+        None => panic!("the recording did not end"),
     };
     assert!(summary.contains("stopped by Ctrl-C"), "{summary}");
     assert!(out.join("raw.defmt").exists());
