@@ -143,6 +143,12 @@ def test_the_tools_errors_on_arrays_name_the_sample_not_a_temporary_file():
     assert str(e.value).startswith("recording: no pad_x"), str(e.value)
     with pytest.raises(ValueError, match="recording: the channels hold no samples"):
         stickslip.analyze({"pad_x": []}, rate=1000.0)
+    # a report of arrays names no file, and a gap by its sample index: samples 0..2999 at the
+    # rig's rate, then 3000.. after 50 missing samples
+    t = np.r_[np.arange(3000), 3050 + np.arange(3000)] / 25600.0
+    r = stickslip.analyze({"t_s": t, "pad_x": np.sin(2 * np.pi * 200.0 * t)}, gaps="split")
+    assert r["file"] is None
+    assert [g["sample"] for g in r["gaps"]] == [3000] and "line" not in r["gaps"][0], r["gaps"]
 
 
 def test_analyze_equals_the_binary():
@@ -292,6 +298,106 @@ def test_ctrl_c_cancels_the_abandoned_command():
         1.0,
     )
     assert "running 0 after" in out, out
+
+
+def test_the_package_runs_on_python_3_9():
+    """pyproject.toml says Python 3.9 or later (abi3-py39): the package's source parses with
+    3.9's grammar, and every module it imports at its top level outside a `try` is in 3.9's
+    standard library or a declared dependency (tomllib came with 3.11: it falls back to tomli,
+    which pyproject.toml requires before 3.11)."""
+    import ast
+
+    src = (Path(stickslip.__file__)).read_text()
+    tree = ast.parse(src, feature_version=(3, 9))
+    stdlib_39 = {"__future__", "csv", "json", "math", "os", "re", "tempfile", "pathlib", "typing", "sys", "io", "shutil", "subprocess", "collections", "itertools", "functools", "dataclasses", "contextlib", "warnings"}
+    declared = {"numpy"}
+    plain = []
+    for node in tree.body:
+        if isinstance(node, ast.Import):
+            plain += [a.name.split(".")[0] for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0:
+            plain.append(node.module.split(".")[0])
+    assert set(plain) <= stdlib_39 | declared, sorted(set(plain) - stdlib_39 - declared)
+    guarded = [n for n in tree.body if isinstance(n, ast.Try)]
+    assert any("tomli" in ast.dump(n) for n in guarded), "tomllib without its fallback"
+    pyproject = (REPO / "host" / "python" / "pyproject.toml").read_text()
+    assert "tomli>=1.1; python_version < '3.11'" in pyproject
+
+
+def test_every_scene_key_is_a_keyword_argument_and_changes_the_scene():
+    """The module knows the tool's whole key list: model 3's keys and the damping ratios change
+    the scene (a ratio replaces the damping the scene writes), as in a scene file."""
+    import sys
+
+    by_kw = stickslip.simulate("rig_push_center", zeta_x=0.05, duration=0.2, stats_from=0.1)
+    by_file = tool_json("simulate", "rig_push_center", "--duration", "0.2", "--stats-from", "0.1")
+    assert by_kw["stick_fraction"] != by_file["stick_fraction"], "zeta_x changed nothing"
+    sc = stickslip.scene("rig_push_center")
+    del sc["c_x"]
+    sc["zeta_x"] = 0.05
+    same(by_kw, stickslip.simulate(sc, duration=0.2, stats_from=0.1))
+    uni = stickslip.simulate("rig_float_push_center", contact="unilateral", duration=0.2, stats_from=0.1)
+    assert "edges" in uni, sorted(uni)
+
+
+def test_scene_dicts_and_paths_are_checked_not_injected():
+    t = np.arange(2000) / 10000.0
+    # a key that is not one is refused by name (it is not written into the file as it is)
+    with pytest.raises(ValueError, match=re.escape("scene key 'beta = 0.03\\nmu_s': not a scene key")):
+        stickslip.simulate({"beta = 0.03\nmu_s": 0.5})
+    with pytest.raises(ValueError, match="scene key 'bet': not a scene key"):
+        stickslip.simulate({"bet": 0.03})
+    # an error about a value names its key, not a temporary file
+    with pytest.raises(ValueError) as e:
+        stickslip.simulate("push_center", mu_k=0.9)
+    assert str(e.value).startswith("scene key `mu_k`: "), str(e.value)
+    # text past U+FFFF in a string value
+    assert stickslip.simulate("push_center", name="Bremse \U0001F642", duration=0.1, stats_from=0.05)["name"] == "Bremse \U0001F642"
+    # bytes and paths name files; `-` is not standard input here; a name the tool cannot take
+    assert stickslip.scene(b"push_center")["beta"] == 0.04
+    with pytest.raises(ValueError, match="standard input"):
+        stickslip.analyze("-")
+    with pytest.raises(ValueError, match="not valid UTF-8"):
+        stickslip.simulate(Path(os.fsdecode(b"/tmp/lat\xe9in.toml")))
+    # arguments of the wrong type, each named
+    for call, says in [
+        (lambda: stickslip.analyze({"pad_x": np.zeros(100)}, rate="25600"), "rate: a number"),
+        (lambda: stickslip.map("push_center", None), "sweeps: "),
+        (lambda: stickslip.map("push_center", ["beta=0.02:0.06:2"], sweep=["mu_s=0.4:0.6:2"]), "sweep: give the sweeps once"),
+        (lambda: stickslip.fit("push_center", None), "free: "),
+        (lambda: stickslip.fit("push_center", [1]), "free: "),
+        (lambda: stickslip.fit("push_center", "mu_k", [("push_center", "x.csv")]), "recordings: a dict"),
+        (lambda: stickslip.fit("push_center", "mu_k", {"push_center": None}), "recordings['push_center']: a file name"),
+    ]:
+        with pytest.raises(ValueError, match=re.escape(says)):
+            call()
+    # the time array by any name the tool takes for it; rate= and a time array refused
+    x = np.sin(2 * np.pi * 200 * t)
+    same(without(stickslip.analyze({"pad_x": x, "Time": t}), "file"), without(stickslip.analyze({"pad_x": x, "t_s": t}), "file"))
+    with pytest.raises(ValueError, match="give rate= or a time array, not both"):
+        stickslip.analyze({"pad_x": x, "Time": t}, rate=10000.0)
+
+
+def test_series_goes_to_the_users_csv_when_given(tmp_path):
+    path = tmp_path / "run.csv"
+    out = stickslip.simulate("push_center", series=True, csv=path, duration=0.1, stats_from=0.05)
+    assert path.exists()
+    header = path.read_text().splitlines()[0].split(",")
+    assert header == list(out["series"].keys())
+
+
+def test_flag_values_as_python_writes_them():
+    """A bool only for a switch (noise=False would silently be the default noise); arrays and
+    tuples as lists; a (lo, hi) pair as LO:HI; from_ for --from; a map's columns keep their
+    type (bools, integers)."""
+    with pytest.raises(ValueError, match="noise: takes a value, not False"):
+        stickslip.sil("push_center", noise=False)
+    gain = stickslip.sil("push_center", gain=np.array([0.2, 0.2, 10, 10]), duration=0.3, stats_from=0.1)["gain"]
+    assert list(gain.values()) == [0.2, 0.2, 10.0, 10.0]
+    p = stickslip.fit("push_center", ["mu_k"], table="thesis_table_3_1", bounds={"mu_k": (0.3, 0.449)}, from_=0.5, profile="mu_k=0.3:0.44:2")
+    assert [q["value"] for q in p["points"]] == [0.3, 0.44]
+    m = stickslip.map("push_center", ["beta=0.02:0.06:2"], jobs=1)
+    assert m["arrays"]["linear.stable"].dtype == bool and m["arrays"]["index"].dtype == np.int64
 
 
 def test_help_is_text_not_an_error():

@@ -374,7 +374,14 @@ def analyze(recording: Any, rate: float | None = None, **kwargs: Any) -> dict:
         kwargs["scene"] = call.scene(scene, {})
     call.flags(kwargs)
     try:
-        return call.json()
+        out = call.json()
+        if arrays_file is not None:
+            # told of the arrays, not of the temporary file they went through: no file, and a
+            # gap at its sample index (the file's data line L is sample L - 2)
+            out["file"] = None
+            for gap in out.get("gaps", []):
+                gap["sample"] = gap.pop("line") - 2
+        return out
     except ValueError as e:
         if arrays_file is None:
             raise
