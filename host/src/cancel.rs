@@ -12,8 +12,9 @@
 //!   and the virtual rig's frames (`sil`): every [`CHECK_EVERY_STEPS`] steps;
 //! - `record`: the recording ends as if interrupted.
 //!
-//! The token is the command thread's ([`with`]); work the command hands to other threads (the
-//! map's cells, the fit's evaluations) takes it along explicitly ([`current`]). Without a token
+//! The token is the command thread's ([`with`]); work the command hands to other threads takes
+//! it along explicitly: the map's cells through [`carried`], the fit's evaluations in its
+//! problem ([`current`]). Without a token
 //! (the binary, the tests) every check is a thread-local read that finds none.
 
 use std::cell::RefCell;
@@ -69,6 +70,16 @@ pub fn with<R>(token: Option<Cancel>, f: impl FnOnce() -> R) -> R {
 /// This thread's cancellation, for work handed to other threads.
 pub fn current() -> Option<Cancel> {
     CURRENT.with(|c| c.borrow().clone())
+}
+
+/// Runs `f` on this thread (another than the command's: a rayon worker) with the command's
+/// `token` ([`current`], taken on the command's thread), after a [`check`]: a piece of work
+/// handed over starts only while the command is not cancelled, and the runs in it check too.
+pub fn carried<R>(token: &Option<Cancel>, f: impl FnOnce() -> Result<R>) -> Result<R> {
+    with(token.clone(), || {
+        check()?;
+        f()
+    })
 }
 
 /// `Err(HostError::Cancelled)` when this thread's command has been cancelled.

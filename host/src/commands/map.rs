@@ -44,12 +44,12 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
                 "map: {} cells, {} steps ({} stepped, {} jumped over stick) in {:.2} s on {} threads: {:.3e} steps/s, {:.3e} stepped/s",
                 t.cells,
                 t.steps,
-                t.steps - t.jumped.min(t.steps),
+                t.stepped(),
                 t.jumped,
                 t.seconds,
                 t.threads,
                 t.steps as f64 / t.seconds.max(1e-9),
-                (t.steps - t.jumped.min(t.steps)) as f64 / t.seconds.max(1e-9)
+                t.stepped() as f64 / t.seconds.max(1e-9)
             );
             (m, &a.out)
         }

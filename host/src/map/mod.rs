@@ -140,13 +140,10 @@ impl SlidingShare {
         let runs: Vec<(Option<(Scene, cell::RunCell)>, cell::Steps)> = rep
             .par_iter()
             .map(|r| match r {
-                Some((_, sc)) => {
-                    if let Some(t) = &token {
-                        t.check()?;
-                    }
+                Some((_, sc)) => crate::cancel::carried(&token, || {
                     let (run, steps) = cell::sliding_run_free_of_mu_s(sc, spec.options, cache)?;
                     Ok((run.map(|rc| (*sc, rc)), steps))
-                }
+                }),
                 None => Ok((None, cell::Steps::default())),
             })
             .collect::<Result<_>>()?;
@@ -173,6 +170,13 @@ pub struct Timing {
     pub jumped: u64,
     pub seconds: f64,
     pub threads: usize,
+}
+
+impl Timing {
+    /// The steps stepped, not jumped over.
+    pub fn stepped(&self) -> u64 {
+        self.steps - self.jumped.min(self.steps)
+    }
 }
 
 /// Runs the cells of `spec` (of its shard) in parallel.
@@ -205,16 +209,15 @@ pub fn run_map(spec: &MapSpec) -> Result<(MapJson, Timing)> {
         indices
             .par_iter()
             .map(|&i| {
-                if let Some(t) = &token {
-                    t.check()?;
-                }
-                let scene = spec.grid.scene(&spec.base, i);
-                let from_sliding = share.as_ref().and_then(|sh| sh.for_cell(&spec.grid, i, &scene));
-                let (c, n) = cell::cell(i, &spec.grid.params(i), scene, spec.options, from_sliding, &cache)?;
-                steps.fetch_add(n.done, Ordering::Relaxed);
-                jumped.fetch_add(n.jumped, Ordering::Relaxed);
-                bar.inc(1);
-                Ok(c)
+                crate::cancel::carried(&token, || {
+                    let scene = spec.grid.scene(&spec.base, i);
+                    let from_sliding = share.as_ref().and_then(|sh| sh.for_cell(&spec.grid, i, &scene));
+                    let (c, n) = cell::cell(i, &spec.grid.params(i), scene, spec.options, from_sliding, &cache)?;
+                    steps.fetch_add(n.done, Ordering::Relaxed);
+                    jumped.fetch_add(n.jumped, Ordering::Relaxed);
+                    bar.inc(1);
+                    Ok(c)
+                })
             })
             .collect()
     });

@@ -151,9 +151,7 @@ class _Call:
     def scene(self, scene: Any, overrides: Mapping[str, Any]) -> str:
         """The scene argument: a built-in name or a file as given, or a scene file written from
         a dict and/or scene-key overrides."""
-        if isinstance(scene, (bytes, os.PathLike)):
-            scene = _arg(scene, "scene")
-        if isinstance(scene, str):
+        if isinstance(scene, (str, bytes, os.PathLike)):
             scene = _arg(scene, "scene")
             if scene.startswith("-"):
                 # not a flag: a file of that name, as the tool's command line would need it
