@@ -92,6 +92,19 @@ fn a_map_cancelled_while_it_runs_stops_at_its_next_cell() {
 }
 
 #[test]
+fn an_event_driven_run_cancelled_while_it_runs_stops_at_its_next_grid_time() {
+    // model 3 (unilateral edges, the pneumatic drive) runs on the event runner, not the
+    // stepper: 3,000 s of rig_built_push_center take about 7 minutes
+    let args = ["simulate", "rig_built_push_center", "--duration", "3000", "--json"];
+    match cancelled_while_running(&args, Duration::from_millis(500)) {
+        Some(Err(HostError::Cancelled)) => {}
+        Some(Err(e)) => panic!("{e}, not cancelled"),
+        Some(Ok(_)) => panic!("the run ran to its end"),
+        None => panic!("the run did not stop"),
+    }
+}
+
+#[test]
 fn a_token_that_is_never_cancelled_changes_nothing() {
     let args = ["simulate", "push_center", "--json"];
     let plain = commands::run(&command(&args)).expect("runs");

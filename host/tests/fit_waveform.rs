@@ -185,6 +185,40 @@ fn damping_fitted_by_a_scene_without_it_is_a_misfit() {
     assert!(!r.converged);
 }
 
+/// A recording that is no stick-slip at all (a 3 Hz sine of 8 m/s^2 and 0.02 m/s^2 of noise,
+/// 1 s at 6.4 kHz) fitted by `oracle_stribeck` with mu_s, mu_k and v_s free: the search ends
+/// where the model sticks nearly throughout. Its noise was taken from the recording where the
+/// model sticks, the sine itself (5.5 m/s^2, 277 times the noise of its second differences),
+/// so chi^2 / dof came to 1.02 and the verdict to `fits`. That noise is now refused as the
+/// yardstick (`goodness::STICK_NOISE_FACTOR`): not `fits`, and a note says why.
+#[test]
+fn a_recording_that_moves_where_the_model_sticks_is_not_a_fit() {
+    let dir = scratch("fit-waveform-sine");
+    let path = dir.join("sine.csv");
+    let rate = 6_400.0;
+    let mut rng = XorShift32::new(11);
+    let mut gauss = move || {
+        let u1 = (rng.next_u32() as f64 + 1.0) / 4_294_967_297.0;
+        let u2 = rng.next_u32() as f64 / 4_294_967_296.0;
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    };
+    let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+    writeln!(out, "t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2").unwrap();
+    for i in 0..rate as usize {
+        let t = i as f64 / rate;
+        writeln!(out, "{t},0,{},0,0", 8.0 * (std::f64::consts::TAU * 3.0 * t).sin() + NOISE * gauss()).unwrap();
+    }
+    drop(out);
+    let mut scene = stickslip::scenes::builtin::find("oracle_stribeck").expect("built in").scene;
+    scene.duration = 1.0;
+    scene.stats_from = 0.5;
+    let r = fit::run_fit(named("sine", scene), &request("mu_s,mu_k,v_s", format!("sine={}", path.display()))).expect("the fit runs");
+    println!("verdict {}, chi2/dof {:.4}, noise {:.4}", r.goodness.verdict.name(), r.goodness.chi2_per_dof, r.goodness.noise);
+    assert_ne!(r.goodness.verdict, Verdict::Fits, "a sine fitted as stick-slip: chi2/dof {}", r.goodness.chi2_per_dof);
+    assert!(r.goodness.chi2_per_dof > 100.0, "chi2/dof {}", r.goodness.chi2_per_dof);
+    assert!(r.notes.iter().any(|n| n.contains("moves where the model sticks")), "{:#?}", r.notes);
+}
+
 /// The noise the goodness reports is the recording's: the RMS of its stick samples, within 5 %
 /// of the 0.02 m/s^2 put in (truth 1, the longest sticks).
 #[test]

@@ -6,7 +6,12 @@
 //!   standard deviation of its samples where the fitted model is in stick (pad_x exactly 0
 //!   there, so what the recording shows is noise). chi^2 = sum ((recorded - model) / noise)^2
 //!   over the fitted samples and the first re-stick's timing; dof = that count less the free
-//!   keys and the segments' shifts.
+//!   keys and the segments' shifts. Where that noise exceeds [`STICK_NOISE_FACTOR`] times the
+//!   noise of the recording's second differences (measured before the fit, robustly), the
+//!   recording moves where the model sticks: that residual is signal the model misses, not
+//!   noise, and chi^2 takes the second differences' noise instead (a sine fitted by a model
+//!   that sticks most of the time was a `fits` at chi^2 / dof 0.95 with its own amplitude,
+//!   284 times the noise, taken for noise).
 //! - **Statistics** (tables, or recordings with `--cost statistics`): each log ratio over its
 //!   own standard error: a recording's from the spread of its windows (sd / sqrt(windows)), a
 //!   table's from its `sigma` column where it has one, else [`ASSUMED_SIGMA_LN`] (Table 3.1
@@ -26,6 +31,10 @@ use super::solve::StartReport;
 pub const ASSUMED_SIGMA_LN: f64 = 0.25;
 /// Two starts agree when their chi^2 differ by less than this (or 1e-3 relative).
 pub const AGREE_CHI2: f64 = 1.0;
+/// The stick phases' noise may exceed the second differences' by this factor before it is
+/// taken for signal the model misses (module documentation): white noise gives a ratio of 1,
+/// a stick phase that follows a slow band vibration a little more.
+pub const STICK_NOISE_FACTOR: f64 = 3.0;
 /// Beyond the chi-square's own scatter (3 sigma), what `fits` allows for the noise estimate's
 /// and the model side's error: 10 %.
 pub const FIT_MARGIN: f64 = 0.1;

@@ -206,6 +206,15 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let (t_unc, r_unc) = (Instant::now(), problem.runs.load(std::sync::atomic::Ordering::Relaxed));
     let r = problem.residuals(&sol.u).map_err(HostError::Input)?;
     let (goodness, chi2_scale) = judge(&problem, &sol, &r, &mut notes).map_err(HostError::Input)?;
+    if !problem.time_domain() && goodness.verdict == goodness::Verdict::Fits && goodness.starts_agreeing < sol.starts.len() {
+        // a statistics cost is piecewise smooth (docs/fit.md): the starts that ended elsewhere
+        // found other optima, and one the starts never reached may be lower still
+        notes.push(format!(
+            "{} of {} starts ended at the best cost: the statistics' cost has other optima (the starts' ends below), and the standard errors are this optimum's local ones; another optimum the starts did not reach may fit as well or better (a campaign found one 100 times lower, its truth 17 standard errors away): run more --starts, or --profile KEY=LO:HI:N over the range you doubt",
+            goodness.starts_agreeing,
+            sol.starts.len()
+        ));
+    }
     let j = solve::jacobian(&problem, &sol.u, &r);
     let mut unc = solve::uncertainty(&j, &r);
     // a statistics cost that fits: are the standard errors what the data determine?
@@ -458,7 +467,10 @@ fn judge(problem: &Problem, sol: &solve::Solution, r: &[f64], notes: &mut Vec<St
             let scene = model::with_values_held(&problem.cases[tr.case_index].1, &problem.free, &values, &problem.ratios)?;
             let mut m = Vec::new();
             let res = waveform::residuals(tr, &scene, Some(&mut m))?;
-            let (sd, used) = waveform::stick_noise(tr, &m);
+            let (stick_sd, used) = waveform::stick_noise(tr, &m);
+            // the stick phases' noise, unless the recording moves there (goodness module)
+            let signal_in_stick = stick_sd > goodness::STICK_NOISE_FACTOR * tr.sigma0;
+            let sd = if signal_in_stick { tr.sigma0 } else { stick_sd };
             let f = tr.sigma0 / sd;
             chi2 += res.iter().map(|x| (x * f).powi(2)).sum::<f64>();
             count += tr.masked.iter().filter(|x| !**x).count() + 1;
@@ -467,11 +479,19 @@ fn judge(problem: &Problem, sol: &solve::Solution, r: &[f64], notes: &mut Vec<St
             notes.push(format!(
                 "{}: noise {} m/s^2 rms from {used} samples where the fitted model is in stick (before the fit: {} from the second differences); {} re-sticks found, {} samples left out around them",
                 tr.path,
-                crate::output::format::num(sd),
+                crate::output::format::num(stick_sd),
                 crate::output::format::num(tr.sigma0),
                 tr.resticks.len(),
                 tr.masked.iter().filter(|x| **x).count()
             ));
+            if signal_in_stick {
+                notes.push(format!(
+                    "{}: where the fitted model is in stick the recording holds {} m/s^2 rms, {} times its noise from the second differences: it moves where the model sticks (signal the model misses, not noise); chi^2 takes the second differences' noise",
+                    tr.path,
+                    crate::output::format::num(stick_sd),
+                    crate::output::format::short(stick_sd / tr.sigma0)
+                ));
+            }
         }
         let noise = (noise2 / problem.traces.len() as f64).sqrt();
         let dof = count.saturating_sub(n + shifts).max(1);

@@ -26,6 +26,17 @@
 //! 5. the floor of each channel and of a_rel from the quiet rows (mean, sigma, peak-to-peak),
 //!    and the quantum: the larger smallest nonzero step of pad_x and disc_x over the record.
 //!
+//! **Fill.** Loggers fill the time before their trigger (and sometimes after the stop) with
+//! one value repeated on every channel, and some hold the last value through a dropout: no
+//! sensor noise at all, so as a floor it would put the slip threshold at its minimum and call
+//! the real stick phases' noise slip. The whole blocks of every run of identical rows (all
+//! four channels) are held aside: when the floor found without them resolves its noise
+//! (a_rel's sigma at least [`FILL_NOISE_QUANTA`] quanta, so that 32 identical rows on every
+//! channel cannot be noise), they are left out of it and reported
+//! ([`FloorOutcome::fill_lead`], `fill_trail` at the record's ends, `fill_inside` between);
+//! else (a coarse converter, whose stick phases are runs of one count) they are quiet blocks
+//! like any other. A floor that only the fill makes is no floor.
+//!
 //! Memory: 1,281 bins of 200 bytes (5 x 4 sums and a few counts), 256 KB, whatever the
 //! record's length.
 
@@ -47,6 +58,9 @@ pub const QUIET_FACTOR: f64 = 4.0;
 /// The quiet rows' variance about their common mean, at most this times their mean
 /// within-block variance.
 pub const LEVEL_FACTOR: f64 = 4.0;
+/// A run of identical rows at the record's start or end is fill, not stick, where the floor
+/// without it has a_rel's sigma of at least this many quanta (module documentation).
+pub const FILL_NOISE_QUANTA: f64 = 4.0;
 
 #[derive(Clone, Copy)]
 struct Bin {
@@ -87,6 +101,20 @@ pub struct QuietSearch {
     prev: [f64; 2],
     step: [f64; 2],
     rows: u64,
+    /// The run of identical rows (all four channels) the last row ends: its rows, its first
+    /// and last row's time, and its value.
+    run: (u64, f64, f64, [f64; 4]),
+    /// The whole blocks of that run, held aside (identical blocks: one bin, summed) and their
+    /// bin: until a row breaks the run they may be the record's trailing fill.
+    pending: Option<(usize, Bin)>,
+    /// Whether the run started at the record's first row.
+    run_is_lead: bool,
+    /// The leading fill's blocks and the time span of its rows.
+    lead: Option<(usize, Bin, (f64, f64))>,
+    /// The held blocks of the runs between (by bin), their runs, and the first run's span.
+    inside: Vec<(usize, Bin)>,
+    inside_runs: u64,
+    inside_first: Option<(f64, f64)>,
 }
 
 impl QuietSearch {
@@ -102,6 +130,13 @@ impl QuietSearch {
             prev: [0.0; 2],
             step: [f64::INFINITY; 2],
             rows: 0,
+            run: (0, 0.0, 0.0, [f64::NAN; 4]),
+            pending: None,
+            run_is_lead: true,
+            lead: None,
+            inside: Vec::new(),
+            inside_runs: 0,
+            inside_first: None,
         }
     }
 
@@ -121,6 +156,15 @@ impl QuietSearch {
             }
         }
         self.prev = [a[1], a[0]];
+        if self.rows > 0 && *a == self.run.3 {
+            self.run.0 += 1;
+            self.run.2 = t;
+        } else {
+            if self.rows > 0 {
+                self.end_run();
+            }
+            self.run = (1, t, t, *a);
+        }
         self.rows += 1;
         let o = *self.origin.get_or_insert(v0);
         if self.fill == 0 {
@@ -134,7 +178,27 @@ impl QuietSearch {
         }
     }
 
+    /// A row broke the run of identical rows: its held blocks are the leading fill (the run
+    /// started the record) or a fill inside it.
+    fn end_run(&mut self) {
+        if let Some((k, held)) = self.pending.take() {
+            if self.run_is_lead {
+                self.lead = Some((k, held, (self.run.1, self.run.2)));
+            } else {
+                match self.inside.iter_mut().find(|(kk, _)| *kk == k) {
+                    Some((_, b)) => merge(b, &held),
+                    None => self.inside.push((k, held)),
+                }
+                self.inside_runs += 1;
+                self.inside_first.get_or_insert((self.run.1, self.run.2));
+            }
+        }
+        self.run_is_lead = false;
+    }
+
     fn close_block(&mut self) {
+        // a block inside the run of identical rows is held aside (maybe fill)
+        let constant = self.run.0 >= BLOCK as u64;
         let b = &self.block[..self.fill];
         let n = b.len() as f64;
         let mean = b.iter().map(|r| r[4]).sum::<f64>() / n;
@@ -146,7 +210,14 @@ impl QuietSearch {
         } else {
             0
         };
-        let bin = &mut self.bins[k];
+        let bin = if constant {
+            match &mut self.pending {
+                Some((_, held)) => held,
+                None => &mut self.pending.insert((k, EMPTY)).1,
+            }
+        } else {
+            &mut self.bins[k]
+        };
         bin.blocks += 1;
         bin.n += b.len() as u64;
         bin.within += var * n;
@@ -168,8 +239,55 @@ impl QuietSearch {
         self.rows
     }
 
-    /// The floor, or why there is none (one clause, for the report).
-    pub fn finish(self) -> Result<FloorOutcome, String> {
+    /// The floor, or why there is none (one clause, for the report); the record ends here
+    /// (the run of identical rows it ends in may be fill: module documentation).
+    pub fn finish(mut self) -> Result<FloorOutcome, String> {
+        let (lead, trail) = if self.run_is_lead {
+            // one run from the first row to the last: no signal to tell fill from
+            if let Some((k, held)) = self.pending.take() {
+                merge(&mut self.bins[k], &held);
+            }
+            (None, None)
+        } else {
+            (self.lead.take(), self.pending.take().map(|(k, held)| (k, held, (self.run.1, self.run.2))))
+        };
+        if lead.is_none() && trail.is_none() && self.inside.is_empty() {
+            return self.floor();
+        }
+        let without = self.floor();
+        let without_failed = without.is_err();
+        if let Ok(mut f) = without {
+            let sigma = f.report.sigma_m_s2[4] as f64;
+            if sigma > 0.0 && sigma >= FILL_NOISE_QUANTA * f.quantum_m_s2 {
+                f.fill_lead = lead.map(|l| l.2);
+                f.fill_trail = trail.map(|l| l.2);
+                f.fill_inside = self.inside_first.map(|span| (self.inside_runs, self.inside.iter().map(|(_, b)| b.n).sum(), span));
+                return Ok(f);
+            }
+        }
+        // the noise is not resolved (a coarse converter): runs of one value are its stick
+        for (k, held, _) in lead.iter().chain(trail.iter()) {
+            merge(&mut self.bins[*k], held);
+        }
+        for (k, held) in std::mem::take(&mut self.inside) {
+            merge(&mut self.bins[k], &held);
+        }
+        match self.floor() {
+            Ok(f) if f.report.sigma_m_s2[4] == 0.0 && without_failed => {
+                let span = |s: &Option<(usize, Bin, (f64, f64))>| s.as_ref().map(|l| format!("t = {} to {} s", l.2 .0, l.2 .1));
+                let inside = self.inside_first.map(|(a, b)| format!("{} between, the first t = {a} to {b} s", self.inside_runs));
+                let spans: Vec<String> = [span(&lead), span(&trail), inside].into_iter().flatten().collect();
+                Err(format!(
+                    "the only quiet rows are runs of one value on every channel ({}: a logger's fill?), no noise to set the thresholds from",
+                    spans.join(" and ")
+                ))
+            }
+            other => other,
+        }
+    }
+
+    /// The floor from the blocks in the histogram.
+    fn floor(&self) -> Result<FloorOutcome, String> {
         // a partial last block is left out: its variance is over fewer rows
         let total: u64 = self.bins.iter().map(|b| b.blocks).sum();
         if total == 0 {
@@ -200,17 +318,7 @@ impl QuietSearch {
             if b.blocks == 0 {
                 continue;
             }
-            q.blocks += b.blocks;
-            q.n += b.n;
-            q.within += b.within;
-            q.t_first = q.t_first.min(b.t_first);
-            q.t_last = q.t_last.max(b.t_last);
-            for i in 0..FLOOR_VALUES {
-                q.sum[i] += b.sum[i];
-                q.sq[i] += b.sq[i];
-                q.min[i] = q.min[i].min(b.min[i]);
-                q.max[i] = q.max[i].max(b.max[i]);
-            }
+            merge(&mut q, b);
         }
         if q.n < MIN_FLOOR_SAMPLES as u64 {
             return Err(format!("{} quiet rows of a_rel: the floor needs at least {MIN_FLOOR_SAMPLES}", q.n));
@@ -233,7 +341,43 @@ impl QuietSearch {
             sigma_m_s2: std::array::from_fn(|i| var[i].sqrt() as f32),
             pp_m_s2: std::array::from_fn(|i| (q.max[i] - q.min[i]) as f32),
         };
-        Ok(FloorOutcome { t_from: q.t_first, t_to: q.t_last, auto: true, report, quantum_m_s2: quantum, quiet_blocks: q.blocks })
+        Ok(FloorOutcome {
+            t_from: q.t_first,
+            t_to: q.t_last,
+            auto: true,
+            report,
+            quantum_m_s2: quantum,
+            quiet_blocks: q.blocks,
+            fill_lead: None,
+            fill_trail: None,
+            fill_inside: None,
+        })
+    }
+
+    /// Ends a search over the first rows of a record that goes on (standard input's preview):
+    /// [`Self::finish`] with the run the rows end in taken as quiet blocks, not fill.
+    pub fn finish_preview(mut self) -> Result<FloorOutcome, String> {
+        if !self.run_is_lead {
+            if let Some((k, held)) = self.pending.take() {
+                merge(&mut self.bins[k], &held);
+            }
+        }
+        self.finish()
+    }
+}
+
+/// Adds the blocks of `from` to `into`.
+fn merge(into: &mut Bin, from: &Bin) {
+    into.blocks += from.blocks;
+    into.n += from.n;
+    into.within += from.within;
+    into.t_first = into.t_first.min(from.t_first);
+    into.t_last = into.t_last.max(from.t_last);
+    for i in 0..FLOOR_VALUES {
+        into.sum[i] += from.sum[i];
+        into.sq[i] += from.sq[i];
+        into.min[i] = into.min[i].min(from.min[i]);
+        into.max[i] = into.max[i].max(from.max[i]);
     }
 }
 

@@ -1,7 +1,8 @@
 //! What the host's event-driven runs share (unilateral contact, `crate::scenes::unilateral`;
 //! the pneumatic drive, `crate::scenes::pneumatic`): the statistics observer, the grid samples
 //! handed to a sink, and the report around them. Each runner maps its own sample to a
-//! [`GridView`] and its own stop to a halt.
+//! [`GridView`] and its own stop to a halt. The grid times are these runs' cancellation
+//! points ([`crate::cancel::check_every`]): a cancelled command's run stops at the next one.
 
 use stickslip_model::model2::Model2StatsObserver;
 use stickslip_model::{Halt, Regime, Scene};
@@ -51,6 +52,12 @@ pub(crate) fn report<S: Sink + ?Sized, const FULL: bool>(
     let mut sink_error = None;
     let result = {
         let mut on_sample = |g: &GridView| -> bool {
+            // the command's cancellation point (Ctrl-C in the Python module), every
+            // CHECK_EVERY_STEPS grid times
+            if let Err(e) = crate::cancel::check_every(steps_done) {
+                sink_error = Some(e);
+                return false;
+            }
             steps_done += 1;
             if g.t < samples_from {
                 return true;

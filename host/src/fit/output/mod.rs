@@ -282,12 +282,14 @@ pub fn markdown(r: &FitReport) -> String {
         c.dedup();
         c
     };
+    // the time-domain cost fits the samples, not the statistics (which it only lists)
+    let what = if r.time_domain {
+        format!("The recorded pad_x, sample by sample ({} degrees of freedom),", r.goodness.dof)
+    } else {
+        format!("{} statistics of {} case{} ({})", r.fitted.len(), cases.len(), if cases.len() == 1 { "" } else { "s" }, cases.join(", "))
+    };
     s.push_str(&format!(
-        "{} statistics of {} case{} ({}) fitted with {} free key{}; {} evaluations of the virtual rig in {:.1} s; {}.\n\n",
-        r.fitted.len(),
-        cases.len(),
-        if cases.len() == 1 { "" } else { "s" },
-        cases.join(", "),
+        "{what} fitted with {} free key{}; {} evaluations of the virtual rig in {:.1} s; {}.\n\n",
         r.free.len(),
         if r.free.len() == 1 { "" } else { "s" },
         r.evaluations,
@@ -329,6 +331,10 @@ pub fn markdown(r: &FitReport) -> String {
         ));
     }
     s.push('\n');
+    if r.goodness.verdict == super::goodness::Verdict::NotConverged {
+        // the curvature of a point that may not be the optimum says nothing of the optimum's
+        s.push_str("At the best point found, which the starts do not confirm as the optimum (not converged): the standard errors and directions below are its local curvature's, not error bars of an estimate.\n\n");
+    }
     if r.identifiable() {
         s.push_str("Identifiable: every direction of the parameters is determined to better than +-35 % (the standard error of ln p along each singular vector of the Jacobian is below 0.3).\n\n");
     } else {
@@ -398,6 +404,15 @@ pub fn markdown(r: &FitReport) -> String {
         }
         s.push_str(&format!("| whole | - | {} | {} | {:.4e} | {} |\n", r.fitted.len(), kv(&r.values), r.cost, r.converged));
     }
+    if r.time_domain {
+        s.push_str(
+            "\nMethod: residual = (recorded - model) / noise per sample of pad_x, by multiple shooting over the recording's stick-slip cycles (each cycle from the known breakaway state, its start shifted to fit), and the first re-stick's timing (docs/fit.md). ",
+        );
+        s.push_str(&format!(
+            "Nelder-Mead (argmin) on {} from each start, then Levenberg-Marquardt from its best point; standard errors from the central-difference Jacobian at the optimum scaled by the residual variance.\n",
+            coordinates(r)
+        ));
+    } else {
     s.push_str(&format!(
         "\nMethod: residual = sqrt(weight) ln(model / measured) per statistic; weights {}. The model side is the scene's virtual rig on the ideal sensor path (its accelerations at the samples, no noise or ADC) through the analysis `analyze` runs, the estimator's breakaway jump fixed at {} m/s^2 on both sides. Nelder-Mead (argmin) on {} from each start, then Levenberg-Marquardt from its best point; standard errors from the central-difference Jacobian at the optimum scaled by the residual variance{}.\n",
         r.weights.iter().map(|(st, w)| format!("{}={}", st.name(), num(*w))).collect::<Vec<_>>().join(", "),
@@ -409,6 +424,7 @@ pub fn markdown(r: &FitReport) -> String {
             String::new()
         }
     ));
+    }
     if !r.skipped.is_empty() {
         s.push_str("\nNot fitted (recordings' statistics that are 0 or missing):\n\n");
         for k in &r.skipped {

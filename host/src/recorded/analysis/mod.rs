@@ -177,6 +177,15 @@ pub struct FloorOutcome {
     pub quantum_m_s2: f64,
     /// Found anywhere: the quiet blocks of a_rel it was taken from (0: one stretch).
     pub quiet_blocks: u64,
+    /// Found anywhere: the runs of one value on every channel at the record's start and end
+    /// [s] (first and last row's time), left out of the floor as a logger's fill
+    /// ([`super::quiet`]).
+    pub fill_lead: Option<(f64, f64)>,
+    pub fill_trail: Option<(f64, f64)>,
+    /// Runs of one value on every channel between (a logger holding its last value through a
+    /// dropout): how many, their rows in whole blocks, the first one's span [s]. Left out of
+    /// the floor, not of the statistics (a note says so).
+    pub fill_inside: Option<(u64, u64, (f64, f64))>,
 }
 
 /// Statistics of one channel [m/s^2, Hz].

@@ -15,6 +15,9 @@ pub(super) struct Pending {
 pub(super) struct Running {
     pub(super) fs: f64,
     pub(super) from_eff: f64,
+    /// Statistics end: rows after it (a logger's fill to the record's end) only run through
+    /// the estimator and filters.
+    pub(super) to_eff: f64,
     /// The rig, playing the record back (`Rig::for_recording`): its estimator and windows.
     pub(super) rig: Box<Rig>,
     pub(super) welch: Option<Welch>,
@@ -174,7 +177,7 @@ impl Running {
             self.prev_v_r = f64::from(s.contact.v_r_m_s);
             onset_lead = onset.then_some(s.contact.lead_samples);
         }
-        if t < self.from_eff {
+        if t < self.from_eff || t > self.to_eff {
             return;
         }
         if self.n == 0 {

@@ -2,6 +2,7 @@
 //! spectrum, and the noise floor the contact thresholds come from.
 
 use super::*;
+use crate::output::format::sig4;
 
 impl Analyzer {
     /// Sets up the estimator, filters and spectrum at the rate of the rows so far, and runs
@@ -33,6 +34,7 @@ impl Analyzer {
         };
         ecfg.validate().map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
         let floor = self.design_floor(&buf, fs)?;
+        let (from_eff, to_eff) = self.around_fill(floor.as_ref(), fs);
         let design = floor.as_ref().map(|f| {
             (f.report, ContactThresholds::from_noise_floor(f.report.sigma_m_s2[A_REL] as f64, f.quantum_m_s2, fs))
         });
@@ -45,7 +47,8 @@ impl Analyzer {
         let segment = self.cfg.segment.unwrap_or_else(|| default_segment(fs));
         let mut r = Running {
             fs,
-            from_eff: self.cfg.from_s - 0.25 / fs,
+            from_eff,
+            to_eff,
             rig: Box::new(rig),
             welch: self.cfg.spectra.then(|| Welch::new(segment)),
             envelope: self.cfg.figures.then(Envelope::new),
@@ -93,6 +96,45 @@ impl Analyzer {
         Ok(())
     }
 
+    /// The statistics' start and end [s] (a row counts at from <= t <= to): `--from`, and past
+    /// a logger's fill at the record's start or end that the floor search found
+    /// ([`super::super::quiet`]: one value on every channel, no signal), each fill noted.
+    fn around_fill(&mut self, floor: Option<&FloorOutcome>, fs: f64) -> (f64, f64) {
+        let mut from = self.cfg.from_s - 0.25 / fs;
+        let mut to = f64::INFINITY;
+        let Some(f) = floor else { return (from, to) };
+        if let Some((t0, t1)) = f.fill_lead {
+            let left = if from <= t1 {
+                from = t1 + 0.25 / fs;
+                "the noise floor and the statistics, which start at the next row"
+            } else {
+                "the noise floor"
+            };
+            self.note(format!(
+                "t = {} to {} s: every channel holds one value (a logger's fill before its trigger): left out of {left}",
+                sig4(t0),
+                sig4(t1)
+            ));
+        }
+        if let Some((runs, rows, (t0, t1))) = f.fill_inside {
+            self.note(format!(
+                "{runs} run{} of one value on every channel inside the record ({rows} rows in whole blocks; the first t = {} to {} s: a logger holding its last value through a dropout?): left out of the noise floor, not of the statistics (their time counts as stick)",
+                if runs == 1 { "" } else { "s" },
+                sig4(t0),
+                sig4(t1)
+            ));
+        }
+        if let Some((t0, t1)) = f.fill_trail {
+            to = t0 - 0.25 / fs;
+            self.note(format!(
+                "t = {} to {} s: every channel holds one value to the record's end (a logger's fill after its stop): left out of the noise floor and the statistics",
+                sig4(t0),
+                sig4(t1)
+            ));
+        }
+        (from, to)
+    }
+
     /// The noise floor the thresholds come from (`None` for [`FloorSource::Jump`]).
     pub(super) fn design_floor(&self, buf: &[Pending], _fs: f64) -> Result<Option<FloorOutcome>, String> {
         let a_rel = |p: &Pending| a_rel_of(p, self.cfg.face_coefficient);
@@ -104,7 +146,7 @@ impl Analyzer {
                 for p in buf {
                     q.push(p.t, &p.a);
                 }
-                return Ok(q.finish().ok());
+                return Ok(q.finish_preview().ok());
             }
             FloorSource::Range(from, to) => (buf.iter().filter(|p| p.t >= from && p.t <= to).collect(), false),
             FloorSource::Lead => {
@@ -147,6 +189,9 @@ impl Analyzer {
             report: nf.report(),
             quantum_m_s2: q,
             quiet_blocks: 0,
+            fill_lead: None,
+            fill_trail: None,
+            fill_inside: None,
         }))
     }
 }

@@ -4,6 +4,10 @@
 
 use super::*;
 
+/// An interval at least this many mean intervals long is a gap (time left out: `--gaps
+/// split` analyses the blocks around it); a longer interval short of it is jitter.
+pub const GAP_MIN_INTERVALS: f64 = 1.25;
+
 impl Analyzer {
     /// Takes one sample: time [s], its printed resolution [s] (0 if exact), the four
     /// accelerations [m/s^2]; `line` is named in errors. The error is one line starting with
@@ -92,15 +96,17 @@ impl Analyzer {
         let dt = t - self.t_prev;
         if !(dt > 0.0) {
             let what = if dt == 0.0 { "repeats" } else { "goes back" };
-            let hint = if dt == 0.0 && res.max(res_prev) > 0.0 {
+            // too few decimals only where the printed resolution is near the interval
+            let coarse = self.rows < 2 || res.max(res_prev) >= 0.25 * self.mean_interval();
+            let hint = if dt == 0.0 && res.max(res_prev) > 0.0 && coarse {
                 format!(" (printed to {} s: too few decimals for the sampling interval?)", sig4(res.max(res_prev)))
             } else {
                 String::new()
             };
             return Err(format!(
                 "line {line}: time {} s {what}: it does not come after {} s (line {}): the time column must increase strictly{hint}",
-                sig4(t),
-                sig4(self.t_prev),
+                t,
+                self.t_prev,
                 self.line_prev
             ));
         }
@@ -111,7 +117,9 @@ impl Analyzer {
             let tol = RATE_TOLERANCE * mean + 0.5 * (res + res_prev) + eps;
             if (dt - mean).abs() > tol {
                 let k = dt / mean;
-                if dt > mean && self.split_gaps {
+                // a gap leaves out time: a quarter of an interval or more beyond the one
+                let gap = k >= GAP_MIN_INTERVALS;
+                if gap && self.split_gaps {
                     self.gaps.push(Gap { line, t_before: self.t_prev, t_after: t, intervals: k });
                     self.done_intervals += self.block_rows - 1;
                     self.done_span += self.t_prev - self.block_t0;
@@ -121,12 +129,14 @@ impl Analyzer {
                 let whole = k.round();
                 let what = if dt > mean && whole >= 2.0 && (dt - whole * mean).abs() <= tol {
                     format!("a drop: {} row{} missing", whole - 1.0, if whole == 2.0 { "" } else { "s" })
-                } else if dt > mean {
+                } else if gap {
                     "a gap".to_string()
+                } else if dt > mean {
+                    "a long interval: timestamps that jitter (an irregular clock), not a gap".to_string()
                 } else {
                     "a short interval: a row out of place or an irregular clock".to_string()
                 };
-                let way_on = if dt > mean { " (--gaps split analyses the contiguous blocks and lists the gaps)" } else { "" };
+                let way_on = if gap { " (--gaps split analyses the contiguous blocks and lists the gaps)" } else { "" };
                 return Err(format!(
                     "line {line}: time {} s after {} s (line {}): an interval of {} s where the rows before have a mean interval of {} s ({} of them): {what}; the time column must be uniformly sampled (within 1 % plus the printed resolution){way_on}",
                     sig4(t),

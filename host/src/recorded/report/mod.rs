@@ -87,6 +87,12 @@ pub struct FloorJson {
     pub quantum_m_s2: f64,
     /// Found anywhere: the quiet blocks of 32 rows it came from (0: one stretch).
     pub quiet_blocks: u64,
+    /// A logger's fill (one value on every channel) at the record's start and at its end
+    /// [s, s]: left out of the floor and the statistics (null: none).
+    pub fill_lead_s: Option<[f64; 2]>,
+    pub fill_trail_s: Option<[f64; 2]>,
+    /// Runs of one value on every channel inside the record, left out of the floor only.
+    pub fill_inside_runs: u64,
 }
 
 impl EstimatorJson {
@@ -107,6 +113,9 @@ impl EstimatorJson {
                 a_rel_mean_m_s2: f.report.mean_m_s2[A_REL] as f64,
                 quantum_m_s2: f.quantum_m_s2,
                 quiet_blocks: f.quiet_blocks,
+                fill_lead_s: f.fill_lead.map(|(a, b)| [a, b]),
+                fill_trail_s: f.fill_trail.map(|(a, b)| [a, b]),
+                fill_inside_runs: f.fill_inside.map_or(0, |x| x.0),
             }),
             undecided: a.undecided.clone(),
             health: Channels::from_fn(|c| a.health[c].clone()),
