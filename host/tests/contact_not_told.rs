@@ -13,22 +13,6 @@ mod recorded_common;
 use recorded_common::*;
 use serde_json::Value;
 
-/// Gaussian noise from a xorshift generator (Box-Muller).
-struct Noise(u64);
-
-impl Noise {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-    fn gauss(&mut self, sigma: f64) -> f64 {
-        let (u, v) = (self.uniform(), self.uniform());
-        sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
-}
-
 /// A stick-slip record: `fs` [Hz], `secs` [s], cycles of `f_ss` [Hz] with stick fraction `sf`
 /// (the stick first), jump `j` [m/s^2], noise `sigma` [m/s^2] on every channel, `offset`
 /// [m/s^2] added to pad_x. Returns the CSV and the true stick fraction.

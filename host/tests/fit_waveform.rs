@@ -48,6 +48,16 @@ fn one_dof(mu_s: f64, mu_k: f64, v_s: f64, c_x: f64, k_g: f64, v: f64, n: f64) -
     s
 }
 
+/// Standard normal numbers from the model crate's xorshift generator (Box-Muller), seeded.
+fn gauss(seed: u32) -> impl FnMut() -> f64 {
+    let mut rng = XorShift32::new(seed);
+    move || {
+        let u1 = (rng.next_u32() as f64 + 1.0) / 4_294_967_297.0;
+        let u2 = rng.next_u32() as f64 / 4_294_967_296.0;
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+}
+
 /// pad_x of the reference run of `truth` at t = i / RATE_HZ, with Gaussian noise of `NOISE`
 /// (seed `seed`), written as a recording (`t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2`).
 fn record_reference(truth: &Scene, seed: u32, path: &std::path::Path) {
@@ -58,12 +68,7 @@ fn record_reference(truth: &Scene, seed: u32, path: &std::path::Path) {
     let co = Coefficients::of(truth);
     let (m, k, c, v, big_n) = (truth.m, truth.k_g, truth.c_x, truth.v, co.n0);
     let mu = |speed: f64| truth.mu_k + (truth.mu_s - truth.mu_k) * (-(speed / truth.v_s).powf(truth.stribeck_exponent)).exp();
-    let mut rng = XorShift32::new(seed);
-    let mut gauss = move || {
-        let u1 = (rng.next_u32() as f64 + 1.0) / 4_294_967_297.0;
-        let u2 = rng.next_u32() as f64 / 4_294_967_296.0;
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    };
+    let mut gauss = gauss(seed);
     let mut out = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
     writeln!(out, "t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2").unwrap();
     for (t, z) in times.iter().zip(&states) {
@@ -196,12 +201,7 @@ fn a_recording_that_moves_where_the_model_sticks_is_not_a_fit() {
     let dir = scratch("fit-waveform-sine");
     let path = dir.join("sine.csv");
     let rate = 6_400.0;
-    let mut rng = XorShift32::new(11);
-    let mut gauss = move || {
-        let u1 = (rng.next_u32() as f64 + 1.0) / 4_294_967_297.0;
-        let u2 = rng.next_u32() as f64 / 4_294_967_296.0;
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    };
+    let mut gauss = gauss(11);
     let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
     writeln!(out, "t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2").unwrap();
     for i in 0..rate as usize {

@@ -11,28 +11,16 @@
 
 mod recorded_common;
 
-use recorded_common::{bad, json, num, scratch, write};
+use recorded_common::{bad, json, num, scratch, write, Noise};
 use serde_json::Value;
 
 const FS: f64 = 25_600.0;
 const NOISE: f64 = 0.01;
 
-/// A deterministic standard normal number (xorshift and Box-Muller).
-fn normal(state: &mut u64) -> f64 {
-    let mut u = || {
-        *state ^= *state << 13;
-        *state ^= *state >> 7;
-        *state ^= *state << 17;
-        ((*state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
-    let (a, b) = (u(), u());
-    (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-}
-
 /// `fill_lead` s of `fill` on every channel, `signal` s of stick-slip, `fill_trail` s of fill;
 /// values printed to `decimals`.
 fn record(fill_lead: f64, signal: f64, fill_trail: f64, fill: f64, decimals: usize) -> String {
-    let mut st = 0x9e37_79b9_7f4a_7c15u64;
+    let mut noise = Noise(0x9e37_79b9_7f4a_7c15);
     let n = ((fill_lead + signal + fill_trail) * FS).round() as usize;
     let mut out = String::from("t,disc_x,pad_x,pad_trail,pad_lead\n");
     for i in 0..n {
@@ -42,7 +30,7 @@ fn record(fill_lead: f64, signal: f64, fill_trail: f64, fill: f64, decimals: usi
         } else {
             let ph = ((t - fill_lead) * 100.0).rem_euclid(1.0);
             let slip = if ph >= 0.6 { 20.0 * (2.0 * std::f64::consts::PI * (ph - 0.6) / 0.4).sin() } else { 0.0 };
-            [NOISE * normal(&mut st), slip + NOISE * normal(&mut st), 5.0 * (2.0 * std::f64::consts::PI * 300.0 * t).sin(), 0.5 + NOISE * normal(&mut st)]
+            [noise.gauss(NOISE), slip + noise.gauss(NOISE), 5.0 * (2.0 * std::f64::consts::PI * 300.0 * t).sin(), 0.5 + noise.gauss(NOISE)]
         };
         out.push_str(&format!("{t:.8}"));
         for v in row {
@@ -53,10 +41,13 @@ fn record(fill_lead: f64, signal: f64, fill_trail: f64, fill: f64, decimals: usi
     out
 }
 
+/// `csv` written as `rec.csv` in a fresh scratch directory `name`: its path.
+fn written(name: &str, csv: &str) -> String {
+    write(&scratch(name), "rec.csv", csv)
+}
+
 fn analyze(name: &str, csv: &str) -> Value {
-    let dir = scratch(name);
-    let p = write(&dir, "rec.csv", csv);
-    json(&["analyze", &p, "--json"])
+    json(&["analyze", &written(name, csv), "--json"])
 }
 
 fn assert_the_construction(v: &Value, what: &str) {
@@ -81,7 +72,8 @@ fn a_fill_before_the_trigger_or_after_the_stop_is_not_the_noise_floor() {
     assert!(span(&plain, "fill_lead_s").is_none() && span(&plain, "fill_trail_s").is_none());
 
     for (name, lead, trail, value) in [("fill_zeros_lead", 0.1, 0.0, 0.0), ("fill_level_lead", 0.1, 0.0, 0.25), ("fill_long_lead", 2.0, 0.0, 0.0), ("fill_trail", 0.0, 0.1, 0.0), ("fill_both", 0.1, 0.1, 0.0)] {
-        let v = analyze(name, &record(lead, 1.0, trail, value, 6));
+        let p = written(name, &record(lead, 1.0, trail, value, 6));
+        let v = json(&["analyze", &p, "--json"]);
         assert_the_construction(&v, name);
         if lead > 0.0 {
             let (a, b) = span(&v, "fill_lead_s").unwrap_or_else(|| panic!("{name}: no leading fill reported"));
@@ -100,6 +92,19 @@ fn a_fill_before_the_trigger_or_after_the_stop_is_not_the_noise_floor() {
         }
         let notes = v["notes"].to_string();
         assert!(notes.contains("every channel holds one value"), "{name}: {notes}");
+        // from standard input (one pass, the floor from the rows held back): the same
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+            .args(["analyze", "-", "--json"])
+            .stdin(std::fs::File::open(&p).unwrap())
+            .output()
+            .expect("runs");
+        assert!(out.status.success(), "{name} from stdin: {}", String::from_utf8_lossy(&out.stderr));
+        let w: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        for key in ["stick_fraction", "stick_slip_hz", "t_first_s", "t_last_s"] {
+            assert_eq!(w[key], v[key], "{name} from stdin: {key}");
+        }
+        assert_eq!(w["estimator"]["floor"]["fill_lead_s"], v["estimator"]["floor"]["fill_lead_s"], "{name} from stdin");
+        assert_eq!(w["estimator"]["floor"]["fill_trail_s"], v["estimator"]["floor"]["fill_trail_s"], "{name} from stdin");
     }
 }
 

@@ -276,21 +276,19 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     // Jacobian's +-1.96 standard errors, the cost is not quadratic at the Jacobian's scale, and
     // the standard error understates what the data leave open (a campaign: mu_k 1.1e-6 from the
     // Jacobian, 3.2e-5 from the profile, the truth 2.3 to 7 standard errors off on three seeds)
-    {
-        let vals = problem.values(&sol.u);
-        for (k, (lo, hi)) in intervals.iter().enumerate() {
-            let (Some(lo), Some(hi)) = (lo, hi) else { continue };
-            let sd = free[k].scale(vals[k]) * unc.cov_u[(k, k)].sqrt();
-            let ratio = (hi - lo) / (2.0 * 1.959964 * sd);
-            if ratio > PROFILE_OVER_JACOBIAN {
-                notes.push(format!(
-                    "{}: the 95 % profile interval [{}, {}] is {} times as wide as the Jacobian's +-1.96 standard errors: the cost is not quadratic at the Jacobian's scale, and its standard error understates what the data leave open; take the interval",
-                    free[k].key,
-                    crate::output::format::num(*lo),
-                    crate::output::format::num(*hi),
-                    crate::output::format::short(ratio)
-                ));
-            }
+    let values = problem.values(&sol.u);
+    for (k, (lo, hi)) in intervals.iter().enumerate() {
+        let (Some(lo), Some(hi)) = (lo, hi) else { continue };
+        let sd = free[k].scale(values[k]) * unc.cov_u[(k, k)].sqrt();
+        let ratio = (hi - lo) / (2.0 * 1.959964 * sd);
+        if ratio > PROFILE_OVER_JACOBIAN {
+            notes.push(format!(
+                "{}: the 95 % profile interval [{}, {}] is {} times as wide as the Jacobian's +-1.96 standard errors: the cost is not quadratic at the Jacobian's scale, and its standard error understates what the data leave open; take the interval",
+                free[k].key,
+                crate::output::format::num(*lo),
+                crate::output::format::num(*hi),
+                crate::output::format::short(ratio)
+            ));
         }
     }
     let profiles: Vec<Vec<(f64, f64)>> = profiles.into_iter().map(|p| p.points).collect();
@@ -303,7 +301,6 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     // the bootstrap resamples the statistics' windows: not the time-domain cost's samples
     let std_boot_u =
         if problem.time_domain() { None } else { solve::bootstrap(&j, &problem.rows, &sources, req.bootstrap, req.seed) };
-    let values = problem.values(&sol.u);
     let std: Vec<f64> = values.iter().enumerate().map(|(k, v)| free[k].scale(*v) * unc.cov_u[(k, k)].sqrt()).collect();
     let std_bootstrap = std_boot_u.map(|s| s.iter().zip(&values).enumerate().map(|(k, (su, v))| free[k].scale(*v) * su).collect());
     let n = free.len();

@@ -355,12 +355,11 @@ impl QuietSearch {
     }
 
     /// Ends a search over the first rows of a record that goes on (standard input's preview):
-    /// [`Self::finish`] with the run the rows end in taken as quiet blocks, not fill.
+    /// [`Self::finish`] with the run the rows end in ended as a row that breaks it would end
+    /// it (inside the record, or its leading fill), not taken for trailing fill.
     pub fn finish_preview(mut self) -> Result<FloorOutcome, String> {
-        if !self.run_is_lead {
-            if let Some((k, held)) = self.pending.take() {
-                merge(&mut self.bins[k], &held);
-            }
+        if self.rows > 0 {
+            self.end_run();
         }
         self.finish()
     }

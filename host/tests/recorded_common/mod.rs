@@ -46,6 +46,23 @@ pub fn bad(args: &[&str], needles: &[&str]) -> String {
     line.to_string()
 }
 
+/// Gaussian noise from a xorshift generator (Box-Muller), deterministic for a seed.
+pub struct Noise(pub u64);
+
+impl Noise {
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    /// A normal number of standard deviation `sigma`.
+    pub fn gauss(&mut self, sigma: f64) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
 /// A fresh directory for one test.
 pub fn scratch(name: &str) -> PathBuf {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("stickslip-recorded").join(name);

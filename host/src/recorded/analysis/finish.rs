@@ -47,7 +47,8 @@ impl Analyzer {
             return Err(format!("line {}: a single data row: the sample rate needs at least two", self.line_first));
         }
         if matches!(self.phase, Phase::Preview(_)) {
-            self.start()?;
+            // the record ended inside the preview: its last rows are its end
+            self.start(true)?;
         }
         let mean_interval = self.mean_interval();
         let Phase::Running(r) = self.phase else { unreachable!("started above") };

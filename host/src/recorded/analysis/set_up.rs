@@ -6,8 +6,8 @@ use crate::output::format::sig4;
 
 impl Analyzer {
     /// Sets up the estimator, filters and spectrum at the rate of the rows so far, and runs
-    /// the buffered rows through them.
-    pub(super) fn start(&mut self) -> Result<(), String> {
+    /// the buffered rows through them; `at_end`: the rows so far are the whole record.
+    pub(super) fn start(&mut self, at_end: bool) -> Result<(), String> {
         let Phase::Preview(buf) = &mut self.phase else { return Ok(()) };
         let buf = std::mem::take(buf);
         let k = buf.len();
@@ -33,7 +33,7 @@ impl Analyzer {
             ..EstimatorConfig::default()
         };
         ecfg.validate().map_err(|e| format!("{lines}: sample rate {fs:.6} Hz: the rig's estimator refuses it: {e}"))?;
-        let floor = self.design_floor(&buf, fs)?;
+        let floor = self.design_floor(&buf, at_end)?;
         let (from_eff, to_eff) = self.around_fill(floor.as_ref(), fs);
         let design = floor.as_ref().map(|f| {
             (f.report, ContactThresholds::from_noise_floor(f.report.sigma_m_s2[A_REL] as f64, f.quantum_m_s2, fs))
@@ -135,8 +135,9 @@ impl Analyzer {
         (from, to)
     }
 
-    /// The noise floor the thresholds come from (`None` for [`FloorSource::Jump`]).
-    pub(super) fn design_floor(&self, buf: &[Pending], _fs: f64) -> Result<Option<FloorOutcome>, String> {
+    /// The noise floor the thresholds come from (`None` for [`FloorSource::Jump`]); `at_end`:
+    /// `buf` is the whole record (a run of one value it ends in may be trailing fill).
+    pub(super) fn design_floor(&self, buf: &[Pending], at_end: bool) -> Result<Option<FloorOutcome>, String> {
         let a_rel = |p: &Pending| a_rel_of(p, self.cfg.face_coefficient);
         let (rows, auto): (Vec<&Pending>, bool) = match self.cfg.floor {
             FloorSource::Jump => return Ok(None),
@@ -146,7 +147,7 @@ impl Analyzer {
                 for p in buf {
                     q.push(p.t, &p.a);
                 }
-                return Ok(q.finish_preview().ok());
+                return Ok(if at_end { q.finish() } else { q.finish_preview() }.ok());
             }
             FloorSource::Range(from, to) => (buf.iter().filter(|p| p.t >= from && p.t <= to).collect(), false),
             FloorSource::Lead => {

@@ -58,7 +58,7 @@ impl Analyzer {
                     ));
                 }
                 if buf.len() >= PREVIEW_ROWS && !more {
-                    self.start()?;
+                    self.start(false)?;
                 }
             }
         }
