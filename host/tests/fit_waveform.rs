@@ -190,6 +190,24 @@ fn damping_fitted_by_a_scene_without_it_is_a_misfit() {
     assert!(!r.converged);
 }
 
+/// 1 s of a recording at 6.4 kHz in a fresh scratch directory `name` (pad_x(t), the other
+/// channels 0), and oracle_stribeck cut to 1 s (statistics from 0.5 s) to fit it with.
+fn one_second_of_pad_x(name: &str, mut pad_x: impl FnMut(f64) -> f64) -> (std::path::PathBuf, Scene) {
+    let path = scratch(name).join("rec.csv");
+    let rate = 6_400.0;
+    let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+    writeln!(out, "t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2").unwrap();
+    for i in 0..rate as usize {
+        let t = i as f64 / rate;
+        writeln!(out, "{t},0,{},0,0", pad_x(t)).unwrap();
+    }
+    drop(out);
+    let mut scene = stickslip::scenes::builtin::find("oracle_stribeck").expect("built in").scene;
+    scene.duration = 1.0;
+    scene.stats_from = 0.5;
+    (path, scene)
+}
+
 /// A recording that is no stick-slip at all (a 3 Hz sine of 8 m/s^2 and 0.02 m/s^2 of noise,
 /// 1 s at 6.4 kHz) fitted by `oracle_stribeck` with mu_s, mu_k and v_s free: the search ends
 /// where the model sticks nearly throughout. Its noise was taken from the recording where the
@@ -198,25 +216,41 @@ fn damping_fitted_by_a_scene_without_it_is_a_misfit() {
 /// yardstick (`goodness::STICK_NOISE_FACTOR`): not `fits`, and a note says why.
 #[test]
 fn a_recording_that_moves_where_the_model_sticks_is_not_a_fit() {
-    let dir = scratch("fit-waveform-sine");
-    let path = dir.join("sine.csv");
-    let rate = 6_400.0;
     let mut gauss = gauss(11);
-    let mut out = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
-    writeln!(out, "t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2").unwrap();
-    for i in 0..rate as usize {
-        let t = i as f64 / rate;
-        writeln!(out, "{t},0,{},0,0", 8.0 * (std::f64::consts::TAU * 3.0 * t).sin() + NOISE * gauss()).unwrap();
-    }
-    drop(out);
-    let mut scene = stickslip::scenes::builtin::find("oracle_stribeck").expect("built in").scene;
-    scene.duration = 1.0;
-    scene.stats_from = 0.5;
+    let (path, scene) = one_second_of_pad_x("fit-waveform-sine", |t| 8.0 * (std::f64::consts::TAU * 3.0 * t).sin() + NOISE * gauss());
     let r = fit::run_fit(named("sine", scene), &request("mu_s,mu_k,v_s", format!("sine={}", path.display()))).expect("the fit runs");
     println!("verdict {}, chi2/dof {:.4}, noise {:.4}", r.goodness.verdict.name(), r.goodness.chi2_per_dof, r.goodness.noise);
     assert_ne!(r.goodness.verdict, Verdict::Fits, "a sine fitted as stick-slip: chi2/dof {}", r.goodness.chi2_per_dof);
     assert!(r.goodness.chi2_per_dof > 100.0, "chi2/dof {}", r.goodness.chi2_per_dof);
     assert!(r.notes.iter().any(|n| n.contains("moves where the model sticks")), "{:#?}", r.notes);
+}
+
+/// White noise alone (0.5 m/s^2, 1 s at 6.4 kHz) holds no stick-slip, so it determines none
+/// of the friction keys: a pad that never breaks away explains it, whatever mu_s above its
+/// required friction, mu_k and v_s. The fit may say `fits` (the cost is the noise's), but it
+/// must not print an error bar as if a key were determined: every key whose profile stays open
+/// gets a note saying so, and the report is not "identifiable". (A campaign: mu_s 0.2118 +-
+/// 4.1 % from the Jacobian, its profile open on both sides, and no word of it.)
+#[test]
+fn white_noise_determines_no_key() {
+    let mut gauss = gauss(5);
+    let (path, scene) = one_second_of_pad_x("fit-waveform-white", |_| 0.5 * gauss());
+    let r = fit::run_fit(named("white", scene), &request("mu_s,mu_k,v_s", format!("white={}", path.display()))).expect("the fit runs");
+    println!("verdict {}, chi2/dof {:.4}; intervals {:?}; notes {:#?}", r.goodness.verdict.name(), r.goodness.chi2_per_dof, r.intervals, r.notes);
+    assert!(!r.identifiable(), "white noise reported as identifying every key");
+    let md = stickslip::fit::output::markdown(&r);
+    for (k, f) in r.free.iter().enumerate() {
+        let Some((lo, hi)) = r.intervals.get(k).copied() else { continue };
+        let open = lo.is_none() || hi.is_none();
+        let noted = r.notes.iter().any(|n| n.starts_with(&format!("{}: not identifiable: its profile", f.key)));
+        assert_eq!(noted, open, "{}: interval {:?}, noted {noted}", f.key, (lo, hi));
+        assert_eq!(md.contains(&format!("- {}: its 95 % profile interval does not close", f.key)), open, "{}: the report's list", f.key);
+    }
+    // mu_s: a pad that never breaks away fits at every mu_s above its required friction
+    let k = r.free.iter().position(|f| f.key == "mu_s").expect("mu_s is free");
+    if r.goodness.verdict == Verdict::Fits {
+        assert!(r.intervals[k].1.is_none(), "mu_s's profile closes above: {:?}", r.intervals[k]);
+    }
 }
 
 /// A campaign's truth (oracle_stribeck with k_g = 1000 N/m, mu_s 0.9, mu_k 0.2, v_s 5 mm/s)

@@ -95,3 +95,56 @@ fn a_recording_twice_as_strong_gives_ratio_two() {
         assert!((r - 1.0).abs() <= 0.01, "{q}: ratio {r}");
     }
 }
+
+/// The model side is `sil SCENE` with the same options, and says what `sil` says: where `sil`
+/// cannot decide the model's stick fraction and frequency (a gain that leaves pad_x one ADC
+/// count), or a model channel is saturated, `compare` shows no model value and no ratio, and
+/// says why. Before, it printed the estimator's raw 1.0 against a measured 0.805 (ratio 0.805).
+/// The measured side's notes (`analyze`'s) come along: a recording without disc_x says that
+/// a_rel is pad_x alone.
+#[test]
+fn the_model_side_says_what_sil_says() {
+    let dir = scratch("compare-model-undecided");
+    let csv = dir.join("push_center.csv");
+    let csv = csv.to_str().unwrap();
+    ok(&["sil", "push_center", "--csv", csv]);
+    let sil = json(&["sil", "push_center", "--gain", "0.001", "--json"]);
+    assert!(sil["stick_fraction"]["estimated"].is_null(), "not the case this test is about: {}", sil["stick_fraction"]);
+    let v = json(&["compare", "push_center", csv, "--from", "0.5", "--gain", "0.001", "--json"]);
+    for q in ["stick_fraction", "stick_slip_hz"] {
+        assert!(v[q]["model"].is_null() && v[q]["ratio"].is_null(), "{q}: {}", v[q]);
+        assert!(v[q]["measured"].is_number(), "{q}: {}", v[q]);
+    }
+    assert_eq!(v["model_undecided"], sil["undecided"]);
+    let text = ok(&["compare", "push_center", csv, "--from", "0.5", "--gain", "0.001"]);
+    assert!(text.contains("Model stick fraction and stick-slip frequency: the virtual rig cannot decide"), "{text}");
+
+    // a saturated model channel: no model value, as in sil
+    let sil5 = json(&["sil", "push_center", "--gain", "5", "--json"]);
+    let v5 = json(&["compare", "push_center", csv, "--from", "0.5", "--gain", "5", "--json"]);
+    let mut saturated = 0;
+    for ch in CHANNELS {
+        let sat = sil5["health"][ch].as_array().is_some_and(|h| h.iter().any(|w| w == "saturated"));
+        assert_eq!(v5["model_health"][ch], sil5["health"][ch], "{ch}");
+        if sat {
+            saturated += 1;
+            assert!(v5["channels"][ch]["pp"]["model"].is_null() && v5["channels"][ch]["pp"]["ratio"].is_null(), "{ch}: {}", v5["channels"][ch]["pp"]);
+        }
+    }
+    assert!(saturated >= 1, "no model channel saturated at gain 5: {}", sil5["health"]);
+
+    // without disc_x: analyze's note
+    let text = std::fs::read_to_string(csv).unwrap();
+    let mut rows = text.lines().map(|l| l.split(',').collect::<Vec<_>>());
+    let head = rows.next().unwrap();
+    let keep: Vec<usize> = (0..head.len()).filter(|&i| !head[i].starts_with("disc_x")).collect();
+    assert_eq!(keep.len() + 1, head.len(), "one disc_x column: {head:?}");
+    let no_disc: String = text.lines().map(|l| {
+        let c: Vec<&str> = l.split(',').collect();
+        keep.iter().map(|&i| c[i]).collect::<Vec<_>>().join(",") + "\n"
+    }).collect();
+    let path = write(&dir, "no_disc.csv", no_disc);
+    let v = json(&["compare", "push_center", &path, "--from", "0.5", "--json"]);
+    let notes: Vec<&str> = v["notes"].as_array().expect("notes").iter().filter_map(|n| n.as_str()).collect();
+    assert!(notes.iter().any(|n| n.starts_with("no disc_x")), "{notes:?}");
+}

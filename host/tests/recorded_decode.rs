@@ -329,6 +329,115 @@ fn a_corrupted_frame_is_dropped_and_counted() {
     assert_eq!(recs[11].field("msg").unwrap(), "explicit panic");
 }
 
+/// A window whose rms holds a NaN (the firmware's `nonfinite` flag is for that): the array keeps
+/// its shape and its finite values, the NaN its text. Before, the whole array became one
+/// string: the CSV's rms_0 .. rms_3 cells were empty for that window, a column `rms` was added at
+/// the end, and `record`'s window.csv differed from `decode --kind window`.
+/// `tests/data/defmt-window-nan.defmt` (366 bytes, 3 window records of the fixture's ELF, the
+/// second with rms = [0.5, NaN, 2.5, 30.0], the others [0.5, 10.25, 2.5, 30.0]) was written by an
+/// rzCOBS encoder written apart from this tool (Python, a campaign of 2026-11-28), from those
+/// values.
+#[test]
+fn a_nan_in_an_array_keeps_the_array() {
+    let stream = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-window-nan.defmt");
+    let bytes = std::fs::read(stream).unwrap();
+    assert_eq!(bytes.split(|&b| b == 0).filter(|f| !f.is_empty()).count(), 3, "three frames between 0x00 separators");
+    let json: Value = serde_json::from_str(&ok(&["decode", "--elf", ELF, stream, "--json"])).unwrap();
+    let records = json["records"].as_array().unwrap();
+    assert_eq!(records.len(), 3);
+    for (i, r) in records.iter().enumerate() {
+        let rms = r["fields"]["rms"].as_array().unwrap_or_else(|| panic!("record {i}: rms is {}", r["fields"]["rms"]));
+        assert_eq!(rms.len(), 4, "record {i}");
+        assert_eq!((rms[0].as_f64(), rms[2].as_f64(), rms[3].as_f64()), (Some(0.5), Some(2.5), Some(30.0)), "record {i}");
+        if i == 1 {
+            assert_eq!(rms[1], "NaN");
+        } else {
+            assert_eq!(rms[1].as_f64(), Some(10.25), "record {i}");
+        }
+    }
+    let csv = ok(&["decode", "--elf", ELF, stream, "--kind", "window"]);
+    let lines: Vec<&str> = csv.lines().collect();
+    let head: Vec<&str> = lines[0].split(',').collect();
+    assert!(!head.contains(&"rms"), "a column `rms` beside rms_0 .. rms_3: {}", lines[0]);
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let cells: Vec<Vec<&str>> = lines[1..].iter().map(|l| l.split(',').collect()).collect();
+    assert_eq!(cells.len(), 3);
+    assert_eq!((cells[1][col("rms_0")], cells[1][col("rms_1")], cells[1][col("rms_3")]), ("0.5", "NaN", "30.0"));
+    // `record` writes the same window.csv
+    let dir = scratch("decode-window-nan");
+    let out = dir.join("rec");
+    let o = stickslip(&["record", "--elf", ELF, "--input", stream, "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(out.join("window.csv")).unwrap(), csv);
+}
+
+/// Frames lost whole at their separators (an RTT overflow that drops complete frames) leave no
+/// trace in the framing, but the window records' index does: a window removed from the middle
+/// of tests/data/defmt-window-nan.defmt (windows idx 0, 1, 2 of one recording) is reported
+/// missing; the stream as it is reports none.
+#[test]
+fn windows_lost_whole_are_reported() {
+    let stream = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/defmt-window-nan.defmt");
+    let bytes = std::fs::read(stream).unwrap();
+    let whole = stderr(&stickslip(&["decode", "--elf", ELF, stream]));
+    assert!(!whole.contains("missing"), "{whole}");
+    // the frames with their separators; the second one left out
+    let mut frames: Vec<Vec<u8>> = Vec::new();
+    let mut cur = Vec::new();
+    for &b in &bytes {
+        cur.push(b);
+        if b == 0 {
+            frames.push(std::mem::take(&mut cur));
+        }
+    }
+    let nonempty: Vec<usize> = (0..frames.len()).filter(|&i| frames[i].len() > 1).collect();
+    assert_eq!(nonempty.len(), 3);
+    let cut: Vec<u8> = frames.iter().enumerate().filter(|(i, _)| *i != nonempty[1]).flat_map(|(_, f)| f.clone()).collect();
+    let dir = scratch("decode-window-gap");
+    let path = write(&dir, "gap.defmt", &cut);
+    let o = stickslip(&["decode", "--elf", ELF, &path]);
+    assert!(o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("dropped 0 frames") && e.contains("1 window record missing"), "{e}");
+}
+
+/// Standard input is decoded as the file is (it is spooled to a temporary file for the two
+/// passes that keep memory bounded: counts, then the records written as they decode), in every
+/// output form, and the temporary file is gone afterwards.
+#[test]
+fn standard_input_decodes_as_the_file() {
+    use std::io::Write as _;
+    for mode in [&[][..], &["--json"][..], &["--kind", "window"][..]] {
+        let mut args = vec!["decode", "--elf", ELF, STREAM];
+        args.extend_from_slice(mode);
+        let from_file = ok(&args);
+        args[3] = "-";
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+            .args(&args)
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let id = child.id();
+        child.stdin.take().unwrap().write_all(&std::fs::read(STREAM).unwrap()).unwrap();
+        let o = child.wait_with_output().unwrap();
+        assert!(o.status.success(), "{mode:?}: {}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(String::from_utf8(o.stdout).unwrap(), from_file, "{mode:?}");
+        let left = spooled_by(id);
+        assert!(left.is_empty(), "temporary files left: {left:?}");
+    }
+}
+
+/// The temporary files the `decode` of process `pid` spooled standard input to (none must
+/// outlive it).
+fn spooled_by(pid: u32) -> Vec<String> {
+    let prefix = format!("stickslip-decode-{pid}-");
+    std::fs::read_dir(std::env::temp_dir())
+        .map(|d| d.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned()).filter(|n| n.starts_with(&prefix)).collect())
+        .unwrap_or_default()
+}
+
 #[test]
 fn the_command_line() {
     let text = ok(&["decode", "--elf", ELF, STREAM, "--json"]);

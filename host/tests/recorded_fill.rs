@@ -181,3 +181,29 @@ fn jitter_is_not_called_a_gap_and_a_repeat_is_not_blamed_on_decimals() {
     let line = bad(&["analyze", &p], &["line 103", "repeats", "0.00390625"]);
     assert!(!line.contains("decimals"), "{line}");
 }
+
+/// pad_x alone (disc_x 0) on the rig's 12-bit converter (0.395 m/s^2 a count) with 0.005 m/s^2
+/// of noise: every stick phase is a run of one count, as fill is, but it recurs every cycle.
+/// Built at a stick fraction of 0.2 and 120 Hz (slips of one sine period of 50 m/s^2) after a
+/// 0.1 s quiet lead; read as fill, its stick phases gave 0.147 at 105 Hz (a campaign). More
+/// runs inside the record than `MAX_DROPOUT_RUNS` are its stick, not fill.
+#[test]
+fn a_coarse_pad_x_alone_keeps_its_stick_phases() {
+    let mut noise = Noise(0x2545_f491_4f6c_dd1d);
+    let q = 0.395;
+    let (lead, signal, hz, stick) = (0.1, 1.0, 120.0, 0.2);
+    let mut csv = String::from("t,disc_x,pad_x\n");
+    let n = ((lead + signal) * FS).round() as usize;
+    for i in 0..n {
+        let t = i as f64 / FS - lead;
+        let ph = (t * hz).rem_euclid(1.0);
+        let a = if t >= 0.0 && ph >= stick { 50.0 * (2.0 * std::f64::consts::PI * (ph - stick) / (1.0 - stick)).sin() } else { 0.0 };
+        csv.push_str(&format!("{t:.8},0,{}\n", ((a + noise.gauss(0.005)) / q).round() * q));
+    }
+    let v = json(&["analyze", &written("fill_coarse_pad_x", &csv), "--json", "--from", "0"]);
+    let (sf, f) = (num(&v, &["stick_fraction"]), num(&v, &["stick_slip_hz"]));
+    assert!((sf - stick).abs() < 0.02, "stick fraction {sf}, built {stick}");
+    assert!((f - hz).abs() < 1.0, "{f} Hz, built {hz}");
+    assert!(span(&v, "fill_lead_s").is_none() && span(&v, "fill_trail_s").is_none(), "{}", v["estimator"]["floor"]);
+    assert!(v["estimator"]["floor"]["fill_inside_runs"].as_u64().unwrap_or(0) == 0, "{}", v["estimator"]["floor"]);
+}

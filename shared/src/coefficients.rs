@@ -80,8 +80,9 @@ impl Coefficients {
         (y0, phi0)
     }
 
-    /// Quasi-static time from rest to the first slip (no damping):
-    /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)); with the rotation held (N constant) the
+    /// Quasi-static time from rest to the first slip:
+    /// t1 = mu_s N0 / (k_g V (1 - s mu_s w c_N / K)) (+ the band's and the damper's terms, see
+    /// `band_and_damping`); with the rotation held (N constant) the
     /// bracket is 1. Infinite when the pad self-locks. With friction-face kinematics the face,
     /// not the pivot, moves at V: x + s w phi - s w phi0 = F (1/k_g + w^2/K) = V t, so t1 grows
     /// by the factor 1 + k_g w^2 / K. A pad that is not hinged (finite k_pivot, face kinematics)
@@ -104,17 +105,31 @@ impl Coefficients {
                 return f64::INFINITY;
             }
             let f1 = scene.mu_s * n0 / lock;
-            return f1 * (1.0 / scene.k_g + s_w * s_w * k_y / d) / scene.v;
+            let t1 = f1 * (1.0 / scene.k_g + s_w * s_w * k_y / d) / scene.v;
+            return t1 + Self::band_and_damping(scene, f1);
         }
         let lock = if scene.rotation { 1.0 - self.s * scene.mu_s * scene.w * self.c_n / self.k_rot } else { 1.0 };
         if lock <= 0.0 {
             return f64::INFINITY;
         }
         let t1 = scene.mu_s * self.n0 / (scene.k_g * scene.v * lock);
-        if scene.face && scene.rotation {
-            t1 * (1.0 + scene.k_g * scene.w * scene.w / self.k_rot)
+        let t1 = if scene.face && scene.rotation { t1 * (1.0 + scene.k_g * scene.w * scene.w / self.k_rot) } else { t1 };
+        t1 + Self::band_and_damping(scene, scene.mu_s * self.n0 / lock)
+    }
+
+    /// What the band and the guide's damper add to [`Self::quasi_static_first_slip`] at the
+    /// breakaway's friction `f1` [N]: the band's spring, in series with the guide, gives way by
+    /// f1 / k_b while the pad sticks (the band's x lags the drive's V t), + f1 / (k_b V); the
+    /// damper, at x' = V in stick, carries c_x V of the friction, so the guide's spring needs
+    /// c_x V / k_g less stretch, - c_x / k_g. Exactly 0 without the band and without c_x (the
+    /// thesis model: the estimate is the thesis's, bit for bit).
+    fn band_and_damping(scene: &Scene, f1: f64) -> f64 {
+        let band = if scene.band { f1 / (scene.k_b * scene.v) } else { 0.0 };
+        let damper = if scene.c_x != 0.0 { scene.c_x / scene.k_g } else { 0.0 };
+        if band == 0.0 && damper == 0.0 {
+            0.0
         } else {
-            t1
+            band - damper
         }
     }
 }

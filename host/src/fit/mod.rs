@@ -188,10 +188,36 @@ pub struct StageReport {
 }
 
 impl FitReport {
-    /// No flat direction.
+    /// No flat direction, and every profile interval (where computed) closed on both sides.
     pub fn identifiable(&self) -> bool {
-        self.uncertainty.flat.is_empty()
+        self.uncertainty.flat.is_empty() && self.open_profiles().is_empty()
     }
+
+    /// The keys whose profile interval stays open on a side (the cost within the noise's 95 %
+    /// threshold out to the key's bound or a scene rule): (index, open below, open above).
+    pub fn open_profiles(&self) -> Vec<(usize, bool, bool)> {
+        self.intervals.iter().enumerate().filter(|(_, (lo, hi))| lo.is_none() || hi.is_none()).map(|(k, (lo, hi))| (k, lo.is_none(), hi.is_none())).collect()
+    }
+}
+
+/// The note for a key whose profile interval stays open on a side: what the data say of the key
+/// (a lower bound, an upper bound, nothing), and that its Jacobian standard error is only the
+/// optimum's local curvature. `seen`: the profile's points (value, delta chi^2).
+pub(crate) fn open_profile_note(key: &str, value: f64, std: f64, open_below: bool, open_above: bool, seen: &[(f64, f64)]) -> String {
+    use crate::output::format::num;
+    let lowest = seen.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+    let highest = seen.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
+    let what = match (open_below, open_above) {
+        (true, true) => format!("on either side (from {} to {}, as far as the bounds and the scene's rules let it go)", num(lowest), num(highest)),
+        (true, false) => format!("below (down to {}, as far as the bound or the scene's rules let it go): the data give an upper bound only", num(lowest)),
+        (false, true) => format!("above (up to {}, as far as the bound or the scene's rules let it go): the data give a lower bound only", num(highest)),
+        (false, false) => unreachable!("a closed interval"),
+    };
+    let pct = if value != 0.0 { format!(" ({:.3} %)", 100.0 * std / value.abs()) } else { String::new() };
+    format!(
+        "{key}: not identifiable: its profile stays within the noise's 95 % threshold {what}; its Jacobian standard error {}{pct} is the optimum's local curvature, not an error bar",
+        num(std)
+    )
 }
 
 /// Runs the fit described by `req` on the base scene `base` (validated).
@@ -292,6 +318,16 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         }
     }
     let profiles: Vec<Vec<(f64, f64)>> = profiles.into_iter().map(|p| p.points).collect();
+    // a profile that stays open on a side: the data bound the key on one side only, or not at
+    // all, whatever the Jacobian's curvature at the optimum says (a campaign: white noise fitted
+    // by a pad that never breaks away, mu_s +- 4.1 % from the Jacobian, its profile open on
+    // both sides)
+    for (k, (lo, hi)) in intervals.iter().enumerate() {
+        if lo.is_none() || hi.is_none() {
+            let sd = free[k].scale(values[k]) * unc.cov_u[(k, k)].sqrt();
+            notes.push(open_profile_note(&free[k].key, values[k], sd, lo.is_none(), hi.is_none(), &profiles[k]));
+        }
+    }
     let sources: Vec<String> = {
         let mut s: Vec<String> = problem.rows.iter().filter(|r| !r.windows.is_empty()).map(|r| r.source.clone()).collect();
         s.sort();

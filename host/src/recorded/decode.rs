@@ -189,6 +189,25 @@ fn field_value(ty: &Type, shown: &str) -> Value {
         if let Ok(v @ Value::Array(_)) = serde_json::from_str::<Value>(shown) {
             return v;
         }
+        // with a NaN or an infinity among them (not JSON numbers): each element apart, a
+        // non-finite one as its text ("NaN", "inf", "-inf"), as a scalar field shows it, so that
+        // the array keeps its shape and its finite values (a window's rms with one NaN became one
+        // string before, its CSV cells rms_0.. empty)
+        if let Some(inner) = shown.strip_prefix('[').and_then(|x| x.strip_suffix(']')) {
+            let parts: Vec<Option<Value>> = inner
+                .split(',')
+                .map(|e| {
+                    let e = e.trim();
+                    match serde_json::from_str::<Value>(e) {
+                        Ok(v) if v.is_number() => Some(v),
+                        _ => e.parse::<f64>().ok().filter(|x| !x.is_finite()).map(|_| Value::String(e.to_string())),
+                    }
+                })
+                .collect();
+            if !inner.trim().is_empty() && parts.iter().all(Option::is_some) {
+                return Value::Array(parts.into_iter().flatten().collect());
+            }
+        }
     }
     Value::String(shown.to_string())
 }
@@ -278,7 +297,17 @@ fn fitted<'t>(table: &'t Table, raw: &[u8]) -> Option<defmt_decoder::Frame<'t>> 
 }
 
 /// Decodes a whole stream; each record goes to `sink` as it is decoded. Memory: one frame.
-pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(Record)) -> std::io::Result<StreamStats> {
+pub fn decode_stream<R: Read>(table: &Table, input: R, sink: impl FnMut(Record)) -> std::io::Result<StreamStats> {
+    decode_frames(table, input, true, sink)
+}
+
+/// [`decode_stream`]'s counts alone: every frame decoded and fitted, no record built.
+pub fn count_stream<R: Read>(table: &Table, input: R) -> std::io::Result<StreamStats> {
+    decode_frames(table, input, false, |_| {})
+}
+
+/// [`decode_stream`], with the records built and sent to `sink` only where `build`.
+fn decode_frames<R: Read>(table: &Table, mut input: R, build: bool, mut sink: impl FnMut(Record)) -> std::io::Result<StreamStats> {
     let mut st = StreamStats::default();
     let mut buf = vec![0u8; 1 << 16];
     let mut number = 0u64;
@@ -324,7 +353,9 @@ pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(
                     }
                     match rzcobs_decode(&pending).and_then(|raw| fitted(table, &raw).map(|f| (f, raw.len()))) {
                         Some((frame, _)) => {
-                            sink(record(&frame, number, pending_offset));
+                            if build {
+                                sink(record(&frame, number, pending_offset));
+                            }
                             st.frames_decoded += 1;
                         }
                         None => {
@@ -347,7 +378,9 @@ pub fn decode_stream<R: Read>(table: &Table, mut input: R, mut sink: impl FnMut(
             while at < data.len() {
                 match table.decode(&data[at..]) {
                     Ok((frame, used)) => {
-                        sink(record(&frame, number, at as u64));
+                        if build {
+                                sink(record(&frame, number, at as u64));
+                            }
                         st.frames_decoded += 1;
                         number += 1;
                         at += used.max(1);
@@ -385,12 +418,6 @@ fn cell(v: &Value) -> String {
     }
 }
 
-#[derive(Serialize)]
-struct DecodeJson<'a> {
-    records: &'a [Record],
-    stream: &'a StreamStats,
-}
-
 /// What `stickslip decode` is asked for.
 #[derive(Clone, Copy, Debug)]
 pub struct DecodeRequest<'a> {
@@ -404,25 +431,199 @@ pub struct DecodeRequest<'a> {
     pub kind: Option<&'a str>,
 }
 
-/// `stickslip decode`.
+/// `stickslip decode`. Memory: one frame and one record, whatever the stream's length: the
+/// stream is read twice, first for its counts (and `check_match`, and with `--kind` the kind's
+/// columns), then for the records, written to standard output as they decode; standard input
+/// is first copied to a temporary file. Before, every record was held until the end: a 49 MB
+/// stream took 1.9 GB (CSV) and 2.4 GB (JSON) (a campaign, 2026-11-28). Returns nothing to
+/// print: the output has been written.
 pub fn run(a: &DecodeRequest) -> Result<String> {
     let elf_label = a.elf.display().to_string();
     let elf = crate::limits::read_bytes(a.elf, "ELF", crate::limits::ELF_FILE_MAX_BYTES)?;
     let table = load_table(&elf_label, &elf)?;
-    let mut records = Vec::new();
-    let (label, stats) = if a.input == "-" {
-        ("<stdin>".to_string(), decode_stream(&table, std::io::stdin().lock(), |r| records.push(r)))
-    } else {
-        let f = std::fs::File::open(a.input)
-            .map_err(|e| HostError::Input(format!("{}: cannot open the stream: {e}", a.input)))?;
-        (a.input.to_string(), decode_stream(&table, std::io::BufReader::new(f), |r| records.push(r)))
+    let spool = if a.input == "-" { Some(Spool::of_stdin()?) } else { None };
+    let (label, path) = match &spool {
+        Some(sp) => ("<stdin>".to_string(), sp.path.clone()),
+        None => (a.input.to_string(), std::path::PathBuf::from(a.input)),
     };
-    let stats = stats.map_err(|e| HostError::Input(format!("{label}: cannot read the stream: {e}")))?;
+    let open = || {
+        std::fs::File::open(&path)
+            .map(std::io::BufReader::new)
+            .map_err(|e| HostError::Input(format!("{label}: cannot open the stream: {e}")))
+    };
+    let read_err = |e: std::io::Error| HostError::Input(format!("{label}: cannot read the stream: {e}"));
+    // pass 1: the counts, the kinds found, and --kind's columns (the union of the kind's fields)
+    let mut kinds: Vec<String> = Vec::new();
+    let mut cols: Vec<KindColumn> = Vec::new();
+    let mut chosen = 0u64;
+    let stats = match a.kind {
+        None => count_stream(&table, open()?),
+        Some(kind) => decode_stream(&table, open()?, |r| {
+            if !kinds.contains(&r.kind) {
+                kinds.push(r.kind.clone());
+            }
+            if r.kind == kind {
+                chosen += 1;
+                extend_kind_columns(&mut cols, &r);
+            }
+        }),
+    }
+    .map_err(read_err)?;
     check_match(&label, &elf_label, &stats)?;
-    let out = render(a, &label, &records, &stats)?;
-    // after the output is known to be good: an error stays one line
-    eprintln!("stickslip: {label}: {}", stats.summary());
-    Ok(out)
+    if let Some(kind) = a.kind {
+        if chosen == 0 {
+            kinds.sort_unstable();
+            return Err(HostError::Input(format!(
+                "--kind {kind}: no record of this kind in {label} (kinds found: {})",
+                if kinds.is_empty() { "none".to_string() } else { kinds.join(", ") }
+            )));
+        }
+    }
+    // pass 2: the records as they decode, over the bytes pass 1 read (a file that grows
+    // meanwhile, a capture still being written, is read to the same length)
+    let stdout = std::io::stdout();
+    let mut w = std::io::BufWriter::new(stdout.lock());
+    let mut failed: Option<std::io::Error> = None;
+    let mut first = true;
+    let mut windows = WindowGaps::default();
+    let mut put = |w: &mut std::io::BufWriter<std::io::StdoutLock<'_>>, text: &str| {
+        if failed.is_none() {
+            if let Err(e) = std::io::Write::write_all(w, text.as_bytes()) {
+                failed = Some(e);
+            }
+        }
+    };
+    put(&mut w, &header(a, &cols));
+    let again = decode_stream(&table, std::io::Read::take(open()?, stats.bytes), |r| {
+        windows.see(&r);
+        let text = match (a.json, a.kind) {
+            (true, _) => {
+                let one = serde_json::to_string_pretty(&r).unwrap_or_default();
+                let lead = if first { "\n" } else { ",\n" };
+                format!("{lead}{}", indent(&one, "    "))
+            }
+            (false, Some(kind)) if r.kind == kind => csv_line(&kind_row(&r, &cols)),
+            (false, Some(_)) => String::new(),
+            (false, None) => csv_line(&[
+                r.frame.to_string(),
+                r.offset.to_string(),
+                r.timestamp_s.map_or(String::new(), |t| t.to_string()),
+                r.level.unwrap_or("").to_string(),
+                r.kind.to_string(),
+                r.message.clone(),
+            ]),
+        };
+        first = false;
+        put(&mut w, &text);
+    })
+    .map_err(read_err)?;
+    if a.json {
+        let st = serde_json::to_string_pretty(&stats).unwrap_or_default();
+        let close = if again.frames_decoded > 0 { "\n  ]" } else { "]" };
+        put(&mut w, &format!("{close},\n  \"stream\": {}\n}}\n", indent(&st, "  ").trim_start()));
+    }
+    let flushed = std::io::Write::flush(&mut w);
+    match failed.map_or(flushed, Err) {
+        Ok(()) => {}
+        // a closed pipe (`| head`) is not an error worth a message
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => return Ok(String::new()),
+        Err(e) => return Err(HostError::Output(format!("cannot write to stdout: {e}"))),
+    }
+    let mut summary = stats.summary();
+    let total = stats.frames_decoded + stats.frames_dropped;
+    if total >= MATCH_MIN_FRAMES && stats.frames_dropped * 10 > total {
+        summary.push_str(&format!(
+            "; {} of {total} frames do not fit the defmt table of {elf_label}: a damaged stream, or the ELF of another build?",
+            stats.frames_dropped
+        ));
+    }
+    if windows.missing > 0 {
+        summary.push_str(&format!(
+            "; {} window record{} missing inside recordings ({} jump{} of the window index idx: lost in transport, where the framing cannot tell)",
+            windows.missing,
+            plural(windows.missing),
+            windows.jumps,
+            plural(windows.jumps)
+        ));
+    }
+    eprintln!("stickslip: {label}: {summary}");
+    Ok(String::new())
+}
+
+/// "s" for a count other than 1 (a noun's plural ending in the summaries).
+pub(crate) fn plural(n: u64) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// Window records missing inside a recording: the firmware numbers a recording's windows
+/// (`rec`, `idx` from 0), so a jump of idx within one rec is windows lost in transport, also
+/// where the framing cannot see it (frames lost whole at their separators).
+#[derive(Default)]
+struct WindowGaps {
+    last: Option<(u64, u64)>,
+    missing: u64,
+    jumps: u64,
+}
+
+impl WindowGaps {
+    fn see(&mut self, r: &Record) {
+        if r.kind != "window" {
+            return;
+        }
+        let (Some(rec), Some(idx)) = (r.field("rec").and_then(Value::as_u64), r.field("idx").and_then(Value::as_u64)) else { return };
+        if let Some((lr, li)) = self.last {
+            if lr == rec && idx > li + 1 {
+                self.missing += idx - li - 1;
+                self.jumps += 1;
+            }
+        }
+        self.last = Some((rec, idx));
+    }
+}
+
+/// What `decode` writes before its records: the CSV's header, or the JSON's opening.
+fn header(a: &DecodeRequest, cols: &[KindColumn]) -> String {
+    match (a.json, a.kind) {
+        (true, _) => "{\n  \"records\": [".to_string(),
+        (false, Some(_)) => csv_line(&kind_header(cols)),
+        (false, None) => "frame,offset,timestamp_s,level,kind,message\n".to_string(),
+    }
+}
+
+/// Every line of `text` after `pad` (serde_json's pretty text nested one level deeper).
+fn indent(text: &str, pad: &str) -> String {
+    text.lines().map(|l| format!("{pad}{l}")).collect::<Vec<_>>().join("\n")
+}
+
+/// Standard input copied to a temporary file for `decode`'s two passes; removed when dropped.
+struct Spool {
+    path: std::path::PathBuf,
+}
+
+impl Spool {
+    fn of_stdin() -> Result<Spool> {
+        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+        let path = std::env::temp_dir().join(format!("stickslip-decode-{}-{nanos}.defmt", std::process::id()));
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&path)
+            .map_err(|e| HostError::Output(format!("{}: cannot hold standard input in a temporary file: {e}", path.display())))?;
+        let spool = Spool { path };
+        std::io::copy(&mut std::io::stdin().lock(), &mut f)
+            .map_err(|e| HostError::Input(format!("<stdin>: cannot read the stream (into {}): {e}", spool.path.display())))?;
+        Ok(spool)
+    }
+}
+
+impl Drop for Spool {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
 }
 
 /// Fewest frames for [`check_match`] to judge a stream by.
@@ -455,52 +656,6 @@ pub fn check_match(label: &str, elf_label: &str, st: &StreamStats) -> Result<()>
         )));
     }
     Ok(())
-}
-
-fn render(a: &DecodeRequest, label: &str, records: &[Record], stats: &StreamStats) -> Result<String> {
-    if a.json {
-        let mut s = serde_json::to_string_pretty(&DecodeJson { records, stream: stats })
-            .map_err(|e| HostError::Output(format!("cannot write JSON: {e}")))?;
-        s.push('\n');
-        return Ok(s);
-    }
-    let mut out = String::new();
-    match a.kind {
-        None => {
-            out.push_str("frame,offset,timestamp_s,level,kind,message\n");
-            for r in records {
-                out.push_str(&csv_line(&[
-                    r.frame.to_string(),
-                    r.offset.to_string(),
-                    r.timestamp_s.map_or(String::new(), |t| t.to_string()),
-                    r.level.unwrap_or("").to_string(),
-                    r.kind.to_string(),
-                    r.message.clone(),
-                ]));
-            }
-        }
-        Some(kind) => {
-            let chosen: Vec<&Record> = records.iter().filter(|r| r.kind == kind).collect();
-            if chosen.is_empty() {
-                let mut found: Vec<&str> = records.iter().map(|r| r.kind.as_str()).collect();
-                found.sort_unstable();
-                found.dedup();
-                return Err(HostError::Input(format!(
-                    "--kind {kind}: no record of this kind in {label} (kinds found: {})",
-                    if found.is_empty() { "none".to_string() } else { found.join(", ") }
-                )));
-            }
-            let mut cols: Vec<KindColumn> = Vec::new();
-            for r in &chosen {
-                extend_kind_columns(&mut cols, r);
-            }
-            out.push_str(&csv_line(&kind_header(&cols)));
-            for r in chosen {
-                out.push_str(&csv_line(&kind_row(r, &cols)));
-            }
-        }
-    }
-    Ok(out)
 }
 
 /// A column of `--kind`'s CSV after `frame,timestamp_s`: a field by name, or element `i` of an

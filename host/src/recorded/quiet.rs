@@ -35,7 +35,12 @@
 //! channel cannot be noise), they are left out of it and reported
 //! ([`FloorOutcome::fill_lead`], `fill_trail` at the record's ends, `fill_inside` between);
 //! else (a coarse converter, whose stick phases are runs of one count) they are quiet blocks
-//! like any other. A floor that only the fill makes is no floor.
+//! like any other. So are they where more than [`MAX_DROPOUT_RUNS`] runs lie inside the
+//! record: runs that recur every cycle are its stick phases on a coarse converter, and the
+//! floor found without them is the quietest of the slip's blocks (a campaign: pad_x alone at
+//! the rig's 0.395 m/s^2 a count with 0.005 m/s^2 of noise, built at a stick fraction of 0.2 and
+//! 120 Hz, read 0.147 at 105 Hz; the rig's own pull recordings reduced to pad_x were "noisier
+//! than the signal"). A floor that only the fill makes is no floor.
 //!
 //! Memory: 1,281 bins of 200 bytes (5 x 4 sums and a few counts), 256 KB, whatever the
 //! record's length.
@@ -61,6 +66,10 @@ pub const LEVEL_FACTOR: f64 = 4.0;
 /// A run of identical rows at the record's start or end is fill, not stick, where the floor
 /// without it has a_rel's sigma of at least this many quanta (module documentation).
 pub const FILL_NOISE_QUANTA: f64 = 4.0;
+/// More runs of identical rows than this inside the record are its stick phases on a coarse
+/// converter (they recur every cycle), not a logger's dropouts: then no run is fill
+/// (module documentation).
+pub const MAX_DROPOUT_RUNS: u64 = 4;
 
 #[derive(Clone, Copy)]
 struct Bin {
@@ -258,7 +267,7 @@ impl QuietSearch {
         let without_failed = without.is_err();
         if let Ok(mut f) = without {
             let sigma = f.report.sigma_m_s2[4] as f64;
-            if sigma > 0.0 && sigma >= FILL_NOISE_QUANTA * f.quantum_m_s2 {
+            if sigma > 0.0 && sigma >= FILL_NOISE_QUANTA * f.quantum_m_s2 && self.inside_runs <= MAX_DROPOUT_RUNS {
                 f.fill_lead = lead.map(|l| l.2);
                 f.fill_trail = trail.map(|l| l.2);
                 f.fill_inside = self.inside_first.map(|span| (self.inside_runs, self.inside.iter().map(|(_, b)| b.n).sum(), span));

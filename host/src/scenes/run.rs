@@ -60,9 +60,17 @@ impl OverBudget {
                 crate::limits::SUBSTEPS_PER_STEP_CAP
             )
         } else {
+            // the work is about max(steps, duration x the fastest mode's rate / a quarter
+            // radian): a smaller dt never lowers it; a larger one does where each step is one
+            // substep
+            let what = if self.substeps_per_step <= 1 {
+                "a shorter duration or a larger dt (each step is one substep: the steps alone are over it)"
+            } else {
+                "a shorter duration or a slower fastest mode (the substeps are set by the fastest mode, whatever dt)"
+            };
             format!(
                 "{} substeps per step x {} steps = {} substeps, over the work budget of {} (minutes to hours \
-                 of computing): a shorter duration, a smaller dt or a slower fastest mode; not run",
+                 of computing): {what}; not run",
                 self.substeps_per_step,
                 self.steps,
                 sig4(u64::from(self.substeps_per_step).saturating_mul(self.steps) as f64),

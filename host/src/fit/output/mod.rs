@@ -338,9 +338,17 @@ pub fn markdown(r: &FitReport) -> String {
     if r.identifiable() {
         s.push_str("Identifiable: every direction of the parameters is determined to better than +-35 % (the standard error of ln p along each singular vector of the Jacobian is below 0.3).\n\n");
     } else {
-        s.push_str("**Not identifiable**: the data leave these directions of the parameters undetermined (standard error of ln p along them above 0.3, about +-35 %):\n\n");
+        s.push_str("**Not identifiable**: the data leave these directions of the parameters undetermined (standard error of ln p along them above 0.3, about +-35 %, or a profile interval that does not close):\n\n");
         for f in &r.uncertainty.flat {
             s.push_str(&format!("- {} (std {})\n", direction_text(r, &f.direction), num(f.std_log)));
+        }
+        for (k, below, above) in r.open_profiles() {
+            let side = match (below, above) {
+                (true, true) => "on either side",
+                (true, false) => "below: an upper bound only",
+                _ => "above: a lower bound only",
+            };
+            s.push_str(&format!("- {}: its 95 % profile interval does not close {side}\n", r.free[k].key));
         }
         s.push_str("\nFix one of the keys along a flat direction, or add a target that moves it.\n\n");
     }

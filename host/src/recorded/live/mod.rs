@@ -105,13 +105,13 @@ impl Recording {
             s.push_str(&format!(
                 "firmware: {} window record{}: {} event record{} and {} window{} not logged (events_dropped, windows_dropped), {} overrun{} since boot\n",
                 f.windows,
-                if f.windows == 1 { "" } else { "s" },
+                crate::recorded::decode::plural(f.windows),
                 f.events_dropped,
-                if f.events_dropped == 1 { "" } else { "s" },
+                crate::recorded::decode::plural(f.events_dropped),
                 f.windows_dropped,
-                if f.windows_dropped == 1 { "" } else { "s" },
+                crate::recorded::decode::plural(f.windows_dropped),
                 f.overruns,
-                if f.overruns == 1 { "" } else { "s" },
+                crate::recorded::decode::plural(f.overruns),
             ));
         }
         s

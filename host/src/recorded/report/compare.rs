@@ -65,6 +65,14 @@ pub struct CompareJson {
     pub health: Channels<Vec<&'static str>>,
     /// Why the measured stick fraction and frequency cannot be told (then null), or null.
     pub undecided: Option<String>,
+    /// The model side's channel health, as `sil` gives it (a saturated channel is not
+    /// compared: its model values and ratios are null).
+    pub model_health: Channels<Vec<&'static str>>,
+    /// Why the virtual rig's estimator cannot tell the model's stick fraction and frequency
+    /// (as `sil` says; then the model's values are null), or null.
+    pub model_undecided: Option<String>,
+    /// The measured side's notes, as `analyze` gives them for the file.
+    pub notes: Vec<String>,
 }
 
 impl CompareJson {
@@ -72,12 +80,18 @@ impl CompareJson {
         let m = model.measured.as_ref();
         // the channel-health verdict, as `analyze` gives it: an absent or unhealthy measured
         // channel is not compared (measured null if absent; ratio null if unhealthy)
+        // and so is a model channel `sil` does not estimate (saturated): its value is null, as in
+        // `sil`
         let ch = |c: usize, f: fn(&ChannelStats) -> Option<f64>| {
             let mine = measured.present[c].then(|| f(&measured.channels[c])).flatten();
-            let p = Pair::new(mine, m.and_then(|a| f(&a.channels[c])));
+            let theirs = m.filter(|a| !a.health[c].contains(&"saturated")).and_then(|a| f(&a.channels[c]));
+            let p = Pair::new(mine, theirs);
             if measured.health[c].is_empty() { p } else { Pair { ratio: None, ..p } }
         };
         let decided = measured.undecided.is_none();
+        // the model's stick fraction and frequency where the virtual rig's estimator can tell
+        // them (`sil` prints none otherwise, and so does `compare`)
+        let model_decided = m.filter(|a| a.undecided.is_none());
         CompareJson {
             scene: model.name.clone(),
             file: file.to_string(),
@@ -87,10 +101,13 @@ impl CompareJson {
                 rms: ch(c, |s| Some(s.rms)),
                 groan_rms: ch(c, |s| Some(s.groan_rms)),
             }),
-            stick_fraction: Pair::new(decided.then_some(measured.stick_fraction), m.map(|a| a.stick_fraction)),
-            stick_slip_hz: Pair::new(measured.stick_slip_hz.filter(|_| decided), m.and_then(|a| a.stick_slip_hz)),
+            stick_fraction: Pair::new(decided.then_some(measured.stick_fraction), model_decided.map(|a| a.stick_fraction)),
+            stick_slip_hz: Pair::new(measured.stick_slip_hz.filter(|_| decided), model_decided.and_then(|a| a.stick_slip_hz)),
             health: Channels::from_fn(|c| measured.health[c].clone()),
             undecided: measured.undecided.clone(),
+            model_health: Channels::from_fn(|c| m.map_or_else(Vec::new, |a| a.health[c].clone())),
+            model_undecided: m.and_then(|a| a.undecided.clone()),
+            notes: measured.notes.clone(),
             measured: CompareSide::of(Some(measured)),
             model: CompareSide::of(m),
             model_outcome: model.outcome,
@@ -118,6 +135,9 @@ pub fn compare_markdown(file: &str, measured: &Analysis, model: &SilReport) -> S
     if let Some(why) = &j.undecided {
         verdict.push_str(&format!("Measured stick fraction and stick-slip frequency: cannot decide ({why}).\n"));
     }
+    if let Some(why) = &j.model_undecided {
+        verdict.push_str(&format!("Model stick fraction and stick-slip frequency: the virtual rig cannot decide ({why}).\n"));
+    }
     for (c, h) in measured.health.iter().enumerate() {
         if !h.is_empty() {
             verdict.push_str(&format!("Measured channel {}: {}: not compared.\n", ACCEL_NAMES[c], h.join(", ")));
@@ -125,6 +145,17 @@ pub fn compare_markdown(file: &str, measured: &Analysis, model: &SilReport) -> S
         if !measured.present[c] {
             verdict.push_str(&format!("Measured channel {}: absent.\n", ACCEL_NAMES[c]));
         }
+    }
+    if let Some(a) = model.measured.as_ref() {
+        for (c, h) in a.health.iter().enumerate() {
+            if !h.is_empty() {
+                let not = if h.contains(&"saturated") { ": not compared" } else { "" };
+                verdict.push_str(&format!("Model channel {} (the virtual rig's): {}{not}.\n", ACCEL_NAMES[c], h.join(", ")));
+            }
+        }
+    }
+    for n in &j.notes {
+        verdict.push_str(&format!("Note (measured): {n}\n"));
     }
     s.push_str(&row("pad", "stick-slip frequency [Hz]", &j.stick_slip_hz));
     s.push('\n');
