@@ -119,7 +119,7 @@ fn the_model_side_says_what_sil_says() {
     let text = ok(&["compare", "push_center", csv, "--from", "0.5", "--gain", "0.001"]);
     assert!(text.contains("Model stick fraction and stick-slip frequency: the virtual rig cannot decide"), "{text}");
 
-    // a saturated model channel: no model value, as in sil
+    // a saturated model channel: no model peak-to-peak, as in sil (its RMS still compared)
     let sil5 = json(&["sil", "push_center", "--gain", "5", "--json"]);
     let v5 = json(&["compare", "push_center", csv, "--from", "0.5", "--gain", "5", "--json"]);
     let mut saturated = 0;
@@ -129,6 +129,8 @@ fn the_model_side_says_what_sil_says() {
         if sat {
             saturated += 1;
             assert!(v5["channels"][ch]["pp"]["model"].is_null() && v5["channels"][ch]["pp"]["ratio"].is_null(), "{ch}: {}", v5["channels"][ch]["pp"]);
+            assert_eq!(v5["channels"][ch]["pp"]["model"], sil5["channels"][ch]["pp"]["estimated"], "{ch}: sil's pp");
+            assert!(v5["channels"][ch]["rms"]["model"].is_number(), "{ch}: {}", v5["channels"][ch]["rms"]);
         }
     }
     assert!(saturated >= 1, "no model channel saturated at gain 5: {}", sil5["health"]);

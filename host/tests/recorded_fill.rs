@@ -131,6 +131,34 @@ fn a_value_held_through_a_dropout_is_not_the_noise_floor() {
     assert!(v["notes"].to_string().contains("inside the record"), "{}", v["notes"]);
 }
 
+/// Several dropouts (eight of 10 ms, zeros on every channel) after a 0.1 s leading fill: they
+/// are fill, however many, where they are fewer rows than the real stick phases' quiet rows
+/// (a review: a first rule that counted runs took five dropouts for stick phases, and the floor
+/// fell to sigma 0 again, 0.140 at 112 Hz).
+#[test]
+fn many_dropouts_are_still_fill() {
+    let csv = record(0.1, 1.0, 0.0, 0.0, 6);
+    let mut lines: Vec<String> = csv.lines().map(str::to_string).collect();
+    for k in 0..8 {
+        let t0 = 0.1 + 0.1 * (k as f64 + 1.0) + 0.003;
+        let (i0, i1) = ((t0 * FS) as usize + 1, ((t0 + 0.01) * FS) as usize + 1);
+        for line in &mut lines[i0..i1] {
+            let t = line.split(',').next().unwrap().to_string();
+            *line = format!("{t},0.000000,0.000000,0.000000,0.000000");
+        }
+    }
+    let v = analyze("fill_many_dropouts", &(lines.join("\n") + "\n"));
+    let floor = &v["estimator"]["floor"];
+    assert_eq!(floor["fill_inside_runs"], 8, "{floor}");
+    assert!(span(&v, "fill_lead_s").is_some(), "{floor}");
+    let sigma = num(&v, &["estimator", "floor", "a_rel_sigma_m_s2"]);
+    assert!((sigma / (NOISE * 2f64.sqrt()) - 1.0).abs() < 0.1, "floor sigma {sigma}");
+    let hz = num(&v, &["stick_slip_hz"]);
+    assert!((88.0..=101.0).contains(&hz), "{hz} Hz, built 100 (a cycle lost at each dropout)");
+    let sf = num(&v, &["stick_fraction"]);
+    assert!((0.58..=0.68).contains(&sf), "stick fraction {sf}: built 0.6, and 0.08 s of dropouts counted as stick");
+}
+
 #[test]
 fn on_a_coarse_converter_runs_of_one_count_stay_stick() {
     // printed to 0.1 m/s^2, ten times the noise: the stick phases are runs of one value too,
@@ -185,8 +213,9 @@ fn jitter_is_not_called_a_gap_and_a_repeat_is_not_blamed_on_decimals() {
 /// pad_x alone (disc_x 0) on the rig's 12-bit converter (0.395 m/s^2 a count) with 0.005 m/s^2
 /// of noise: every stick phase is a run of one count, as fill is, but it recurs every cycle.
 /// Built at a stick fraction of 0.2 and 120 Hz (slips of one sine period of 50 m/s^2) after a
-/// 0.1 s quiet lead; read as fill, its stick phases gave 0.147 at 105 Hz (a campaign). More
-/// runs inside the record than `MAX_DROPOUT_RUNS` are its stick, not fill.
+/// 0.1 s quiet lead; read as fill, its stick phases gave 0.147 at 105 Hz (a campaign). Runs
+/// inside the record that hold more than half as many rows as the quiet rows found without
+/// them are its stick, not fill.
 #[test]
 fn a_coarse_pad_x_alone_keeps_its_stick_phases() {
     let mut noise = Noise(0x2545_f491_4f6c_dd1d);

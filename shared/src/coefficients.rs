@@ -106,7 +106,7 @@ impl Coefficients {
             }
             let f1 = scene.mu_s * n0 / lock;
             let t1 = f1 * (1.0 / scene.k_g + s_w * s_w * k_y / d) / scene.v;
-            return t1 + Self::band_and_damping(scene, f1);
+            return (t1 + Self::band_and_damping(scene, f1)).max(0.0);
         }
         let lock = if scene.rotation { 1.0 - self.s * scene.mu_s * scene.w * self.c_n / self.k_rot } else { 1.0 };
         if lock <= 0.0 {
@@ -114,15 +114,18 @@ impl Coefficients {
         }
         let t1 = scene.mu_s * self.n0 / (scene.k_g * scene.v * lock);
         let t1 = if scene.face && scene.rotation { t1 * (1.0 + scene.k_g * scene.w * scene.w / self.k_rot) } else { t1 };
-        t1 + Self::band_and_damping(scene, scene.mu_s * self.n0 / lock)
+        (t1 + Self::band_and_damping(scene, scene.mu_s * self.n0 / lock)).max(0.0)
     }
 
     /// What the band and the guide's damper add to [`Self::quasi_static_first_slip`] at the
     /// breakaway's friction `f1` [N]: the band's spring, in series with the guide, gives way by
     /// f1 / k_b while the pad sticks (the band's x lags the drive's V t), + f1 / (k_b V); the
     /// damper, at x' = V in stick, carries c_x V of the friction, so the guide's spring needs
-    /// c_x V / k_g less stretch, - c_x / k_g. Exactly 0 without the band and without c_x (the
-    /// thesis model: the estimate is the thesis's, bit for bit).
+    /// c_x V / k_g less stretch, - c_x / k_g (a damper that carries the whole breakaway friction
+    /// at V slips the pad at once: the estimate is then 0). Exactly 0 without the band and
+    /// without c_x (the thesis model: the estimate is the thesis's, bit for bit). With the face
+    /// and the rotation the damper's term is the hinged pad's (the pivot then moves a little
+    /// slower than V); not measured.
     fn band_and_damping(scene: &Scene, f1: f64) -> f64 {
         let band = if scene.band { f1 / (scene.k_b * scene.v) } else { 0.0 };
         let damper = if scene.c_x != 0.0 { scene.c_x / scene.k_g } else { 0.0 };

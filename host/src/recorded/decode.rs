@@ -431,21 +431,31 @@ pub struct DecodeRequest<'a> {
     pub kind: Option<&'a str>,
 }
 
-/// `stickslip decode`. Memory: one frame and one record, whatever the stream's length: the
-/// stream is read twice, first for its counts (and `check_match`, and with `--kind` the kind's
-/// columns), then for the records, written to standard output as they decode; standard input
-/// is first copied to a temporary file. Before, every record was held until the end: a 49 MB
+/// `stickslip decode`. Memory: one frame and one record, whatever the length of an rzCOBS
+/// stream (a raw-encoded one is read whole): the stream is read twice, first for its counts
+/// (and `check_match`, and with `--kind` the kind's columns), then for the records, written to
+/// standard output as they decode; standard input, a pipe or a FIFO is first copied to a
+/// temporary file. Before, every record was held until the end: a 49 MB
 /// stream took 1.9 GB (CSV) and 2.4 GB (JSON) (a campaign, 2026-11-28). Returns nothing to
 /// print: the output has been written.
 pub fn run(a: &DecodeRequest) -> Result<String> {
     let elf_label = a.elf.display().to_string();
     let elf = crate::limits::read_bytes(a.elf, "ELF", crate::limits::ELF_FILE_MAX_BYTES)?;
     let table = load_table(&elf_label, &elf)?;
-    let spool = if a.input == "-" { Some(Spool::of_stdin()?) } else { None };
-    let (label, path) = match &spool {
-        Some(sp) => ("<stdin>".to_string(), sp.path.clone()),
-        None => (a.input.to_string(), std::path::PathBuf::from(a.input)),
+    // a regular file is read twice; anything else (standard input, a pipe such as `<(...)` or
+    // /dev/stdin, a FIFO) once, into a temporary file
+    let label = if a.input == "-" { "<stdin>".to_string() } else { a.input.to_string() };
+    let spool = if a.input == "-" {
+        Some(Spool::of(std::io::stdin().lock(), &label)?)
+    } else {
+        let f = std::fs::File::open(a.input).map_err(|e| HostError::Input(format!("{label}: cannot open the stream: {e}")))?;
+        if f.metadata().is_ok_and(|m| m.is_file()) {
+            None
+        } else {
+            Some(Spool::of(f, &label)?)
+        }
     };
+    let path = spool.as_ref().map_or_else(|| std::path::PathBuf::from(a.input), |sp| sp.path.clone());
     let open = || {
         std::fs::File::open(&path)
             .map(std::io::BufReader::new)
@@ -493,8 +503,9 @@ pub fn run(a: &DecodeRequest) -> Result<String> {
             }
         }
     };
+    let second = std::io::Read::take(open()?, stats.bytes);
     put(&mut w, &header(a, &cols));
-    let again = decode_stream(&table, std::io::Read::take(open()?, stats.bytes), |r| {
+    let again = decode_stream(&table, second, |r| {
         windows.see(&r);
         let text = match (a.json, a.kind) {
             (true, _) => {
@@ -524,10 +535,9 @@ pub fn run(a: &DecodeRequest) -> Result<String> {
     }
     let flushed = std::io::Write::flush(&mut w);
     match failed.map_or(flushed, Err) {
-        Ok(()) => {}
         // a closed pipe (`| head`) is not an error worth a message
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => return Ok(String::new()),
-        Err(e) => return Err(HostError::Output(format!("cannot write to stdout: {e}"))),
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => return Err(HostError::Output(format!("cannot write to stdout: {e}"))),
+        _ => {}
     }
     let mut summary = stats.summary();
     let total = stats.frames_decoded + stats.frames_dropped;
@@ -560,11 +570,14 @@ pub(crate) fn plural(n: u64) -> &'static str {
 }
 
 /// Window records missing inside a recording: the firmware numbers a recording's windows
-/// (`rec`, `idx` from 0), so a jump of idx within one rec is windows lost in transport, also
-/// where the framing cannot see it (frames lost whole at their separators).
+/// (`rec`, `idx` from 0), so a jump of idx within one rec is windows lost, less those the
+/// firmware itself did not log (the rise of `windows_dropped`, which every window record
+/// carries): lost in transport, also where the framing cannot see it (frames lost whole at
+/// their separators).
 #[derive(Default)]
 struct WindowGaps {
-    last: Option<(u64, u64)>,
+    /// The last window's rec, idx and windows_dropped.
+    last: Option<(u64, u64, u64)>,
     missing: u64,
     jumps: u64,
 }
@@ -575,13 +588,17 @@ impl WindowGaps {
             return;
         }
         let (Some(rec), Some(idx)) = (r.field("rec").and_then(Value::as_u64), r.field("idx").and_then(Value::as_u64)) else { return };
-        if let Some((lr, li)) = self.last {
+        let dropped = r.field("windows_dropped").and_then(Value::as_u64).unwrap_or(0);
+        if let Some((lr, li, ld)) = self.last {
             if lr == rec && idx > li + 1 {
-                self.missing += idx - li - 1;
-                self.jumps += 1;
+                let lost = (idx - li - 1).saturating_sub(dropped.saturating_sub(ld));
+                if lost > 0 {
+                    self.missing += lost;
+                    self.jumps += 1;
+                }
             }
         }
-        self.last = Some((rec, idx));
+        self.last = Some((rec, idx, dropped));
     }
 }
 
@@ -599,23 +616,26 @@ fn indent(text: &str, pad: &str) -> String {
     text.lines().map(|l| format!("{pad}{l}")).collect::<Vec<_>>().join("\n")
 }
 
-/// Standard input copied to a temporary file for `decode`'s two passes; removed when dropped.
+/// A stream that cannot be read twice (standard input, a pipe, a FIFO) copied to a temporary
+/// file (readable by its owner alone) for `decode`'s two passes; removed when dropped.
 struct Spool {
     path: std::path::PathBuf,
 }
 
 impl Spool {
-    fn of_stdin() -> Result<Spool> {
+    fn of(mut input: impl Read, label: &str) -> Result<Spool> {
         let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
         let path = std::env::temp_dir().join(format!("stickslip-decode-{}-{nanos}.defmt", std::process::id()));
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
+        let mut options = std::fs::OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
+        let mut f = options
             .open(&path)
-            .map_err(|e| HostError::Output(format!("{}: cannot hold standard input in a temporary file: {e}", path.display())))?;
+            .map_err(|e| HostError::Output(format!("{}: cannot hold {label} in a temporary file: {e}", path.display())))?;
         let spool = Spool { path };
-        std::io::copy(&mut std::io::stdin().lock(), &mut f)
-            .map_err(|e| HostError::Input(format!("<stdin>: cannot read the stream (into {}): {e}", spool.path.display())))?;
+        std::io::copy(&mut input, &mut f)
+            .map_err(|e| HostError::Input(format!("{label}: cannot read the stream (into {}): {e}", spool.path.display())))?;
         Ok(spool)
     }
 }

@@ -35,12 +35,14 @@
 //! channel cannot be noise), they are left out of it and reported
 //! ([`FloorOutcome::fill_lead`], `fill_trail` at the record's ends, `fill_inside` between);
 //! else (a coarse converter, whose stick phases are runs of one count) they are quiet blocks
-//! like any other. So are they where more than [`MAX_DROPOUT_RUNS`] runs lie inside the
-//! record: runs that recur every cycle are its stick phases on a coarse converter, and the
-//! floor found without them is the quietest of the slip's blocks (a campaign: pad_x alone at
-//! the rig's 0.395 m/s^2 a count with 0.005 m/s^2 of noise, built at a stick fraction of 0.2 and
-//! 120 Hz, read 0.147 at 105 Hz; the rig's own pull recordings reduced to pad_x were "noisier
-//! than the signal"). A floor that only the fill makes is no floor.
+//! like any other. So are the runs inside the record where they hold more than half as many
+//! rows as the quiet rows found without them ([`INSIDE_FILL_SHARE`]): runs that recur every cycle are its stick phases on a coarse
+//! converter, and the floor found without them is the quietest of the slip's blocks (a
+//! campaign: pad_x alone at the rig's 0.395 m/s^2 a count with 0.005 m/s^2 of noise, built at a
+//! stick fraction of 0.2 and 120 Hz, read 0.147 at 105 Hz; the rig's own pull recordings
+//! reduced to pad_x were "noisier than the signal"); the runs at the ends are then fill only
+//! where the floor with the runs inside resolves its noise. A floor that only the fill makes is
+//! no floor.
 //!
 //! Memory: 1,281 bins of 200 bytes (5 x 4 sums and a few counts), 256 KB, whatever the
 //! record's length.
@@ -66,10 +68,9 @@ pub const LEVEL_FACTOR: f64 = 4.0;
 /// A run of identical rows at the record's start or end is fill, not stick, where the floor
 /// without it has a_rel's sigma of at least this many quanta (module documentation).
 pub const FILL_NOISE_QUANTA: f64 = 4.0;
-/// More runs of identical rows than this inside the record are its stick phases on a coarse
-/// converter (they recur every cycle), not a logger's dropouts: then no run is fill
-/// (module documentation).
-pub const MAX_DROPOUT_RUNS: u64 = 4;
+/// The runs of identical rows inside a record are a logger's dropouts only where the quiet rows
+/// found without them are at least this many times their rows (module documentation).
+pub const INSIDE_FILL_SHARE: u64 = 2;
 
 #[derive(Clone, Copy)]
 struct Bin {
@@ -263,23 +264,44 @@ impl QuietSearch {
         if lead.is_none() && trail.is_none() && self.inside.is_empty() {
             return self.floor();
         }
+        let resolved = |f: &FloorOutcome| {
+            let sigma = f.report.sigma_m_s2[4] as f64;
+            sigma > 0.0 && sigma >= FILL_NOISE_QUANTA * f.quantum_m_s2
+        };
         let without = self.floor();
         let without_failed = without.is_err();
+        let inside_rows: u64 = self.inside.iter().map(|(_, b)| b.n).sum();
         if let Ok(mut f) = without {
-            let sigma = f.report.sigma_m_s2[4] as f64;
-            if sigma > 0.0 && sigma >= FILL_NOISE_QUANTA * f.quantum_m_s2 && self.inside_runs <= MAX_DROPOUT_RUNS {
+            // the runs inside are a logger's dropouts where they are at most half as many rows
+            // as the quiet rows found without them; runs that hold more are the record's stick
+            // phases on a coarse converter (they recur every cycle), and the floor found without
+            // them is the quietest of the slip's blocks (about as many rows as the runs: 2,560
+            // quiet rows for 2,528 in runs on the campaign's record)
+            if resolved(&f) && INSIDE_FILL_SHARE * inside_rows <= f.report.samples as u64 {
                 f.fill_lead = lead.map(|l| l.2);
                 f.fill_trail = trail.map(|l| l.2);
-                f.fill_inside = self.inside_first.map(|span| (self.inside_runs, self.inside.iter().map(|(_, b)| b.n).sum(), span));
+                f.fill_inside = self.inside_first.map(|span| (self.inside_runs, inside_rows, span));
                 return Ok(f);
+            }
+        }
+        // the runs inside are stick: with them back, the runs at the ends are fill where the
+        // floor then resolves its noise
+        let inside_were_held = !self.inside.is_empty();
+        for (k, held) in std::mem::take(&mut self.inside) {
+            merge(&mut self.bins[k], &held);
+        }
+        if inside_were_held && (lead.is_some() || trail.is_some()) {
+            if let Ok(mut f) = self.floor() {
+                if resolved(&f) {
+                    f.fill_lead = lead.map(|l| l.2);
+                    f.fill_trail = trail.map(|l| l.2);
+                    return Ok(f);
+                }
             }
         }
         // the noise is not resolved (a coarse converter): runs of one value are its stick
         for (k, held, _) in lead.iter().chain(trail.iter()) {
             merge(&mut self.bins[*k], held);
-        }
-        for (k, held) in std::mem::take(&mut self.inside) {
-            merge(&mut self.bins[k], &held);
         }
         match self.floor() {
             Ok(f) if f.report.sigma_m_s2[4] == 0.0 && without_failed => {

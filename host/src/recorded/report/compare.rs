@@ -65,8 +65,8 @@ pub struct CompareJson {
     pub health: Channels<Vec<&'static str>>,
     /// Why the measured stick fraction and frequency cannot be told (then null), or null.
     pub undecided: Option<String>,
-    /// The model side's channel health, as `sil` gives it (a saturated channel is not
-    /// compared: its model values and ratios are null).
+    /// The model side's channel health, as `sil` gives it (a saturated channel's model
+    /// peak-to-peak and its ratio are null, as `sil` gives none).
     pub model_health: Channels<Vec<&'static str>>,
     /// Why the virtual rig's estimator cannot tell the model's stick fraction and frequency
     /// (as `sil` says; then the model's values are null), or null.
@@ -80,11 +80,11 @@ impl CompareJson {
         let m = model.measured.as_ref();
         // the channel-health verdict, as `analyze` gives it: an absent or unhealthy measured
         // channel is not compared (measured null if absent; ratio null if unhealthy)
-        // and so is a model channel `sil` does not estimate (saturated): its value is null, as in
-        // `sil`
-        let ch = |c: usize, f: fn(&ChannelStats) -> Option<f64>| {
+        // and so is the peak-to-peak of a saturated model channel, which `sil` does not estimate
+        // (its flat tops are the rails'): null, as in `sil` (`sil_parts`)
+        let ch = |c: usize, f: fn(&ChannelStats) -> Option<f64>, is_pp: bool| {
             let mine = measured.present[c].then(|| f(&measured.channels[c])).flatten();
-            let theirs = m.filter(|a| !a.health[c].contains(&"saturated")).and_then(|a| f(&a.channels[c]));
+            let theirs = m.filter(|a| !(is_pp && a.health[c].contains(&"saturated"))).and_then(|a| f(&a.channels[c]));
             let p = Pair::new(mine, theirs);
             if measured.health[c].is_empty() { p } else { Pair { ratio: None, ..p } }
         };
@@ -96,10 +96,10 @@ impl CompareJson {
             scene: model.name.clone(),
             file: file.to_string(),
             channels: Channels::from_fn(|c| CompareChannelJson {
-                pp: ch(c, |s| Some(s.pp)),
-                peak_hz: ch(c, |s| s.peak_hz),
-                rms: ch(c, |s| Some(s.rms)),
-                groan_rms: ch(c, |s| Some(s.groan_rms)),
+                pp: ch(c, |s| Some(s.pp), true),
+                peak_hz: ch(c, |s| s.peak_hz, false),
+                rms: ch(c, |s| Some(s.rms), false),
+                groan_rms: ch(c, |s| Some(s.groan_rms), false),
             }),
             stick_fraction: Pair::new(decided.then_some(measured.stick_fraction), model_decided.map(|a| a.stick_fraction)),
             stick_slip_hz: Pair::new(measured.stick_slip_hz.filter(|_| decided), model_decided.and_then(|a| a.stick_slip_hz)),
@@ -149,7 +149,7 @@ pub fn compare_markdown(file: &str, measured: &Analysis, model: &SilReport) -> S
     if let Some(a) = model.measured.as_ref() {
         for (c, h) in a.health.iter().enumerate() {
             if !h.is_empty() {
-                let not = if h.contains(&"saturated") { ": not compared" } else { "" };
+                let not = if h.contains(&"saturated") { ": its peak-to-peak not compared" } else { "" };
                 verdict.push_str(&format!("Model channel {} (the virtual rig's): {}{not}.\n", ACCEL_NAMES[c], h.join(", ")));
             }
         }
