@@ -57,6 +57,15 @@ fn runs_that_would_take_hours_halt_as_budget() {
     // would be 1e8 frames): nothing is sampled
     let rig = json(&["sil", "push_center", "--dt", "1e-9", "--json"]);
     assert_eq!((rig["outcome"].as_str(), rig["samples"].as_u64()), (Some("budget"), Some(0)), "{rig}");
+    // the advice: the work is about max(steps, duration x the fastest rate / a quarter radian),
+    // so a smaller dt never helps (it said "a smaller dt" before); one substep a step: a larger
+    // dt; many (m = 1e-7 kg: 221 a step): the fastest mode, whatever dt
+    let steps_bound = ok(&["simulate", "push_center", "--dt", "1e-9"]);
+    assert!(steps_bound.contains("a larger dt") && !steps_bound.contains("smaller dt"), "{steps_bound}");
+    let fast = scene(&dir, "fast_m.toml", "m = 1e-7\nduration = 500.0\n");
+    let substeps_bound = ok(&["simulate", &fast]);
+    assert!(substeps_bound.contains("halted, budget:") && substeps_bound.contains("slower fastest mode"), "{substeps_bound}");
+    assert!(!substeps_bound.contains("smaller dt") && !substeps_bound.contains("larger dt"), "{substeps_bound}");
     // through a map: k_b = 1e6 runs; 1e18 (rate sqrt(k_b / m_b) about 1e9 1/s: 1.6e5 substeps
     // per step) and 1e30 are over the budget
     let m = json(&["map", "rig_push_center", "--sweep", "k_b=1e6:1e30:3:log", "--duration", "0.05", "--stats-from", "0.02", "--json"]);

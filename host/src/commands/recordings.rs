@@ -159,7 +159,7 @@ pub fn compare(a: &crate::cli::CompareArgs) -> Result<String> {
 }
 
 pub fn decode(a: &crate::cli::DecodeArgs) -> Result<String> {
-    crate::recorded::decode::run(&crate::recorded::decode::DecodeRequest {
+    crate::recorded::decode::run_to_stdout(&crate::recorded::decode::DecodeRequest {
         elf: &a.elf,
         input: &a.input,
         json: a.json,

@@ -438,7 +438,22 @@ pub struct DecodeRequest<'a> {
 /// temporary file. Before, every record was held until the end: a 49 MB
 /// stream took 1.9 GB (CSV) and 2.4 GB (JSON) (a campaign, 2026-11-28). Returns nothing to
 /// print: the output has been written.
+pub fn run_to_stdout(a: &DecodeRequest) -> Result<String> {
+    let stdout = std::io::stdout();
+    let mut lock = stdout.lock();
+    run_into(a, &mut lock)?;
+    Ok(String::new())
+}
+
+/// [`run_to_stdout`]'s output as a string (held whole: for a library caller, e.g. a test).
 pub fn run(a: &DecodeRequest) -> Result<String> {
+    let mut out: Vec<u8> = Vec::new();
+    run_into(a, &mut out)?;
+    String::from_utf8(out).map_err(|e| HostError::Output(format!("decode's output is not UTF-8: {e}")))
+}
+
+/// `stickslip decode` into `sink` (see [`run_to_stdout`]).
+pub fn run_into(a: &DecodeRequest, sink: &mut dyn std::io::Write) -> Result<()> {
     let elf_label = a.elf.display().to_string();
     let elf = crate::limits::read_bytes(a.elf, "ELF", crate::limits::ELF_FILE_MAX_BYTES)?;
     let table = load_table(&elf_label, &elf)?;
@@ -491,12 +506,11 @@ pub fn run(a: &DecodeRequest) -> Result<String> {
     }
     // pass 2: the records as they decode, over the bytes pass 1 read (a file that grows
     // meanwhile, a capture still being written, is read to the same length)
-    let stdout = std::io::stdout();
-    let mut w = std::io::BufWriter::new(stdout.lock());
+    let mut w = std::io::BufWriter::new(sink);
     let mut failed: Option<std::io::Error> = None;
     let mut first = true;
     let mut windows = WindowGaps::default();
-    let mut put = |w: &mut std::io::BufWriter<std::io::StdoutLock<'_>>, text: &str| {
+    let mut put = |w: &mut std::io::BufWriter<&mut dyn std::io::Write>, text: &str| {
         if failed.is_none() {
             if let Err(e) = std::io::Write::write_all(w, text.as_bytes()) {
                 failed = Some(e);
@@ -557,7 +571,7 @@ pub fn run(a: &DecodeRequest) -> Result<String> {
         ));
     }
     eprintln!("stickslip: {label}: {summary}");
-    Ok(String::new())
+    Ok(())
 }
 
 /// "s" for a count other than 1 (a noun's plural ending in the summaries).
