@@ -129,10 +129,6 @@ impl Coefficients {
     fn band_and_damping(scene: &Scene, f1: f64) -> f64 {
         let band = if scene.band { f1 / (scene.k_b * scene.v) } else { 0.0 };
         let damper = if scene.c_x != 0.0 { scene.c_x / scene.k_g } else { 0.0 };
-        if band == 0.0 && damper == 0.0 {
-            0.0
-        } else {
-            band - damper
-        }
+        band - damper
     }
 }

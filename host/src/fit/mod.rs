@@ -303,9 +303,11 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     // the standard error understates what the data leave open (a campaign: mu_k 1.1e-6 from the
     // Jacobian, 3.2e-5 from the profile, the truth 2.3 to 7 standard errors off on three seeds)
     let values = problem.values(&sol.u);
+    // each key's standard error (Jacobian), in its unit
+    let std: Vec<f64> = values.iter().enumerate().map(|(k, v)| free[k].scale(*v) * unc.cov_u[(k, k)].sqrt()).collect();
     for (k, (lo, hi)) in intervals.iter().enumerate() {
         let (Some(lo), Some(hi)) = (lo, hi) else { continue };
-        let sd = free[k].scale(values[k]) * unc.cov_u[(k, k)].sqrt();
+        let sd = std[k];
         let ratio = (hi - lo) / (2.0 * 1.959964 * sd);
         if ratio > PROFILE_OVER_JACOBIAN {
             notes.push(format!(
@@ -324,8 +326,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     // both sides)
     for (k, (lo, hi)) in intervals.iter().enumerate() {
         if lo.is_none() || hi.is_none() {
-            let sd = free[k].scale(values[k]) * unc.cov_u[(k, k)].sqrt();
-            notes.push(open_profile_note(&free[k].key, values[k], sd, lo.is_none(), hi.is_none(), &profiles[k]));
+            notes.push(open_profile_note(&free[k].key, values[k], std[k], lo.is_none(), hi.is_none(), &profiles[k]));
         }
     }
     let sources: Vec<String> = {
@@ -337,7 +338,6 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     // the bootstrap resamples the statistics' windows: not the time-domain cost's samples
     let std_boot_u =
         if problem.time_domain() { None } else { solve::bootstrap(&j, &problem.rows, &sources, req.bootstrap, req.seed) };
-    let std: Vec<f64> = values.iter().enumerate().map(|(k, v)| free[k].scale(*v) * unc.cov_u[(k, k)].sqrt()).collect();
     let std_bootstrap = std_boot_u.map(|s| s.iter().zip(&values).enumerate().map(|(k, (su, v))| free[k].scale(*v) * su).collect());
     let n = free.len();
     let correlation = DMatrix::from_fn(n, n, |a, b| unc.cov_u[(a, b)] / (unc.cov_u[(a, a)] * unc.cov_u[(b, b)]).sqrt());
