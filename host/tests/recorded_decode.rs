@@ -432,6 +432,44 @@ fn standard_input_decodes_as_the_file() {
     }
 }
 
+/// A decode killed while it spools standard input (Ctrl-C, a kill) leaves nothing in the
+/// temporary directory: the spool's name is removed as it is created, the open file still
+/// holds the stream (seen in /proc as "(deleted)"), and the system frees it with the process.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_killed_decode_leaves_no_temporary_file() {
+    use std::io::Write as _;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(["decode", "--elf", ELF, "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let id = child.id();
+    let mut stdin = child.stdin.take().unwrap();
+    stdin.write_all(&std::fs::read(STREAM).unwrap()).unwrap();
+    stdin.flush().unwrap();
+    // the stream is spooling (standard input still open): wait for the spool's handle
+    let spool_open = || {
+        std::fs::read_dir(format!("/proc/{id}/fd")).into_iter().flatten().filter_map(|e| e.ok()).any(|e| {
+            std::fs::read_link(e.path()).is_ok_and(|t| t.to_string_lossy().contains(&format!("stickslip-decode-{id}-")))
+        })
+    };
+    let t0 = std::time::Instant::now();
+    while !spool_open() && t0.elapsed() < std::time::Duration::from_secs(20) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(spool_open(), "decode holds no spool of its standard input");
+    let named = spooled_by(id);
+    child.kill().unwrap();
+    child.wait().unwrap();
+    drop(stdin);
+    assert!(named.is_empty(), "the spool has a name while decode runs: {named:?}");
+    let left = spooled_by(id);
+    assert!(left.is_empty(), "temporary files left by a killed decode: {left:?}");
+}
+
 /// The temporary files the `decode` of process `pid` spooled standard input to (none must
 /// outlive it).
 fn spooled_by(pid: u32) -> Vec<String> {

@@ -470,11 +470,13 @@ pub fn run_into(a: &DecodeRequest, sink: &mut dyn std::io::Write) -> Result<()> 
             Some(Spool::of(f, &label)?)
         }
     };
-    let path = spool.as_ref().map_or_else(|| std::path::PathBuf::from(a.input), |sp| sp.path.clone());
     let open = || {
-        std::fs::File::open(&path)
-            .map(std::io::BufReader::new)
-            .map_err(|e| HostError::Input(format!("{label}: cannot open the stream: {e}")))
+        match &spool {
+            Some(sp) => sp.reader(),
+            None => std::fs::File::open(a.input),
+        }
+        .map(std::io::BufReader::new)
+        .map_err(|e| HostError::Input(format!("{label}: cannot open the stream: {e}")))
     };
     let read_err = |e: std::io::Error| HostError::Input(format!("{label}: cannot read the stream: {e}"));
     // pass 1: the counts, the kinds found, and --kind's columns (the union of the kind's fields)
@@ -631,9 +633,14 @@ fn indent(text: &str, pad: &str) -> String {
 }
 
 /// A stream that cannot be read twice (standard input, a pipe, a FIFO) copied to a temporary
-/// file (readable by its owner alone) for `decode`'s two passes; removed when dropped.
+/// file (readable by its owner alone) for `decode`'s two passes. On Unix its name is removed as
+/// soon as it is created: the file lives while the spool holds it open, and the system frees
+/// it when the process ends however it ends (Ctrl-C, a kill): nothing is left in the temporary
+/// directory. Elsewhere it is removed when the spool is dropped.
 struct Spool {
-    path: std::path::PathBuf,
+    file: std::fs::File,
+    /// The name still to remove (not on Unix: removed at creation).
+    path: Option<std::path::PathBuf>,
 }
 
 impl Spool {
@@ -641,22 +648,40 @@ impl Spool {
         let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
         let path = std::env::temp_dir().join(format!("stickslip-decode-{}-{nanos}.defmt", std::process::id()));
         let mut options = std::fs::OpenOptions::new();
-        options.write(true).create_new(true);
+        options.read(true).write(true).create_new(true);
         #[cfg(unix)]
         std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o600);
-        let mut f = options
+        let file = options
             .open(&path)
             .map_err(|e| HostError::Output(format!("{}: cannot hold {label} in a temporary file: {e}", path.display())))?;
-        let spool = Spool { path };
-        std::io::copy(&mut input, &mut f)
-            .map_err(|e| HostError::Input(format!("{label}: cannot read the stream (into {}): {e}", spool.path.display())))?;
+        let shown = path.display().to_string();
+        let path = if cfg!(unix) {
+            let _ = std::fs::remove_file(&path);
+            None
+        } else {
+            Some(path)
+        };
+        let mut spool = Spool { file, path };
+        std::io::copy(&mut input, &mut spool.file)
+            .map_err(|e| HostError::Input(format!("{label}: cannot read the stream (into {shown}): {e}")))?;
         Ok(spool)
+    }
+
+    /// The spooled stream from its start (the passes are sequential: each rewinds the one
+    /// file offset its handles share).
+    fn reader(&self) -> std::io::Result<std::fs::File> {
+        use std::io::Seek;
+        let mut f = self.file.try_clone()?;
+        f.seek(std::io::SeekFrom::Start(0))?;
+        Ok(f)
     }
 }
 
 impl Drop for Spool {
     fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.path);
+        if let Some(path) = &self.path {
+            let _ = std::fs::remove_file(path);
+        }
     }
 }
 
