@@ -144,12 +144,9 @@ pub fn with_values(scene: &Scene, free: &[FreeKey], values: &[f64]) -> Result<Sc
 /// them, so that the damping follows the stiffness and mass it frees (e.g. zeta_b = 0.05 with
 /// k_b and m_b free keeps 5 % of critical). A ratio whose coefficient is free is not held.
 pub fn held_ratios(base: &NamedScene, free: &[FreeKey]) -> Vec<(String, f64)> {
-    let Origin::File(_, text) = &base.origin else { return Vec::new() };
-    [("zeta_x", "c_x"), ("zeta_phi", "c_phi"), ("zeta_b", "c_b")]
-        .into_iter()
-        .filter(|(z, c)| scene_file::key_line(text, z).is_some() && !free.iter().any(|f| f.key == *c || f.key == *z))
-        .filter_map(|(z, _)| scene_file::get_numeric(&base.scene, z).map(|v| (z.to_string(), v)))
-        .collect()
+    let mut ratios = crate::scenes::scene_source::file_ratios(base);
+    ratios.retain(|(z, _)| !free.iter().any(|f| scene_file::field_of(&f.key) == scene_file::field_of(z)));
+    ratios
 }
 
 /// `scene` with the free keys at `values`, then the held damping `ratios` re-applied on the

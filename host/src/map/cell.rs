@@ -17,8 +17,11 @@
 //!   `stick_slip_hz` still say that; `open_fraction_trail` and `open_fraction_lead` how long).
 //!   `contact_loss` is then kept for runs in which both edges open (the pad leaves the band).
 //!
-//! Accelerations are sampled at every step end: `pad_x_pp` is the peak-to-peak of the pad's
-//! x'' (the rig's pad_x) over the window, `groan_rms` the RMS over the window of x'' through the
+//! Accelerations are sampled at every step end, and the extremes also take each transition
+//! inside a step (both sides of it: x'' jumps there, and under Stribeck friction it peaks at a
+//! re-stick, between step ends; the stepped runs of the thesis model and of model 2, not the
+//! event-driven runs of unilateral contact and the pneumatic drive, which sample step ends):
+//! `pad_x_pp` is the peak-to-peak of the pad's x'' (the rig's pad_x) over the window, `groan_rms` the RMS over the window of x'' through the
 //! rig's groan band-pass (100 to 500 Hz, 4th-order Butterworth, [`stickslip_model::rig::bandpass`],
 //! run from [`GROAN_SETTLE_S`] before the window, so that it has settled). Stick fraction and stick-slip frequency are the run's
 //! exact window statistics (as `simulate` reports them).
@@ -325,6 +328,16 @@ impl Sink for CellSink {
         } else {
             self.filter_from
         }
+    }
+
+    /// A transition's state in the window: the extremes of x'' and of the sliding velocity
+    /// take it (x'' peaks there, at a re-stick under Stribeck friction, between step ends).
+    fn between(&mut self, s: &Sample) -> Result<()> {
+        if s.t >= self.window_from && s.pad_acc.is_finite() && s.v_slide.is_finite() {
+            self.acc = (self.acc.0.min(s.pad_acc), self.acc.1.max(s.pad_acc));
+            self.v = (self.v.0.min(s.v_slide), self.v.1.max(s.v_slide));
+        }
+        Ok(())
     }
 
     #[inline]

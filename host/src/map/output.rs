@@ -76,8 +76,14 @@ pub fn bistable(c: &CellJson) -> bool {
     regime_of(c.from_sliding.as_ref()) == "steady_sliding" && regime_of(c.from_rest.as_ref()) == "stick_slip"
 }
 
-fn params_text(c: &CellJson) -> String {
-    c.params.iter().map(|(k, v)| format!("{k} = {}", v.as_f64().map_or("?".into(), sig4))).collect::<Vec<_>>().join(", ")
+/// The cell's swept values in the map's sweep order (a cell's `params` is a JSON object, whose
+/// keys serde_json keeps sorted: never read it in its own order).
+pub fn swept_values(m: &MapJson, c: &CellJson) -> Vec<(String, Option<f64>)> {
+    m.sweeps.iter().map(|w| (w.key.clone(), c.params.get(&w.key).and_then(|v| v.as_f64()))).collect()
+}
+
+fn params_text(m: &MapJson, c: &CellJson) -> String {
+    swept_values(m, c).iter().map(|(k, v)| format!("{k} = {}", v.map_or("?".into(), sig4))).collect::<Vec<_>>().join(", ")
 }
 
 /// The Markdown summary.
@@ -120,7 +126,7 @@ pub fn markdown(m: &MapJson) -> String {
                 let (ca, cb) = (idx[a], idx[b]);
                 let v = |c: Option<&CellJson>| c.and_then(|c| c.params.get(k1)).and_then(|v| v.as_f64()).map_or("?".into(), sig4);
                 let other: String = ca.map_or(String::new(), |c| {
-                    c.params.iter().skip(1).map(|(k, v)| format!(" at {k} = {}", v.as_f64().map_or("?".into(), sig4))).collect()
+                    swept_values(m, c).iter().skip(1).map(|(k, v)| format!(" at {k} = {}", v.map_or("?".into(), sig4))).collect()
                 });
                 let dir = if ca.and_then(unstable) == Some(true) { "unstable -> stable" } else { "stable -> unstable" };
                 format!("- {k1} between {} and {}{other}: {dir}", v(ca), v(cb))
@@ -141,7 +147,7 @@ pub fn markdown(m: &MapJson) -> String {
     s.push_str(&format!(
         "\nBistable cells (steady sliding stays steady, the start from rest keeps stick-slipping: the subcritical band): {}{}.\n",
         bi.len(),
-        bi.first().map_or(String::new(), |c| format!(", e.g. {}", params_text(c)))
+        bi.first().map_or(String::new(), |c| format!(", e.g. {}", params_text(m, c)))
     ));
     let disagree = count(&|c| {
         let (Some(l), Some(r)) = (&c.linear, &c.from_sliding) else { return false };
@@ -165,7 +171,7 @@ pub fn markdown(m: &MapJson) -> String {
         ));
         s.push_str(&format!("|{}---|---:|---:|---|---|---:|---:|---:|---:|\n", "---:|".repeat(keys.len())));
         for c in &m.cells {
-            let vals: Vec<String> = c.params.values().map(|v| v.as_f64().map_or("?".into(), sig4)).collect();
+            let vals: Vec<String> = swept_values(m, c).iter().map(|(_, v)| v.map_or("?".into(), sig4)).collect();
             let lin = match &c.linear {
                 None => "invalid".to_string(),
                 Some(l) => match &l.no_steady_sliding {
@@ -241,7 +247,7 @@ pub fn write_csv(m: &MapJson, path: &Path) -> Result<()> {
     let o = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for c in &m.cells {
         let mut row: Vec<String> = vec![c.index.to_string()];
-        row.extend(c.params.values().map(|v| v.as_f64().map_or(String::new(), |v| v.to_string())));
+        row.extend(swept_values(m, c).iter().map(|(_, v)| v.map_or(String::new(), |v| v.to_string())));
         row.push(c.invalid.clone().unwrap_or_default());
         match &c.linear {
             Some(l) => row.extend([l.stable.to_string(), o(l.max_growth_rate), o(l.unstable_hz), l.no_steady_sliding.clone().unwrap_or_default()]),

@@ -95,6 +95,11 @@ impl Sweep {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Grid {
     pub sweeps: Vec<Sweep>,
+    /// Damping ratios the base scene's file gave (`zeta_x`, `zeta_phi`, `zeta_b`), held in
+    /// every cell: each cell's coefficient from its own stiffness and inertia
+    /// ([`Grid::holding_ratios`]; empty: the base scene's coefficients are kept).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub held_ratios: Vec<(String, f64)>,
 }
 
 impl Grid {
@@ -121,7 +126,18 @@ impl Grid {
                 crate::limits::MAP_MAX_CELLS
             ));
         }
-        Ok(Grid { sweeps })
+        Ok(Grid { sweeps, held_ratios: Vec::new() })
+    }
+
+    /// The grid with the damping ratios a scene file gave held in every cell: a file that says
+    /// `zeta_x = 0.05` means that ratio at every k_g and m the map sweeps, not the c_x it comes
+    /// to at the file's own k_g. A ratio whose key or coefficient is swept is the sweep's.
+    pub fn holding_ratios(mut self, ratios: Vec<(String, f64)>) -> Grid {
+        self.held_ratios = ratios
+            .into_iter()
+            .filter(|(k, _)| !self.sweeps.iter().any(|sw| scene_file::field_of(&sw.key) == scene_file::field_of(k)))
+            .collect();
+        self
     }
 
     pub fn cells(&self) -> usize {
@@ -146,14 +162,17 @@ impl Grid {
         self.coords(i).iter().zip(&self.sweeps).map(|(&c, s)| (s.key.clone(), s.value(c))).collect()
     }
 
-    /// The scene of cell `i`: `base` with the cell's values (damping ratios last, so that they
-    /// use the cell's stiffness), validated (with a pneumatic drive, also the throttle's solve
+    /// The scene of cell `i`: `base` with the cell's values (damping ratios last, swept or
+    /// held ([`Grid::holding_ratios`]), so that they use the cell's stiffness), validated (with a pneumatic drive, also the throttle's solve
     /// from v: a supply too low for the cell's load). The error names the field and the rule.
     pub fn scene(&self, base: &Scene, i: usize) -> Result<Scene, String> {
         let mut s = *base;
         let mut params = self.params(i);
         params.sort_by_key(|(k, _)| k.starts_with("zeta_"));
         for (k, v) in &params {
+            scene_file::set_numeric(&mut s, k, *v)?;
+        }
+        for (k, v) in &self.held_ratios {
             scene_file::set_numeric(&mut s, k, *v)?;
         }
         let named = |e: stickslip_model::SceneError| format!("field `{}` = {}: {}", e.field, crate::output::format::short(e.value), e.rule);

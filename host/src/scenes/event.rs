@@ -90,6 +90,7 @@ pub fn run(scene: &Scene, precision: Precision, rtol: f64) -> Result<Option<std:
         stats: Model2StatsObserver::new(window_start, scene.v).without_interpolation(),
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
+        step_transitions: None,
     };
     if let Err(f) = runner.run(window_start, steps_planned as f64 * scene.dt, &mut obs) {
         return Ok(Some(Err(f)));

@@ -46,6 +46,7 @@ pub(crate) fn report<S: Sink + ?Sized, const FULL: bool>(
         },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
+        step_transitions: None,
     };
     let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut steps_done: u64 = 0;

@@ -5,7 +5,7 @@ use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
 use stickslip_model::model2::event_run::edges::EdgeStats;
 use stickslip_model::model3::pneumatic_run::DriveStats;
-use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition};
+use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition, NS};
 use stickslip_model::{
     Coefficients, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, Segment, State, StickJump, Transition,
 };
@@ -405,6 +405,9 @@ pub(crate) struct Model2RunObserver<const FULL: bool> {
     pub(crate) stats: Model2StatsObserver,
     pub(crate) cycles: CycleObserver,
     pub(crate) log: EventLog,
+    /// The transitions of the current step (time, regime left, regime entered, the state),
+    /// for the sink's [`Sink::between`], emptied after each step; `None`: not kept.
+    pub(crate) step_transitions: Option<Vec<(f64, Regime, Regime, [f64; NS])>>,
 }
 
 impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
@@ -422,6 +425,9 @@ impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
 
     fn transition(&mut self, tr: &Model2Transition<T>) {
         <Model2StatsObserver as Model2Observer<T>>::transition(&mut self.stats, tr);
+        if let Some(v) = &mut self.step_transitions {
+            v.push((tr.t, tr.from, tr.to, tr.z.map(|v| v.to_f64())));
+        }
         let pad = Transition {
             t: tr.t,
             from: tr.from,
@@ -454,6 +460,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
         stats: if FULL { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
         log: EventLog::default(),
+        step_transitions: sink.wants_kinematics().then(Vec::new),
     };
     let steps_planned = planned_steps(scene);
     let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
@@ -461,7 +468,27 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     let mut steps_done = 0;
     for i in 0..if budget.is_some() { 0 } else { steps_planned } {
         crate::cancel::check_every(i)?;
-        if let Err(halt) = stepper.step_observed(&mut obs) {
+        let stepped = stepper.step_observed(&mut obs);
+        if let Some(trs) = &mut obs.step_transitions {
+            for (t, from, to, z) in trs.drain(..) {
+                if t < samples_from {
+                    continue;
+                }
+                let zt = z.map(T::from_f64);
+                for regime in [from, to] {
+                    sink.between(&Sample {
+                        t,
+                        z: [z[0], z[1], z[2], z[3]],
+                        n: f64::NAN,
+                        f_f: f64::NAN,
+                        pad_acc: stepper.derivative(regime, &zt)[1].to_f64(),
+                        v_slide: stepper.sliding_velocity(&zt).to_f64(),
+                        regime,
+                    })?;
+                }
+            }
+        }
+        if let Err(halt) = stepped {
             outcome = Outcome::halted(scene, halt);
             break;
         }
@@ -576,6 +603,20 @@ fn run_in<T: Real, S: Sink + ?Sized>(
             for tr in stepper.transitions() {
                 events.transition(tr.t, tr.from == Regime::Stick, tr.to == Regime::Stick);
                 obs.note(tr);
+                if kinematics && tr.t >= samples_from {
+                    let z = tr.state.to_array();
+                    for regime in [tr.from, tr.to] {
+                        sink.between(&Sample {
+                            t: tr.t,
+                            z: z.map(|v| v.to_f64()),
+                            n: f64::NAN,
+                            f_f: f64::NAN,
+                            pad_acc: stepper.propagator().accelerations(regime, &z).0.to_f64(),
+                            v_slide: (z[1] - v).to_f64(),
+                            regime,
+                        })?;
+                    }
+                }
             }
             r
         };

@@ -57,6 +57,19 @@ fn looks_like_path(arg: &str) -> bool {
     arg.contains('/') || arg.contains('\\') || arg.ends_with(".toml") || Path::new(arg).is_file()
 }
 
+/// The damping ratios (`zeta_x`, `zeta_phi`, `zeta_b`) a scene's file gives, with their values
+/// (none for a built-in scene, which holds viscous coefficients): what a command holds while it
+/// moves the stiffness and mass they refer to (a fit's free keys, a map's sweeps), so that the
+/// damping follows them (zeta_b = 0.05 keeps 5 % of critical at every k_b and m_b).
+pub fn file_ratios(ns: &NamedScene) -> Vec<(String, f64)> {
+    let Origin::File(_, text) = &ns.origin else { return Vec::new() };
+    ["zeta_x", "zeta_phi", "zeta_b"]
+        .into_iter()
+        .filter(|z| scene_file::key_line(text, z).is_some())
+        .filter_map(|z| scene_file::get_numeric(&ns.scene, z).map(|v| (z.to_string(), v)))
+        .collect()
+}
+
 /// A built-in name or a path to a scene file. Not yet validated.
 pub fn resolve(arg: &str) -> Result<NamedScene> {
     // A built-in name wins over a file of the same name (write `./NAME` for the file).

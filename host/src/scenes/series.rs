@@ -63,6 +63,14 @@ pub trait Sink {
     fn stick_samples(&mut self, _first_step: u64, _n: u64, _dt: f64) -> Result<()> {
         Ok(())
     }
+    /// The state at a transition inside a step, one side of it (`regime`: the regime left,
+    /// then the one entered; x'' jumps there), for a sink that keeps extremes of the
+    /// continuous motion: not a sample of the step grid (no filter takes it). Called only
+    /// where the sink [`Sink::wants_kinematics`], for transitions at or after
+    /// [`Sink::samples_from`]. The default ignores it.
+    fn between(&mut self, _s: &Sample) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// Takes nothing.

@@ -113,7 +113,7 @@ impl Model2StatsObserver {
             }
         }
         s.window_s = self.t_end - self.t_from;
-        s.stick_fraction = if s.window_s > 0.0 { self.stick_s / s.window_s } else { 0.0 };
+        s.stick_fraction = if s.window_s > 0.0 { crate::stats::at_most_one(self.stick_s / s.window_s) } else { 0.0 };
         s.slip_onsets = u64::from(self.onsets.count());
         s.stick_slip_hz = self.onsets.hz().unwrap_or(0.0);
         s
