@@ -163,3 +163,18 @@ fn a_files_damping_ratios_hold_in_every_cell() {
     }
     assert!(far >= 2, "no cell away from the file's own k_g: not the case this test is about");
 }
+
+/// An output file that cannot be written (`--csv` or `--plot` into a missing directory) fails
+/// at once, before the map runs: a map of hours lost only at its end before.
+#[test]
+fn an_unwritable_output_fails_before_the_map_runs() {
+    let dir = scratch("unwritable");
+    let missing = dir.join("no-such-dir").join("out");
+    for (option, what) in [("--csv", "CSV"), ("--plot", "figure")] {
+        let path = format!("{}.{}", missing.display(), if option == "--csv" { "csv" } else { "svg" });
+        let (_, err, code) = stickslip(&["map", "push_center", "--sweep", "beta=0.02:0.06:3", option, &path]);
+        assert_eq!(code, Some(1), "{option}: {err}");
+        assert!(err.contains(&format!("cannot write the {what}")) && err.contains(&path), "{option}: {err}");
+        assert!(!err.contains("map: 3 cells"), "{option}: the map ran first: {err}");
+    }
+}

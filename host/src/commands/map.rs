@@ -42,6 +42,13 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
                 progress: true,
                 share_sliding: true,
             };
+            // an output file that cannot be written fails now, not after the map has run
+            if let Some(path) = &a.out.csv {
+                crate::output::check_writable(path, "CSV")?;
+            }
+            if let Some(path) = &a.out.plot {
+                crate::output::check_writable(path, "figure")?;
+            }
             let (m, t) = map::run_map(&spec)?;
             eprintln!(
                 "map: {} cells, {} steps ({} stepped, {} jumped over stick) in {:.2} s on {} threads: {:.3e} steps/s, {:.3e} stepped/s",

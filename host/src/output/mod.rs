@@ -8,3 +8,15 @@ pub mod numerics_plots;
 pub mod plots;
 pub mod report;
 pub mod style;
+
+/// Fails now, before a long computation, where a file an option names for output cannot be
+/// written (a missing directory, no permission): the file is opened for writing, created empty
+/// if it did not exist; an existing one is left as it is until its output is written.
+pub fn check_writable(path: &std::path::Path, what: &str) -> crate::error::Result<()> {
+    std::fs::OpenOptions::new()
+        .append(true)
+        .create(true)
+        .open(path)
+        .map(|_| ())
+        .map_err(|e| crate::error::HostError::Output(format!("{}: cannot write the {what}: {e}", path.display())))
+}
