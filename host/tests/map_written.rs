@@ -178,3 +178,26 @@ fn an_unwritable_output_fails_before_the_map_runs() {
         assert!(!err.contains("map: 3 cells"), "{option}: the map ran first: {err}");
     }
 }
+
+/// Unilateral contact: the CSV carries each run's edges' open fractions (the JSON's), which it
+/// left out.
+#[test]
+fn a_unilateral_maps_csv_has_the_open_fractions() {
+    let dir = scratch("edges");
+    let csv = dir.join("cells.csv");
+    let m = json(&["map", "rig_built_push_trail", "--sweep", "beta=0.02:0.06:2", "--duration", "0.2", "--stats-from", "0.1", "--json", "--csv", csv.to_str().unwrap()]);
+    let mut r = csv::Reader::from_path(&csv).unwrap();
+    let head: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}: {head:?}"));
+    let rows: Vec<csv::StringRecord> = r.records().map(|r| r.unwrap()).collect();
+    for (row, c) in rows.iter().zip(m["cells"].as_array().unwrap()) {
+        for run in ["from_sliding", "from_rest"] {
+            for q in ["open_fraction_trail", "open_fraction_lead"] {
+                let want = &c[run][q];
+                let got = &row[col(&format!("{run}_{q}"))];
+                assert!(want.is_number(), "cell {}: {run}.{q} in the JSON: {want}", c["index"]);
+                assert_eq!(got.parse::<f64>().unwrap(), num(want), "cell {} {run}_{q}", c["index"]);
+            }
+        }
+    }
+}

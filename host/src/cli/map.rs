@@ -63,7 +63,7 @@ pub struct MapOutput {
     /// Print the map as JSON instead of the Markdown summary
     #[arg(long)]
     pub json: bool,
-    /// Write one row per cell to FILE (CSV)
+    /// Write one row per cell to FILE (CSV; with unilateral contact, each run's edges' open fractions at the end)
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
     /// Write the figure to FILE (SVG): heat maps with the linear boundary (two sweeps), lines

@@ -13,7 +13,7 @@
 //! - `sliding_oscillation`: never in stick, and the sliding velocity swings more than that
 //!   (unstable sliding that never reaches stick within the run, or an undamped transient);
 //! - `edge_open` (unilateral contact only, `contact = "unilateral"`): an edge of the pad was
-//!   open for part of the window, whatever the friction did (the run's `stick_fraction` and
+//!   open for part or all of the window, whatever the friction did (the run's `stick_fraction` and
 //!   `stick_slip_hz` still say that; `open_fraction_trail` and `open_fraction_lead` how long).
 //!   `contact_loss` is then kept for runs in which both edges open (the pad leaves the band).
 //!

@@ -243,6 +243,13 @@ pub fn write_csv(m: &MapJson, path: &Path) -> Result<()> {
             header.push(format!("{run}_{q}"));
         }
     }
+    // unilateral contact: each run's edges' open fractions, at the end of the row
+    let edges = m.cells.iter().flat_map(|c| [&c.from_sliding, &c.from_rest]).flatten().any(|r| r.open_fraction_trail.is_some() || r.open_fraction_lead.is_some());
+    if edges {
+        for run in ["from_sliding", "from_rest"] {
+            header.extend(["open_fraction_trail", "open_fraction_lead"].map(|q| format!("{run}_{q}")));
+        }
+    }
     w.write_record(&header).map_err(|e| err(&e))?;
     let o = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for c in &m.cells {
@@ -265,6 +272,11 @@ pub fn write_csv(m: &MapJson, path: &Path) -> Result<()> {
                     o(r.halt_s),
                 ]),
                 None => row.extend(std::iter::repeat_n(String::new(), 7)),
+            }
+        }
+        if edges {
+            for r in [&c.from_sliding, &c.from_rest] {
+                row.extend([o(r.as_ref().and_then(|r| r.open_fraction_trail)), o(r.as_ref().and_then(|r| r.open_fraction_lead))]);
             }
         }
         w.write_record(&row).map_err(|e| err(&e))?;
