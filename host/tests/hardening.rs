@@ -53,6 +53,14 @@ fn runs_that_would_take_hours_halt_as_budget() {
     // 2e4 s at 1/25600 s is 5.12e8 steps of one substep each
     let long = json(&["simulate", "push_center", "--duration", "20000", "--json"]);
     assert_eq!(long["outcome"], "budget");
+    // the event-driven runs (unilateral contact, the pneumatic drive) have the budget too: at
+    // dt = 1e-9 s, 5e8 grid times; they ran for hours (a campaign's hang)
+    let pneumatic = dir.join("pneumatic.toml");
+    std::fs::write(&pneumatic, ok(&["scenes", "show", "rig_push_center"]) + "drive = \"pneumatic\"\n").unwrap();
+    for f in ["rig_built_push_center", pneumatic.to_str().unwrap()] {
+        let j = json(&["simulate", f, "--dt", "1e-9", "--duration", "0.5", "--stats-from", "0.2", "--json"]);
+        assert_eq!((j["outcome"].as_str(), j["transitions"].as_u64()), (Some("budget"), Some(0)), "{f}: {j}");
+    }
     // the virtual rig over the budget builds no quiet lead either (at dt = 1e-9 s its 0.1 s
     // would be 1e8 frames): nothing is sampled
     let rig = json(&["sil", "push_center", "--dt", "1e-9", "--json"]);

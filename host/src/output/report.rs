@@ -105,10 +105,12 @@ pub fn summary(ns: &NamedScene, r: &RunReport) -> String {
     if s.band {
         line(
             "band",
-            format!(
-                "a mass m_b = {} kg driven at V through k_b = {} N/m, c_b = {} N s/m",
-                s.m_b, s.k_b, s.c_b
-            ),
+            if s.pneumatic() {
+                // k_b does nothing there: the air column is the band's spring (its stiffness below)
+                format!("a mass m_b = {} kg pushed by the pneumatic drive (its air column below), c_b = {} N s/m", s.m_b, s.c_b)
+            } else {
+                format!("a mass m_b = {} kg driven at V through k_b = {} N/m, c_b = {} N s/m", s.m_b, s.k_b, s.c_b)
+            },
         );
     }
     if s.floating() {

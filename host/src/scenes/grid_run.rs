@@ -9,7 +9,7 @@ use stickslip_model::{Halt, Regime, Scene};
 
 use crate::error::Result;
 use crate::scenes::cycles::CycleObserver;
-use crate::scenes::run::{planned_steps, run_stats, window_start, EventLog, Model2Extra, Model2RunObserver, Outcome, Precision, RunReport};
+use crate::scenes::run::{planned_steps, run_stats, window_start, EventLog, Model2Extra, Model2RunObserver, OverBudget, Outcome, Precision, RunReport};
 use crate::scenes::series::{Sample, Sink};
 
 /// One grid sample of an event-driven run: time [s], regime, the pad's [x, x', phi, phi'], the
@@ -37,6 +37,10 @@ pub(crate) fn report<S: Sink + ?Sized, const FULL: bool>(
 ) -> Result<RunReport> {
     let window_start = window_start(scene);
     let steps_planned = planned_steps(scene);
+    // the work budget, as the stepped runs have it: an event-driven run does at least one
+    // unit of work per grid time (a sample), so more grid times than the budget are not run
+    // (dt 1e-9 or a duration of days ran for hours)
+    let budget = OverBudget::of(1, steps_planned);
     let mut obs = Model2RunObserver::<FULL> {
         window_start,
         stats: match (FULL, interpolate) {
@@ -80,14 +84,19 @@ pub(crate) fn report<S: Sink + ?Sized, const FULL: bool>(
                 }
             }
         };
-        run(window_start, steps_planned as f64 * scene.dt, &mut obs, &mut on_sample)
+        if budget.is_some() {
+            Ok(())
+        } else {
+            run(window_start, steps_planned as f64 * scene.dt, &mut obs, &mut on_sample)
+        }
     };
     if let Some(e) = sink_error {
         return Err(e);
     }
-    let outcome = match result {
-        Ok(()) => Outcome::Completed,
-        Err(h) => Outcome::halted(scene, h),
+    let outcome = match (budget, result) {
+        (Some(b), _) => Outcome::Budget(b),
+        (None, Ok(())) => Outcome::Completed,
+        (None, Err(h)) => Outcome::halted(scene, h),
     };
     let s2 = obs.stats.finish();
     Ok(RunReport {
