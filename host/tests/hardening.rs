@@ -250,6 +250,11 @@ fn errors_are_short_and_blame_what_the_user_gave() {
     let huge = scene(&dir, "huge.toml", "f_n = -1e300\n");
     let l = bad(&["simulate", &huge], &["huge.toml", "f_n", "-1.000e300"]);
     assert!(l.len() < 300, "{l}");
+    // a rule on a word key names its word, not a number (it printed `contact` = inf, `drive` = 0)
+    let hinged = scene(&dir, "hinged.toml", "contact = \"unilateral\"\n");
+    bad(&["simulate", &hinged], &["hinged.toml", "field `contact` = \"unilateral\": unilateral contact needs a pad that is not hinged"]);
+    let no_band = scene(&dir, "no_band.toml", "drive = \"pneumatic\"\n");
+    bad(&["simulate", &no_band], &["no_band.toml", "field `drive` = \"pneumatic\": a pneumatic drive pushes the band"]);
     // a recording that ends before the scene's stats_from: the start is the scene's, not a
     // --from the user never gave
     let short = dir.join("short.csv");

@@ -159,7 +159,7 @@ pub fn with_values_held(scene: &Scene, free: &[FreeKey], values: &[f64], ratios:
     for (z, v) in ratios {
         scene_file::set_numeric(&mut s, z, *v)?;
     }
-    s.validate().map_err(|e| format!("field `{}` = {}: {}", e.field, e.value, e.rule))?;
+    s.validate().map_err(|e| format!("field `{}` = {}: {}", e.field, scene_file::rejected_value(&s, &e), e.rule))?;
     Ok(s)
 }
 

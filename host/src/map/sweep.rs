@@ -175,7 +175,7 @@ impl Grid {
         for (k, v) in &self.held_ratios {
             scene_file::set_numeric(&mut s, k, *v)?;
         }
-        let named = |e: stickslip_model::SceneError| format!("field `{}` = {}: {}", e.field, crate::output::format::short(e.value), e.rule);
+        let named = |e: stickslip_model::SceneError| format!("field `{}` = {}: {}", e.field, scene_file::rejected_value(&s, &e), e.rule);
         s.validate().map_err(named)?;
         // a pneumatic drive whose supply cannot push the cell's load at v (the throttle's solve)
         stickslip_model::model3::cylinder::small_signal_scene(&s).map_err(named)?;

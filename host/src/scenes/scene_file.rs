@@ -606,6 +606,35 @@ pub fn get_numeric(s: &Scene, key: &str) -> Option<f64> {
     Some(c / (2.0 * km.max(0.0).sqrt()))
 }
 
+/// The value of a rejected field as a scene file writes it: a word key's word (`contact =
+/// "unilateral"`, `band = true`), a number's short form otherwise (a rule on a word key carries
+/// no number worth printing: it printed `contact` = inf).
+pub fn rejected_value(s: &Scene, e: &stickslip_model::SceneError) -> String {
+    let word = |w: &str| format!("\"{w}\"");
+    match e.field {
+        "caliper" => word(match s.caliper {
+            Caliper::Push => "push",
+            Caliper::Pull => "pull",
+        }),
+        "friction" => word(match s.friction {
+            FrictionLaw::Coulomb => "coulomb",
+            FrictionLaw::Stribeck => "stribeck",
+        }),
+        "contact" => word(match s.contact {
+            ContactLaw::Bilateral => "bilateral",
+            ContactLaw::Unilateral => "unilateral",
+        }),
+        "drive" => word(match s.drive {
+            BandDrive::Velocity => "velocity",
+            BandDrive::Pneumatic => "pneumatic",
+        }),
+        "band" => s.band.to_string(),
+        "face" => s.face.to_string(),
+        "rotation" => s.rotation.to_string(),
+        _ => crate::output::format::short(e.value),
+    }
+}
+
 /// The field a numeric key sets ([`set_numeric`]): the key itself, or a damping ratio's
 /// viscous coefficient.
 pub fn field_of(key: &str) -> &str {

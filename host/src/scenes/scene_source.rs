@@ -207,7 +207,7 @@ pub fn prepare(mut ns: NamedScene, ov: &Overrides) -> Result<NamedScene> {
 }
 
 fn validation_message(ns: &NamedScene, ov: &Overrides, e: &SceneError) -> String {
-    let value = crate::output::format::short(e.value);
+    let value = scene_file::rejected_value(&ns.scene, e);
     let detail = format!("field `{}` = {value}: {}", e.field, e.rule);
     if let Some((opt, _)) = ov.option_for(e.field) {
         return format!("{opt}: {detail} (scene `{}`)", ns.name);
