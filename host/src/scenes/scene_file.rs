@@ -610,24 +610,11 @@ pub fn get_numeric(s: &Scene, key: &str) -> Option<f64> {
 /// "unilateral"`, `band = true`), a number's short form otherwise (a rule on a word key carries
 /// no number worth printing: it printed `contact` = inf).
 pub fn rejected_value(s: &Scene, e: &stickslip_model::SceneError) -> String {
-    let word = |w: &str| format!("\"{w}\"");
     match e.field {
-        "caliper" => word(match s.caliper {
-            Caliper::Push => "push",
-            Caliper::Pull => "pull",
-        }),
-        "friction" => word(match s.friction {
-            FrictionLaw::Coulomb => "coulomb",
-            FrictionLaw::Stribeck => "stribeck",
-        }),
-        "contact" => word(match s.contact {
-            ContactLaw::Bilateral => "bilateral",
-            ContactLaw::Unilateral => "unilateral",
-        }),
-        "drive" => word(match s.drive {
-            BandDrive::Velocity => "velocity",
-            BandDrive::Pneumatic => "pneumatic",
-        }),
+        "caliper" => toml_string(s.caliper.name()),
+        "friction" => toml_string(s.friction.name()),
+        "contact" => toml_string(s.contact.name()),
+        "drive" => toml_string(s.drive.name()),
         "band" => s.band.to_string(),
         "face" => s.face.to_string(),
         "rotation" => s.rotation.to_string(),
