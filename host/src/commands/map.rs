@@ -23,7 +23,8 @@ pub fn map(a: &crate::cli::MapArgs) -> Result<String> {
             let grid = Grid::new(sweeps).map_err(HostError::Input)?;
             // a file's damping ratios hold in every cell (its coefficients from the cell's
             // stiffness), not the coefficients they give at the file's own stiffness
-            let grid = grid.holding_ratios(scene_source::file_ratios(&ns));
+            let held = scene_source::file_ratios(&ns, &grid.keys());
+            let grid = grid.holding_ratios(held);
             // a run setting given twice, as an option and as a sweep: the sweep would win silently
             for (option, given, key) in [("--dt", a.run.dt.is_some(), "dt"), ("--duration", a.run.duration.is_some(), "duration"), ("--stats-from", a.run.stats_from.is_some(), "stats_from")] {
                 if let Some(sw) = grid.sweeps.iter().find(|sw| sw.key == key).filter(|_| given) {

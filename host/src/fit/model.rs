@@ -144,9 +144,8 @@ pub fn with_values(scene: &Scene, free: &[FreeKey], values: &[f64]) -> Result<Sc
 /// them, so that the damping follows the stiffness and mass it frees (e.g. zeta_b = 0.05 with
 /// k_b and m_b free keeps 5 % of critical). A ratio whose coefficient is free is not held.
 pub fn held_ratios(base: &NamedScene, free: &[FreeKey]) -> Vec<(String, f64)> {
-    let mut ratios = crate::scenes::scene_source::file_ratios(base);
-    ratios.retain(|(z, _)| !free.iter().any(|f| scene_file::field_of(&f.key) == scene_file::field_of(z)));
-    ratios
+    let moved: Vec<&str> = free.iter().map(|f| f.key.as_str()).collect();
+    crate::scenes::scene_source::file_ratios(base, &moved)
 }
 
 /// `scene` with the free keys at `values`, then the held damping `ratios` re-applied on the

@@ -131,13 +131,16 @@ impl Grid {
 
     /// The grid with the damping ratios a scene file gave held in every cell: a file that says
     /// `zeta_x = 0.05` means that ratio at every k_g and m the map sweeps, not the c_x it comes
-    /// to at the file's own k_g. A ratio whose key or coefficient is swept is the sweep's.
+    /// to at the file's own k_g ([`crate::scenes::scene_source::file_ratios`], given the swept
+    /// keys: a ratio whose key or coefficient is swept is the sweep's).
     pub fn holding_ratios(mut self, ratios: Vec<(String, f64)>) -> Grid {
-        self.held_ratios = ratios
-            .into_iter()
-            .filter(|(k, _)| !self.sweeps.iter().any(|sw| scene_file::field_of(&sw.key) == scene_file::field_of(k)))
-            .collect();
+        self.held_ratios = ratios;
         self
+    }
+
+    /// The swept keys, in sweep order.
+    pub fn keys(&self) -> Vec<&str> {
+        self.sweeps.iter().map(|w| w.key.as_str()).collect()
     }
 
     pub fn cells(&self) -> usize {

@@ -60,12 +60,14 @@ fn looks_like_path(arg: &str) -> bool {
 /// The damping ratios (`zeta_x`, `zeta_phi`, `zeta_b`) a scene's file gives, with their values
 /// (none for a built-in scene, which holds viscous coefficients): what a command holds while it
 /// moves the stiffness and mass they refer to (a fit's free keys, a map's sweeps), so that the
-/// damping follows them (zeta_b = 0.05 keeps 5 % of critical at every k_b and m_b).
-pub fn file_ratios(ns: &NamedScene) -> Vec<(String, f64)> {
+/// damping follows them (zeta_b = 0.05 keeps 5 % of critical at every k_b and m_b). A ratio
+/// whose key or coefficient is among `moved` (the keys the command sets itself) is left out.
+pub fn file_ratios(ns: &NamedScene, moved: &[&str]) -> Vec<(String, f64)> {
     let Origin::File(_, text) = &ns.origin else { return Vec::new() };
     ["zeta_x", "zeta_phi", "zeta_b"]
         .into_iter()
         .filter(|z| scene_file::key_line(text, z).is_some())
+        .filter(|z| !moved.iter().any(|k| scene_file::field_of(k) == scene_file::field_of(z)))
         .filter_map(|z| scene_file::get_numeric(&ns.scene, z).map(|v| (z.to_string(), v)))
         .collect()
 }
