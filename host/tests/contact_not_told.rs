@@ -124,3 +124,59 @@ fn the_virtual_rig_does_not_tell_what_its_front_end_cannot_resolve() {
     let sf = &v["stick_fraction"];
     assert!((sf["estimated"].as_f64().unwrap() - sf["true"].as_f64().unwrap()).abs() <= 0.02, "{sf}");
 }
+
+#[test]
+fn noise_near_the_onset_level_splits_slips_and_is_not_told() {
+    // The virtual rig with noise whose onset level (6 sigma of a_rel) nears the slips' own
+    // a_rel (push_center's breakaway jump is about 33 m/s^2): slips are split in two (a false
+    // re-stick a few ms after the onset, then a second onset) or onsets taken from noise. Before,
+    // the estimate was told and wrong: `sil push_center --noise 5` gave 69.7 Hz for 48.6 and a
+    // stick fraction of 0.719 for 0.805, `pull_lead --noise 3` 91.3 Hz for 61.9,
+    // `pull_trail --noise 5 --seed 4` +6.2 %. Wherever it is told now it is right (the frequency
+    // within 5 %, the stick fraction within 0.05 of the model's own); where it is not, a reason
+    // is named. (Left alone: `pull_lead --noise 4 --seed 1`, whose slips stay below the onset
+    // level: two onsets from noise peaks in the window, 3.8 Hz for 61.9.)
+    let mut not_told = vec![];
+    for (case, noise) in [("push_center", "4"), ("push_center", "4.5"), ("push_center", "5"), ("pull_lead", "3"), ("pull_trail", "5"), ("push_trail", "3.5")] {
+        for seed in ["1", "2", "3", "4"] {
+            let v = json(&["sil", case, "--noise", noise, "--seed", seed, "--json"]);
+            let (hz, sf) = (&v["stick_slip_hz"], &v["stick_fraction"]);
+            match (hz["estimated"].as_f64(), sf["estimated"].as_f64()) {
+                (Some(h), Some(f)) => {
+                    let (ht, ft) = (hz["true"].as_f64().unwrap(), sf["true"].as_f64().unwrap());
+                    assert!((h - ht).abs() <= 0.05 * ht && (f - ft).abs() <= 0.05, "{case} --noise {noise} --seed {seed}: {h} Hz for {ht}, {f} for {ft}");
+                }
+                _ => {
+                    let why = v["undecided"].as_str().unwrap_or_else(|| panic!("{case} {noise} {seed}: no reason: {v}"));
+                    not_told.push((case, noise, seed, why.to_string()));
+                }
+            }
+        }
+    }
+    // the campaign's record among them, with the new reason
+    let (_, _, _, why) = not_told.iter().find(|(c, n, s, _)| (*c, *n, *s) == ("push_center", "5", "1")).expect("push_center --noise 5 not told");
+    assert!(why.contains("intervals between slip onsets are under a third of their median"), "{why}");
+    // control: the same cases at noise 2, told right, no interval short
+    for case in ["push_center", "pull_lead", "pull_trail", "push_trail"] {
+        let v = json(&["sil", case, "--noise", "2", "--json"]);
+        let (h, ht) = (v["stick_slip_hz"]["estimated"].as_f64().unwrap(), v["stick_slip_hz"]["true"].as_f64().unwrap());
+        assert!((h - ht).abs() <= 1e-3 * ht, "{case}: {h} for {ht}");
+    }
+}
+
+#[test]
+fn the_intervals_between_onsets_are_reported_with_their_spread() {
+    let dir = scratch("not-told-intervals");
+    // 50 Hz for 2 s: 99 intervals of 20 ms exactly (the record's construction)
+    let (csv, truth) = stick_slip(25_600.0, 2.0, 50.0, 0.5, 10.0, 0.01, 0.0);
+    let v = analyze(&dir, "regular.csv", &csv);
+    told(&v, truth);
+    let i = &v["estimator"]["onset_intervals"];
+    assert_eq!(i["count"], 99, "{i}");
+    assert!((i["mean_s"].as_f64().unwrap() - 0.02).abs() <= 2.0 / 25_600.0, "{i}");
+    assert!(i["sd_s"].as_f64().unwrap() <= 1.0 / 25_600.0, "{i}");
+    assert!((i["median_s"].as_f64().unwrap() / 0.02).log2().abs() <= 1.0 / 32.0, "{i}");
+    assert_eq!(i["under_a_third_of_median"], 0, "{i}");
+    let md = ok(&["analyze", &write(&dir, "regular2.csv", &csv)]);
+    assert!(md.contains("Intervals between slip onsets: 99, mean 20.0"), "{md}");
+}

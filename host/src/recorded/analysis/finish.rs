@@ -246,9 +246,23 @@ impl Analyzer {
                 crate::output::format::short(stick_level)
             )
         });
+        // slips split in two (a false re-stick, then a second onset) or onsets taken from
+        // noise: intervals far under their median (see `intervals`)
+        let onset_intervals = r.intervals.stats();
+        let split = onset_intervals.split().then(|| {
+            format!(
+                "{} of {} intervals between slip onsets are under a third of their median ({} ms): slips split in two or onsets taken from noise, \
+                 as where the noise reaches the slip onset level ({} m/s^2); the frequency and the stick fraction would be biased \
+                 (a quieter record, or --breakaway-jump if the jump is known)",
+                onset_intervals.short,
+                onset_intervals.count,
+                crate::output::format::short(1e3 * onset_intervals.median_s),
+                crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
+            )
+        });
         // every reason the contact estimate is not told, in this order
         let reasons: Vec<String> =
-            [short, undecided, below_guess, coarse, moves_below, runaway, blips, blip_sticks, never_started].into_iter().flatten().collect();
+            [short, undecided, below_guess, coarse, moves_below, runaway, blips, blip_sticks, never_started, split].into_iter().flatten().collect();
         let undecided = (!reasons.is_empty()).then(|| reasons.join("; "));
         Ok(Analysis {
             channels,
@@ -272,6 +286,7 @@ impl Analyzer {
             at_full_scale: self.at_full_scale,
             full_scale: self.full_scale,
             undecided,
+            onset_intervals,
             health,
             spectrum,
             envelope: r.envelope.map(Envelope::finish).unwrap_or_default(),

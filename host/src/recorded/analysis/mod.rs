@@ -70,9 +70,11 @@ use super::envelope::{Bucket, Envelope};
 use super::spectrum::{default_segment, Spectrum, Welch, CH};
 
 mod finish;
+pub mod intervals;
 mod running;
 mod set_up;
 mod time_column;
+use intervals::{IntervalStats, OnsetIntervals};
 use running::*;
 
 /// Quiet rows in a row that start the rig's estimator ([`Running::process`]): 0.6 ms at
@@ -246,6 +248,9 @@ pub struct Analysis {
     /// Why the estimator cannot decide stick from slip on this record (its stick fraction
     /// and frequency are then not reported), or `None`.
     pub undecided: Option<String>,
+    /// The intervals between slip onsets (within blocks): their spread, and how many are far
+    /// under their median ([`intervals`]).
+    pub onset_intervals: IntervalStats,
     /// Per channel, what is wrong with it, or empty: "flat" (no sample changed: dead, or a
     /// signal below one count), "saturated" (samples at the range), "noisier than the signal"
     /// (RMS under twice the floor's sigma).

@@ -42,6 +42,8 @@ pub(super) struct Running {
     pub(super) slip_end_v_r: f64,
     pub(super) prev_v_r: f64,
     pub(super) onsets: OnsetRate,
+    /// The intervals between consecutive onsets within a block ([`OnsetIntervals`]).
+    pub(super) intervals: OnsetIntervals,
     pub(super) first_onset: Option<f64>,
     pub(super) at_range: u64,
     pub(super) at_range_ch: [u64; CH],
@@ -222,6 +224,9 @@ impl Running {
             let lead = (lead_samples as u64).min(self.stick);
             self.stick -= lead;
             let t = t - lead as f64 / self.fs;
+            if self.onsets.count() > 0 {
+                self.intervals.add(t - self.last_onset);
+            }
             self.onsets.add(t);
             self.last_onset = t;
         }

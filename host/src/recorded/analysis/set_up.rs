@@ -67,6 +67,7 @@ impl Analyzer {
             slip_end_v_r: 0.0,
             prev_v_r: 0.0,
             onsets: OnsetRate::new(),
+            intervals: OnsetIntervals::default(),
             first_onset: None,
             at_range: 0,
             at_range_ch: [0; CH],

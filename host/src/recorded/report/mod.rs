@@ -71,6 +71,21 @@ pub struct EstimatorJson {
     pub health: Channels<Vec<&'static str>>,
     /// Why no floor was found (the thresholds then came from the jump), or null.
     pub floor_note: Option<String>,
+    /// The intervals between consecutive slip onsets (within blocks).
+    pub onset_intervals: IntervalsJson,
+}
+
+/// The intervals between slip onsets [s]: their count, mean, standard deviation and median (to
+/// 1/32 octave; all null without an interval), and how many are under a third of the median
+/// (split slips or onsets from noise: the contact estimate is not told where they are 2 % or
+/// more of them).
+#[derive(Serialize)]
+pub struct IntervalsJson {
+    pub count: u64,
+    pub mean_s: Option<f64>,
+    pub sd_s: Option<f64>,
+    pub median_s: Option<f64>,
+    pub under_a_third_of_median: u64,
 }
 
 #[derive(Serialize)]
@@ -120,6 +135,11 @@ impl EstimatorJson {
             undecided: a.undecided.clone(),
             health: Channels::from_fn(|c| a.health[c].clone()),
             floor_note: a.floor_note.clone(),
+            onset_intervals: {
+                let i = &a.onset_intervals;
+                let some = |v: f64| (i.count > 0).then_some(v);
+                IntervalsJson { count: i.count, mean_s: some(i.mean_s), sd_s: some(i.sd_s), median_s: some(i.median_s), under_a_third_of_median: i.short }
+            },
         }
     }
 }
@@ -254,6 +274,17 @@ fn estimator_lines(a: &Analysis) -> String {
         Some(why) => format!("Stick fraction and stick-slip frequency: cannot decide ({why}).\n"),
         None => format!("Stick fraction: {} and stick-slip frequency: {hz}.\n", num(a.stick_fraction)),
     };
+    let i = &a.onset_intervals;
+    if i.count > 0 {
+        s.push_str(&format!(
+            "Intervals between slip onsets: {}, mean {} ms, standard deviation {} ms, median {} ms; {} under a third of the median.\n",
+            i.count,
+            num(1e3 * i.mean_s),
+            num(1e3 * i.sd_s),
+            num(1e3 * i.median_s),
+            i.short
+        ));
+    }
     s.push_str(&format!(
         "The rig's estimator: {source}: slip onset above {} m/s^2, stick at most {} m/s^2 of a_rel = pad_x - disc_x. First slip onset in the whole file: {first}.\n",
         num(a.thresholds.slip_onset_m_s2 as f64),
