@@ -155,7 +155,14 @@ fn noise_near_the_onset_level_splits_slips_and_is_not_told() {
     }
     // the campaign's record among them, with the new reason
     let (_, _, _, why) = not_told.iter().find(|(c, n, s, _)| (*c, *n, *s) == ("push_center", "5", "1")).expect("push_center --noise 5 not told");
-    assert!(why.contains("intervals between slip onsets are under a third of their median"), "{why}");
+    assert!(why.contains("intervals between slip onsets are far from their median") && why.contains("under a third of it"), "{why}");
+    // onsets missed or added at another scale: the 1-DOF oracle's slow slips (0.86 Hz), cut in
+    // two by the estimator's drift guard at a front-end gain of 2 (it gave 1.72 Hz, exactly
+    // twice the truth, with the stick fraction right)
+    let v = json(&["sil", "oracle_1dof", "--gain", "2", "--json"]);
+    assert!(v["stick_slip_hz"]["estimated"].is_null(), "{}", v["stick_slip_hz"]);
+    let why = v["undecided"].as_str().unwrap();
+    assert!(why.contains("far from their median"), "{why}");
     // control: the same cases at noise 2, told right, no interval short
     for case in ["push_center", "pull_lead", "pull_trail", "push_trail"] {
         let v = json(&["sil", case, "--noise", "2", "--json"]);

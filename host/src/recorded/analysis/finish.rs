@@ -246,18 +246,21 @@ impl Analyzer {
                 crate::output::format::short(stick_level)
             )
         });
-        // slips split in two (a false re-stick, then a second onset) or onsets taken from
-        // noise: intervals far under their median (see `intervals`)
+        // slips split in two (a false re-stick, then a second onset), onsets taken from noise
+        // or onsets missed: intervals far from their median (see `intervals`)
         let onset_intervals = r.intervals.stats();
         let split = onset_intervals.split().then(|| {
+            let i = &onset_intervals;
             format!(
-                "{} of {} intervals between slip onsets are under a third of their median ({} ms): slips split in two or onsets taken from noise, \
-                 as where the noise reaches the slip onset level ({} m/s^2); the frequency and the stick fraction would be biased \
-                 (a quieter record, or --breakaway-jump if the jump is known)",
-                onset_intervals.short,
-                onset_intervals.count,
-                crate::output::format::short(1e3 * onset_intervals.median_s),
-                crate::output::format::short(f64::from(thresholds.slip_onset_m_s2))
+                "{} of {} intervals between slip onsets are far from their median ({} ms): {} under a third of it (slips split in two, or onsets \
+                 taken from noise, as where the noise reaches the slip onset level of {} m/s^2), {} over three times it (onsets missed, or a \
+                 stick-slip that stopped and started again); the frequency and the stick fraction would be biased",
+                i.short + i.long,
+                i.count,
+                crate::output::format::short(1e3 * i.median_s),
+                i.short,
+                crate::output::format::short(f64::from(thresholds.slip_onset_m_s2)),
+                i.long
             )
         });
         // every reason the contact estimate is not told, in this order

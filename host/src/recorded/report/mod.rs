@@ -86,6 +86,7 @@ pub struct IntervalsJson {
     pub sd_s: Option<f64>,
     pub median_s: Option<f64>,
     pub under_a_third_of_median: u64,
+    pub over_three_times_median: u64,
 }
 
 #[derive(Serialize)]
@@ -138,7 +139,7 @@ impl EstimatorJson {
             onset_intervals: {
                 let i = &a.onset_intervals;
                 let some = |v: f64| (i.count > 0).then_some(v);
-                IntervalsJson { count: i.count, mean_s: some(i.mean_s), sd_s: some(i.sd_s), median_s: some(i.median_s), under_a_third_of_median: i.short }
+                IntervalsJson { count: i.count, mean_s: some(i.mean_s), sd_s: some(i.sd_s), median_s: some(i.median_s), under_a_third_of_median: i.short, over_three_times_median: i.long }
             },
         }
     }
