@@ -253,6 +253,10 @@ fn errors_are_short_and_blame_what_the_user_gave() {
     // a rule on a word key names its word, not a number (it printed `contact` = inf, `drive` = 0)
     let hinged = scene(&dir, "hinged.toml", "contact = \"unilateral\"\n");
     bad(&["simulate", &hinged], &["hinged.toml", "field `contact` = \"unilateral\": unilateral contact needs a pad that is not hinged"]);
+    // unilateral contact with no load: refused, naming f_n (it halted as a transition storm at
+    // t = 0: the edges carried nothing and opened and closed at once)
+    let unloaded = scene(&dir, "unloaded.toml", "contact = \"unilateral\"\nk_pivot = 0.0\nface = true\nfriction = \"stribeck\"\nf_n = 0.0\n");
+    bad(&["simulate", &unloaded], &["unloaded.toml", "field `f_n` = 0", "unilateral contact needs a normal load"]);
     let no_band = scene(&dir, "no_band.toml", "drive = \"pneumatic\"\n");
     bad(&["simulate", &no_band], &["no_band.toml", "field `drive` = \"pneumatic\": a pneumatic drive pushes the band"]);
     // a recording that ends before the scene's stats_from: the start is the scene's, not a

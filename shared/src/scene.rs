@@ -471,6 +471,12 @@ impl Scene {
             "unilateral contact needs a pad that is not hinged (a finite k_pivot): the hinge holds both edges",
             self.k_pivot,
         )?;
+        check(
+            !self.unilateral() || self.f_n > 0.0,
+            "f_n",
+            "unilateral contact needs a normal load f_n > 0 N: with none the edges carry nothing, and open and close at once",
+            self.f_n,
+        )?;
         if self.pneumatic() {
             self.validate_cylinder()?;
         }
