@@ -61,6 +61,21 @@ fn runs_that_would_take_hours_halt_as_budget() {
         let j = json(&["simulate", f, "--dt", "1e-9", "--duration", "0.5", "--stats-from", "0.2", "--json"]);
         assert_eq!((j["outcome"].as_str(), j["transitions"].as_u64()), (Some("budget"), Some(0)), "{f}: {j}");
     }
+    // a pneumatic drive too stiff for the event runner's steps (a throttle 1e8 times wider than
+    // the solved one; a band of 1 ug): the steps shrink to 1e-11 s. Such a run used its whole
+    // budget (22 s for 1 s, 40 minutes for 100 s) and then halted as a `transition_storm`; it
+    // stops at its pace now, and is called what it is
+    let rig_pn = ok(&["scenes", "show", "rig_push_center"]) + "drive = \"pneumatic\"\n";
+    for (name, extra) in [("wide_throttle.toml", "throttle_conductance = 1e-3\n"), ("light_band.toml", "")] {
+        let body = if extra.is_empty() { rig_pn.replace("\nm_b = 2.0", "\nm_b = 1e-9") } else { rig_pn.clone() + extra };
+        assert!(body.contains("m_b = 1e-9") || !extra.is_empty(), "the light band's key");
+        let f = scene(&dir, name, &body);
+        let j = json(&["simulate", &f, "--duration", "100", "--json"]);
+        assert_eq!(j["outcome"], "stalled", "{name}: {j}");
+        assert!(j["halt_t_s"].as_f64().unwrap() < 0.01, "{name}: {j}");
+        let text = ok(&["simulate", &f, "--duration", "100"]);
+        assert!(text.contains("halted, stalled:") && text.contains("too stiff"), "{name}: {text}");
+    }
     // the virtual rig over the budget builds no quiet lead either (at dt = 1e-9 s its 0.1 s
     // would be 1e8 frames): nothing is sampled
     let rig = json(&["sil", "push_center", "--dt", "1e-9", "--json"]);

@@ -366,6 +366,8 @@ impl Sink for CellSink {
 pub fn classify(report: &RunReport, slide_v_pp: f64, steady_limit: f64) -> &'static str {
     match report.outcome {
         Outcome::Budget(_) => "budget",
+        // the event runner's steps out of their budget: the method, not the model
+        Outcome::Stalled { .. } => "method_unstable",
         Outcome::Halted { .. } => match report.outcome.keyword() {
             "contact_loss" => "contact_loss",
             "sprag" => "sprag",

@@ -21,6 +21,11 @@ pub fn outcome_line(o: &Outcome) -> String {
     match o {
         Outcome::Completed => "completed".into(),
         Outcome::Budget(b) => format!("halted, budget: {}", b.cause()),
+        Outcome::Stalled { t } => format!(
+            "halted, stalled: at t = {t:.6} s the error-controlled steps had used up their budget (1,000 a sample, plus a million, \
+             or a pace that would have): a scene too stiff for the event runner's steps (a throttle that fills the chamber in far \
+             under a sample, a very light band) or a state it cannot leave"
+        ),
         Outcome::Halted { halt, self_locked } => {
             let kw = o.keyword();
             let what = match *halt {

@@ -12,6 +12,14 @@ use crate::scenes::cycles::CycleObserver;
 use crate::scenes::run::{planned_steps, run_stats, window_start, EventLog, Model2Extra, Model2RunObserver, OverBudget, Outcome, Precision, RunReport};
 use crate::scenes::series::{Sample, Sink};
 
+/// Why an event-driven run stopped short: the model's halt, or its error-controlled steps out
+/// of their budget at `t` [s] (a stall: reported as the outcome `stalled`, not as a halt of the
+/// model).
+pub(crate) enum GridStop {
+    Halt(Halt),
+    Stalled { t: f64 },
+}
+
 /// One grid sample of an event-driven run: time [s], regime, the pad's [x, x', phi, phi'], the
 /// normal force [N], the friction force on the pad [N], x'' [m/s^2] and the sliding velocity
 /// [m/s].
@@ -33,7 +41,7 @@ pub(crate) fn report<S: Sink + ?Sized, const FULL: bool>(
     scene: &Scene,
     sink: &mut S,
     interpolate: bool,
-    run: impl FnOnce(f64, f64, &mut Model2RunObserver<FULL>, &mut dyn FnMut(&GridView) -> bool) -> std::result::Result<(), Halt>,
+    run: impl FnOnce(f64, f64, &mut Model2RunObserver<FULL>, &mut dyn FnMut(&GridView) -> bool) -> std::result::Result<(), GridStop>,
 ) -> Result<RunReport> {
     let window_start = window_start(scene);
     let steps_planned = planned_steps(scene);
@@ -96,7 +104,8 @@ pub(crate) fn report<S: Sink + ?Sized, const FULL: bool>(
     let outcome = match (budget, result) {
         (Some(b), _) => Outcome::Budget(b),
         (None, Ok(())) => Outcome::Completed,
-        (None, Err(h)) => Outcome::halted(scene, h),
+        (None, Err(GridStop::Halt(h))) => Outcome::halted(scene, h),
+        (None, Err(GridStop::Stalled { t })) => Outcome::Stalled { t },
     };
     let s2 = obs.stats.finish();
     Ok(RunReport {

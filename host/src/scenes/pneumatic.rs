@@ -11,7 +11,7 @@ use stickslip_model::model3::pneumatic_run::{PneumaticRunner, PneumaticSample, P
 use stickslip_model::{Halt, Scene};
 
 use crate::error::{HostError, Result};
-use crate::scenes::grid_run::{self, GridView};
+use crate::scenes::grid_run::{self, GridStop, GridView};
 use crate::scenes::run::{Precision, RunReport, Starts};
 use crate::scenes::series::Sink;
 
@@ -44,14 +44,24 @@ fn run_one<S: Sink + ?Sized, const FULL: bool>(scene: &Scene, mut runner: Pneuma
                 let w = &g.w;
                 on_sample(&GridView { t: g.t, regime: g.regime, z: [w[0], w[1], w[2], w[3]], n: g.n, f_f: g.f_f, pad_acc: g.d[1], v_slide: g.v_slide })
             })
-            .map_err(halt_of)
+            .map_err(stop_of)
     })?;
     report.drive = Some(runner.drive_stats());
     Ok(report)
 }
 
-/// The halt a stop of a pneumatic run stands for: the model's own, or a stalled run (its step
-/// budget used up) as a `transition_storm`.
+/// A stop of a pneumatic run as the grid run reports it: the model's halt, or a stall (its step
+/// budget used up: the outcome `stalled`).
+fn stop_of(stop: PneumaticStop) -> GridStop {
+    match stop {
+        PneumaticStop::Halt(h) => GridStop::Halt(h),
+        PneumaticStop::Stalled { t } => GridStop::Stalled { t },
+    }
+}
+
+/// The halt a stop of a pneumatic run stands for, for the numerics' tables (`accuracy`,
+/// `stability`): the model's own, or a stalled run (its step budget used up) as a
+/// `transition_storm`.
 pub(crate) fn halt_of(stop: PneumaticStop) -> Halt {
     match stop {
         PneumaticStop::Halt(h) => h,

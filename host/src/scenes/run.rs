@@ -102,6 +102,10 @@ pub enum Outcome {
     Completed,
     /// Not run: over the work budget (classified `budget`, with its cause).
     Budget(OverBudget),
+    /// An event-driven run (unilateral contact, the pneumatic drive) whose error-controlled
+    /// steps used up their budget at `t` [s]: a stiff scene it crawls through, or a state it
+    /// cannot leave (classified `stalled`).
+    Stalled { t: f64 },
     /// `self_locked`: the scene's pad can never slip forward (its rotational stiffness at the
     /// static limit, K - s mu_s w c_N, is <= 0), so a divergence in stick is the sprag lock.
     Halted {
@@ -124,6 +128,7 @@ impl Outcome {
         match self {
             Outcome::Completed => "completed",
             Outcome::Budget(_) => "budget",
+            Outcome::Stalled { .. } => "stalled",
             Outcome::Halted { halt, self_locked } => match *halt {
                 Halt::ContactLoss { .. } => "contact_loss",
                 Halt::Diverged {
@@ -145,6 +150,7 @@ impl Outcome {
         match self {
             Outcome::Completed => None,
             Outcome::Budget(_) => Some(0.0),
+            Outcome::Stalled { t } => Some(*t),
             Outcome::Halted { halt, .. } => Some(halt.time()),
         }
     }

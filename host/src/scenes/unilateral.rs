@@ -18,7 +18,7 @@ pub const UNILATERAL_RTOL: f64 = 1e-12;
 use stickslip_model::{Halt, Regime, Scene};
 
 use crate::error::{HostError, Result};
-use crate::scenes::grid_run::{self, GridView};
+use crate::scenes::grid_run::{self, GridStop, GridView};
 use crate::scenes::run::{Precision, RunReport, Starts};
 use crate::scenes::series::Sink;
 
@@ -48,7 +48,10 @@ fn run_one<S: Sink + ?Sized, const FULL: bool>(scene: &Scene, mut runner: EventR
                 let z = &g.z;
                 on_sample(&GridView { t: g.t, regime: g.regime, z: [z[0], z[1], z[2], z[3]], n: g.n, f_f: g.f_f, pad_acc: g.d[1], v_slide: g.v_slide })
             })
-            .map_err(|f| halt_of(&runner, f))
+            .map_err(|f| match f {
+                Fallback::Stalled { t } | Fallback::StepUnderflow { t } => GridStop::Stalled { t },
+                f => GridStop::Halt(halt_of(&runner, f)),
+            })
     })?;
     report.edges = runner.edges();
     Ok(report)

@@ -70,6 +70,24 @@ const EXTREME_NOISE: f64 = 1e-9;
 /// million, before it stops as [`Fallback::Stalled`]: every run is bounded.
 const STEP_BUDGET: f64 = 1000.0;
 
+/// Steps (accepted and rejected) of a run's budget after which its pace is checked
+/// ([`behind_pace`]).
+const PACE_SLACK: u64 = 1 << 20;
+
+/// Whether a run that has taken `used` of its `budget` steps (both counted from its start at
+/// `t0`) and reached `t` of `t0..t_end` [s] would use the budget up before `t_end` at the
+/// pace it has kept: checked once `PACE_SLACK` steps are used (the budget's own slack is a
+/// million), every 65,536 steps, so a stiff run stops after about a second of work rather than
+/// after the whole budget (a 1 s run of a throttle 1e8 times too wide took 22 s to use it up,
+/// a 100 s run would have taken 40 minutes).
+pub(crate) fn behind_pace(used: u64, budget: u64, t0: f64, t: f64, t_end: f64) -> bool {
+    if used < PACE_SLACK || used & 0xffff != 0 || !(t_end > t0) {
+        return false;
+    }
+    let done = ((t - t0) / (t_end - t0)).clamp(0.0, 1.0);
+    used as f64 > done * budget as f64
+}
+
 /// Why the event run stopped short: the caller runs the sampled path instead.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Fallback {
@@ -316,7 +334,9 @@ impl EventRunner {
             Some((dt, _)) => *dt,
             None => self.h_max,
         };
-        let budget = self.counts.steps + self.counts.rejected + 1_000_000 + (STEP_BUDGET * ((t_end - self.t) / unit).max(0.0)).min(1e15) as u64;
+        let used0 = self.counts.steps + self.counts.rejected;
+        let budget = used0 + 1_000_000 + (STEP_BUDGET * ((t_end - self.t) / unit).max(0.0)).min(1e15) as u64;
+        let t0 = self.t;
         let mut in_window = self.t >= t_from;
         while self.t < t_end {
             let mut stop = if self.t < t_from && t_from < t_end {
@@ -333,7 +353,8 @@ impl EventRunner {
                 }
             }
             let limit = stop - self.t;
-            if self.counts.steps + self.counts.rejected > budget {
+            let used = self.counts.steps + self.counts.rejected;
+            if used > budget || behind_pace(used - used0, budget - used0, t0, self.t, t_end) {
                 return Err(Fallback::Stalled { t: self.t });
             }
             let (h, p1, taylor) = if self.stribeck_slip(regime) {

@@ -329,7 +329,9 @@ impl PneumaticRunner {
         }
         let mut k_next = libm::floor(self.t / dt) as u64 + 1;
         let mut stalls = 0u32;
-        let budget = self.counts.steps + self.counts.rejected + 1e6 as u64 + (STEP_BUDGET_PER_SAMPLE * ((t_end - self.t) / dt).max(0.0)) as u64;
+        let used0 = self.counts.steps + self.counts.rejected;
+        let budget = used0 + 1e6 as u64 + (STEP_BUDGET_PER_SAMPLE * ((t_end - self.t) / dt).max(0.0)) as u64;
+        let t0 = self.t;
         let mut window_started = self.t >= t_from;
         if window_started && self.stats.window_s == 0.0 {
             self.stats.p_min = w0[P];
@@ -358,7 +360,8 @@ impl PneumaticRunner {
                 }
                 continue;
             }
-            if self.counts.steps + self.counts.rejected > budget {
+            let used = self.counts.steps + self.counts.rejected;
+            if used > budget || crate::model2::event_run::behind_pace(used - used0, budget - used0, t0, self.t, t_end) {
                 return Err(PneumaticStop::Stalled { t: self.t });
             }
             let (h, w1, d1) = self.step(&w0, &d0, limit)?;
