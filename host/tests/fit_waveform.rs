@@ -341,3 +341,28 @@ fn a_quantised_recording_has_a_noise_of_at_least_its_count() {
     let e = fit::waveform::read_trace("truth", 0, flat.to_str().unwrap(), false, &Default::default()).unwrap_err().to_string();
     assert!(e.contains("pad_x is constant"), "{e}");
 }
+
+/// The measured statistics are read with the estimator's thresholds from the start scene's
+/// breakaway jump J (onset J/2), as the model's are. A start whose mu_s - mu_k is 2.5 times the
+/// truth's put the onset (69.7 m/s^2) above the recording's slips (a campaign, 2026-11-28: 1.890
+/// Hz and 0.995 stuck for the 2.362 Hz and 0.970 that `analyze` reads), with no word. The fit
+/// now reads each recording with its own noise floor too and says where the two disagree; a
+/// start at the truth gets no such note.
+#[test]
+fn a_start_whose_jump_misreads_the_recording_is_named() {
+    let dir = scratch("fit-waveform-jump");
+    let truth = one_dof(0.55, 0.38, 0.004, 3.0, 2e4, 0.004, 100.0);
+    let path = dir.join("truth.csv");
+    record_reference(&truth, 7, &path);
+    let note = "read with its own noise floor";
+    let mut far = truth;
+    (far.mu_s, far.mu_k, far.v_s) = (0.70, 0.28, 0.0055);
+    for (start, named_it) in [(far, true), (truth, false)] {
+        let r = fit::run_fit(named("truth", start), &request("mu_s,mu_k,v_s", format!("truth={}", path.display()))).expect("the fit runs");
+        let found = r.notes.iter().find(|n| n.contains(note));
+        assert_eq!(found.is_some(), named_it, "start mu_s {}: {:?}", start.mu_s, r.notes);
+        if let Some(n) = found {
+            assert!(n.contains("likely wrong") && n.contains("--breakaway-jump"), "{n}");
+        }
+    }
+}
