@@ -164,7 +164,11 @@ pub(super) fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         // figures are wrong whatever the fit does. The recording read with its own noise floor
         // (as `analyze` reads it) tells: a start of mu_s 0.70, mu_k 0.28 for a truth of 0.55,
         // 0.38 read 1.890 Hz and 0.995 stuck where `analyze` reads 2.362 Hz and 0.970
-        if let Some(why) = jump_misreads(&rec.analysis, file, &cfg, &req.read, jump)? {
+        let own = own_floor_reading(file, &cfg, &req.read)?;
+        if let Some(why) = jump_misreads(&rec.analysis, &own, file, jump) {
+            notes.push(why);
+        }
+        if let Some(why) = offset_note(&own, file, waveform_cost_possible(req, &base.scene)) {
             notes.push(why);
         }
         if !rec.windows_hold_cycles() {
@@ -231,8 +235,7 @@ pub(super) fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         .filter_map(|m| case_names.iter().position(|c| *c == m.key.case).map(|i| row_of(m, i)))
         .collect();
     // the time-domain cost fits the samples, not the statistics: their count does not limit it
-    let waveform_possible =
-        req.cost != CostKind::Statistics && req.tables.is_empty() && !req.recordings.is_empty() && waveform::applies(&base.scene);
+    let waveform_possible = waveform_cost_possible(req, &base.scene);
     if rows.len() <= free.len() && !waveform_possible {
         return Err(HostError::Input(format!(
             "{} weighted statistics for {} free keys: a fit needs more statistics than free keys",
@@ -373,22 +376,63 @@ pub(super) fn horizon_stages(
     Ok(out)
 }
 
+/// The recording read with its own noise floor, as `analyze` reads it (no spectra, no figures).
+fn own_floor_reading(
+    file: &str,
+    cfg: &crate::recorded::analysis::AnalysisConfig,
+    read: &crate::recorded::ReadOptions,
+) -> Result<crate::recorded::analysis::Analysis> {
+    let own = crate::recorded::analysis::AnalysisConfig { floor: crate::recorded::analysis::FloorSource::Auto, figures: false, spectra: false, ..cfg.clone() };
+    crate::recorded::analyze_with(file, own, read)
+}
+
+/// Whether the time-domain cost may run (the same test as the setup's, before the targets are
+/// all read).
+fn waveform_cost_possible(req: &FitRequest, scene: &Scene) -> bool {
+    req.cost != CostKind::Statistics && req.tables.is_empty() && !req.recordings.is_empty() && waveform::applies(scene)
+}
+
+/// pad_x's mean in the recording's quiet rows (its noise floor, taken in stick, where pad_x is
+/// 0) where it is over a third of their noise and clear of the mean's own scatter: an offset
+/// (the sensor's or the logger's). The estimator tracks a bias, but the time-domain cost fits
+/// pad_x itself, whose model is 0 in stick: an offset of the noise's size made a right fit a
+/// misfit (chi^2/dof 2.0), 2.5 times it a wrong basin (a campaign, 2026-11-28). Returns the
+/// note, worded for the cost in use (`waveform`).
+fn offset_note(own: &crate::recorded::analysis::Analysis, file: &str, waveform: bool) -> Option<String> {
+    use crate::output::format::short;
+    use stickslip_model::rig::PAD_X;
+    let f = own.floor.as_ref()?;
+    let (mean, sigma, n) = (f64::from(f.report.mean_m_s2[PAD_X]), f64::from(f.report.sigma_m_s2[PAD_X]), f64::from(f.report.samples));
+    if !(sigma > 0.0 && mean.abs() > OFFSET_OF_NOISE * sigma && mean.abs() > 4.0 * sigma / n.sqrt()) {
+        return None;
+    }
+    Some(format!(
+        "{file}: pad_x's mean in its quiet rows (its noise floor, {} rows, taken in stick where pad_x is 0) is {} m/s^2, {} times their noise: \
+         an offset (the sensor's or the logger's). {}",
+        f.report.samples,
+        short(mean),
+        short(mean.abs() / sigma),
+        if waveform {
+            "The time-domain cost fits pad_x itself, 0 in stick in the model: the offset reads as a misfit, and a large one can lead \
+             to a wrong basin; subtract it from the recording's pad_x and fit again"
+        } else {
+            "The statistics' estimator tracks it as a bias"
+        }
+    ))
+}
+
+/// pad_x's offset is named where it exceeds this fraction of the noise (it adds its square, a
+/// ninth, to the time-domain cost's chi^2 per sample).
+const OFFSET_OF_NOISE: f64 = 1.0 / 3.0;
+
 /// Whether the recording read with the jump's fixed thresholds (`with_jump`) disagrees with the
 /// same recording read with its own noise floor (as `analyze` reads it): more than 5 % apart in
 /// slip onsets or stick-slip frequency, or in stick fraction 0.05 or 10 % of the slip fraction
 /// (plus 0.001), where the floor's reading is told. Returns the note that says so.
-fn jump_misreads(
-    with_jump: &crate::recorded::analysis::Analysis,
-    file: &str,
-    cfg: &crate::recorded::analysis::AnalysisConfig,
-    read: &crate::recorded::ReadOptions,
-    jump: f64,
-) -> Result<Option<String>> {
+fn jump_misreads(with_jump: &crate::recorded::analysis::Analysis, floor: &crate::recorded::analysis::Analysis, file: &str, jump: f64) -> Option<String> {
     use crate::output::format::short;
-    let own = crate::recorded::analysis::AnalysisConfig { floor: crate::recorded::analysis::FloorSource::Auto, figures: false, spectra: false, ..cfg.clone() };
-    let floor = crate::recorded::analyze_with(file, own, read)?;
     if floor.undecided.is_some() || floor.floor.is_none() || floor.slip_onsets < 2 {
-        return Ok(None);
+        return None;
     }
     let apart = |a: f64, b: f64| !((a - b).abs() <= 0.05 * b.abs());
     let hz = |a: &crate::recorded::analysis::Analysis| a.stick_slip_hz.unwrap_or(0.0);
@@ -400,7 +444,7 @@ fn jump_misreads(
         // in part is a small change of the stick fraction and a large one of the slips (0.994
         // for 0.970 at a jump 2.5 times the truth's; 0.9703 at the truth's own)
         || (with_jump.stick_fraction - floor.stick_fraction).abs() > 0.1 * (1.0 - floor.stick_fraction) + 1e-3;
-    Ok(misread.then(|| {
+    misread.then(|| {
         format!(
             "{file}: read with the estimator's thresholds from the start scene's breakaway jump ({} m/s^2: slip onset above {} m/s^2), \
              it gives {} slip onsets, {} Hz and a stick fraction of {}; read with its own noise floor (as `analyze` reads it: onset \
@@ -416,5 +460,5 @@ fn jump_misreads(
             short(hz(&floor)),
             short(floor.stick_fraction),
         )
-    }))
+    })
 }
