@@ -173,6 +173,9 @@ pub struct FitReport {
     /// Each free key's profile points `(value, delta chi^2)` behind its interval (sorted by
     /// value, the optimum at 0; 3.841 is the interval's threshold); empty where not computed.
     pub profiles: Vec<Vec<(f64, f64)>>,
+    /// Every target a recording with no stick-slip in it (read with its own noise floor):
+    /// nothing identifies the friction, so no key is identifiable.
+    pub no_stick_slip: bool,
 }
 
 /// One horizon stage: each recording's start fitted up to its horizon.
@@ -190,7 +193,7 @@ pub struct StageReport {
 impl FitReport {
     /// No flat direction, and every profile interval (where computed) closed on both sides.
     pub fn identifiable(&self) -> bool {
-        self.uncertainty.flat.is_empty() && self.open_profiles().is_empty()
+        !self.no_stick_slip && self.uncertainty.flat.is_empty() && self.open_profiles().is_empty()
     }
 
     /// The keys whose profile interval stays open on a side (the cost within the noise's 95 %
@@ -223,7 +226,7 @@ pub(crate) fn open_profile_note(key: &str, value: f64, std: f64, open_below: boo
 /// Runs the fit described by `req` on the base scene `base` (validated).
 pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
     let t0 = Instant::now();
-    let Setup { problem, measured, mut skipped, mut notes, holdout_cases, weights, free, jump, progress, stages } = setup(&base, req)?;
+    let Setup { problem, measured, mut skipped, mut notes, holdout_cases, weights, free, jump, progress, stages, no_stick_slip } = setup(&base, req)?;
     let weight_of = |s: Stat| weights.iter().find(|(k, _)| *k == s).map_or(0.0, |(_, w)| *w);
     let scene_of = |c: &str| model::case_scene(&base, c).expect("checked in setup");
     let stage_problems: Vec<&Problem> = stages.iter().map(|st| &st.problem).collect();
@@ -411,6 +414,7 @@ pub fn run_fit(base: NamedScene, req: &FitRequest) -> Result<FitReport> {
         goodness,
         intervals,
         profiles,
+        no_stick_slip,
     })
 }
 

@@ -104,6 +104,9 @@ pub(super) struct Setup {
     pub(super) progress: Option<ProgressBar>,
     /// The horizon stages, shortest first.
     pub(super) stages: Vec<Stage>,
+    /// Whether every target is a recording with no stick-slip in it (read with its own noise
+    /// floor): nothing identifies the friction.
+    pub(super) no_stick_slip: bool,
 }
 
 /// A horizon stage before the search: its problem, its cycles and each case's horizon [s].
@@ -143,6 +146,7 @@ pub(super) fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         let scene = model::case_scene(base, &case).ok_or_else(|| unknown_case(base, &case, arg))?;
         recs.push((case, file, scene));
     }
+    let mut without_stick_slip = 0usize;
     for (case, file, scene) in &recs {
         let cfg = sil::analysis_config(scene, from, req.segment, false);
         let cfg = crate::recorded::analysis::AnalysisConfig { breakaway_jump_m_s2: jump, spectra: weight_of(Stat::PeakHz) > 0.0, ..cfg };
@@ -170,6 +174,19 @@ pub(super) fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
         }
         if let Some(why) = offset_note(&own, file, waveform_cost_possible(req, &base.scene)) {
             notes.push(why);
+        }
+        // no stick-slip in it: pure noise gave the verdict not_converged (the search blamed),
+        // a sine misfit, both "identifiable" with error bars of 1e-5
+        if own.slip_onsets == 0 || own.undecided.is_some() {
+            without_stick_slip += 1;
+            notes.push(format!(
+                "{file}: no stick-slip in it, read with its own noise floor as `analyze` reads it ({}): nothing in it identifies the friction, \
+                 and the values fitted to it are not the rig's",
+                match &own.undecided {
+                    Some(why) => format!("cannot decide: {why}"),
+                    None => "no slip onset".to_string(),
+                }
+            ));
         }
         if !rec.windows_hold_cycles() {
             notes.push(format!(
@@ -313,7 +330,8 @@ pub(super) fn setup(base: &NamedScene, req: &FitRequest) -> Result<Setup> {
     } else {
         horizon_stages(&problem, &read, &req.horizons, &weight_of, &mut notes, progress.clone())?
     };
-    Ok(Setup { problem, measured, skipped, notes, holdout_cases, weights, free, jump, progress, stages })
+    let no_stick_slip = req.tables.is_empty() && !recs.is_empty() && without_stick_slip == recs.len();
+    Ok(Setup { problem, measured, skipped, notes, holdout_cases, weights, free, jump, progress, stages, no_stick_slip })
 }
 
 /// The horizon stages of `problem` (see [`solve::search`]): for each of `horizons` [cycles],

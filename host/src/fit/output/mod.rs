@@ -335,9 +335,13 @@ pub fn markdown(r: &FitReport) -> String {
         // the curvature of a point that may not be the optimum says nothing of the optimum's
         s.push_str("At the best point found, which the starts do not confirm as the optimum (not converged): the standard errors and directions below are its local curvature's, not error bars of an estimate.\n\n");
     }
+    if r.no_stick_slip {
+        s.push_str("**Not identifiable**: no recording holds stick-slip (read with its own noise floor, as `analyze` reads it: see the notes); nothing in the data determines the friction, whatever the standard errors below say.\n\n");
+    }
+    let undetermined = !r.uncertainty.flat.is_empty() || !r.open_profiles().is_empty();
     if r.identifiable() {
         s.push_str("Identifiable: every direction of the parameters is determined to better than +-35 % (the standard error of ln p along each singular vector of the Jacobian is below 0.3).\n\n");
-    } else {
+    } else if undetermined {
         s.push_str("**Not identifiable**: the data leave these directions of the parameters undetermined (standard error of ln p along them above 0.3, about +-35 %, or a profile interval that does not close):\n\n");
         for f in &r.uncertainty.flat {
             s.push_str(&format!("- {} (std {})\n", direction_text(r, &f.direction), num(f.std_log)));
