@@ -265,6 +265,10 @@ fn errors_are_short_and_blame_what_the_user_gave() {
     let huge = scene(&dir, "huge.toml", "f_n = -1e300\n");
     let l = bad(&["simulate", &huge], &["huge.toml", "f_n", "-1.000e300"]);
     assert!(l.len() < 300, "{l}");
+    // ... and in a recording's cell (it printed all 301 digits of -1e300)
+    let huge_csv = write(&dir, "huge.csv", "t_s,disc_x_m_s2,pad_x_m_s2,pad_trail_m_s2,pad_lead_m_s2\n0,0,0,0,0\n0.001,0,-1e300,0,0\n");
+    let l = bad(&["analyze", &huge_csv], &["huge.csv", "line 3", "-1.000e300 m/s^2 is beyond the plausible range"]);
+    assert!(l.len() < 300, "{l}");
     // a rule on a word key names its word, not a number (it printed `contact` = inf, `drive` = 0)
     let hinged = scene(&dir, "hinged.toml", "contact = \"unilateral\"\n");
     bad(&["simulate", &hinged], &["hinged.toml", "field `contact` = \"unilateral\": unilateral contact needs a pad that is not hinged"]);

@@ -523,7 +523,7 @@ impl<R: Read> RowReader<R> {
             let t = self.cell(line, self.layout.time)?;
             let t_value = t.value * self.layout.time_scale;
             if !(t_value.abs() <= PLAUSIBLE_TIME_S) {
-                return Err(self.cell_error(line, self.layout.time, format!("time {} s is beyond +-{PLAUSIBLE_TIME_S:e} s", t_value)));
+                return Err(self.cell_error(line, self.layout.time, format!("time {} s is beyond +-{PLAUSIBLE_TIME_S:e} s", crate::output::format::short(t_value))));
             }
             let mut accel = [0.0; 4];
             for (c, a) in accel.iter_mut().enumerate() {
@@ -533,7 +533,7 @@ impl<R: Read> RowReader<R> {
                     return Err(self.cell_error(
                         line,
                         col,
-                        format!("{v} m/s^2 is beyond the plausible range +-{PLAUSIBLE_ACCEL_M_S2:e} m/s^2"),
+                        format!("{} m/s^2 is beyond the plausible range +-{PLAUSIBLE_ACCEL_M_S2:e} m/s^2", crate::output::format::short(v)),
                     ));
                 }
                 *a = v;

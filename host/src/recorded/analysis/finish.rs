@@ -263,6 +263,8 @@ impl Analyzer {
                 i.long
             )
         });
+        let no_stick_slip_seen =
+            r.onsets.count() == 0 || blips.is_some() || never_started.is_some() || moves_below.is_some() || below_guess.is_some();
         // every reason the contact estimate is not told, in this order
         let reasons: Vec<String> =
             [short, undecided, below_guess, coarse, moves_below, runaway, blips, blip_sticks, never_started, split].into_iter().flatten().collect();
@@ -290,6 +292,7 @@ impl Analyzer {
             full_scale: self.full_scale,
             undecided,
             onset_intervals,
+            no_stick_slip_seen,
             health,
             spectrum,
             envelope: r.envelope.map(Envelope::finish).unwrap_or_default(),

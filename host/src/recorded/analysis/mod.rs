@@ -251,6 +251,11 @@ pub struct Analysis {
     /// The intervals between slip onsets (within blocks): their spread, and how many are far
     /// under their median ([`intervals`]).
     pub onset_intervals: IntervalStats,
+    /// No stick-slip seen: no slip onset, or onsets that are noise crossing the onset level, or
+    /// a pad that moves below it with no onset (the reasons `blips`, `never started`, `moves
+    /// below`, `below the guess` of [`finish`]). Not where the estimate is not told for other
+    /// reasons (slips too slow for the estimator, an offset, split slips).
+    pub no_stick_slip_seen: bool,
     /// Per channel, what is wrong with it, or empty: "flat" (no sample changed: dead, or a
     /// signal below one count), "saturated" (samples at the range), "noisier than the signal"
     /// (RMS under twice the floor's sigma).
