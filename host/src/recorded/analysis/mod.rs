@@ -249,7 +249,7 @@ pub struct Analysis {
     /// and frequency are then not reported), or `None`.
     pub undecided: Option<String>,
     /// The intervals between slip onsets (within blocks): their spread, and how many are far
-    /// under their median ([`intervals`]).
+    /// from their median ([`intervals`]).
     pub onset_intervals: IntervalStats,
     /// No stick-slip seen: no slip onset, or onsets that are noise crossing the onset level, or
     /// a pad that moves below it with no onset (the reasons `blips`, `never started`, `moves

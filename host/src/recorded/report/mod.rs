@@ -77,8 +77,8 @@ pub struct EstimatorJson {
 
 /// The intervals between slip onsets [s]: their count, mean, standard deviation and median (to
 /// 1/32 octave; all null without an interval), and how many are under a third of the median
-/// (split slips or onsets from noise: the contact estimate is not told where they are 2 % or
-/// more of them).
+/// (split slips or onsets from noise) or over three times it (onsets missed): the contact
+/// estimate is not told where those are 2 % or more of them.
 #[derive(Serialize)]
 pub struct IntervalsJson {
     pub count: u64,
@@ -278,12 +278,13 @@ fn estimator_lines(a: &Analysis) -> String {
     let i = &a.onset_intervals;
     if i.count > 0 {
         s.push_str(&format!(
-            "Intervals between slip onsets: {}, mean {} ms, standard deviation {} ms, median {} ms; {} under a third of the median.\n",
+            "Intervals between slip onsets: {}, mean {} ms, standard deviation {} ms, median {} ms; {} under a third of the median, {} over three times it.\n",
             i.count,
             num(1e3 * i.mean_s),
             num(1e3 * i.sd_s),
             num(1e3 * i.median_s),
-            i.short
+            i.short,
+            i.long
         ));
     }
     s.push_str(&format!(
