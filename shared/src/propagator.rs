@@ -241,6 +241,12 @@ impl<T: Real> Propagator<T> {
         (pos, cur)
     }
 
+    /// The row of x'' in `regime`: x'' = r . [z; 1] ([`Self::accelerations`]'s first value).
+    #[inline(always)]
+    pub fn accel_row(&self, regime: Regime) -> [T; 5] {
+        self.accel[regime.index()][0]
+    }
+
     /// x'' and phi'' at state `z` in `regime`.
     #[inline(always)]
     pub fn accelerations(&self, regime: Regime, z: &[T; 4]) -> (T, T) {

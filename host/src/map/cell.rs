@@ -33,7 +33,7 @@ use stickslip_model::Scene;
 
 use crate::error::Result;
 use crate::scenes::run::{self, Detail, Outcome, Precision, RunReport, Start};
-use crate::scenes::series::{Sample, Sink};
+use crate::scenes::series::{QuietWindow, Sample, Sink};
 use crate::scenes::sliding::{self, SlidingStability};
 use crate::scenes::table_cache::PropagatorCache;
 use super::ring_down::{RingDown, RING_LOOP_MAX};
@@ -146,6 +146,10 @@ struct CellSink {
     window_from: f64,
     /// The groan filter runs from here (its settling time before the window).
     filter_from: f64,
+    /// The first steps whose end times are at or after `window_from` and `filter_from`
+    /// ([`first_at`]): a quiet step's sample is placed by its number.
+    window_k: u64,
+    filter_k: u64,
     groan: Option<BandPass<GROAN_SECTIONS>>,
     groan_state: CascadeState<GROAN_SECTIONS>,
     /// The filter's free response in closed form, for stick phases ([`RingDown`]).
@@ -227,6 +231,8 @@ impl CellSink {
             // sample times are step ends: the window's first sample is the step ending at its start
             window_from: start - 0.5 * scene.dt,
             filter_from: start - GROAN_SETTLE_S - 0.5 * scene.dt,
+            window_k: first_at(0, u64::MAX, scene.dt, start - 0.5 * scene.dt),
+            filter_k: first_at(0, u64::MAX, scene.dt, start - GROAN_SETTLE_S - 0.5 * scene.dt),
             groan,
             groan_state: Default::default(),
             ring: groan.as_ref().and_then(RingDown::of),
@@ -348,17 +354,73 @@ impl Sink for CellSink {
         if s.t < self.filter_from {
             return Ok(());
         }
+        self.filtered(s.pad_acc, s.v_slide, s.t >= self.window_from);
+        Ok(())
+    }
+
+    fn take_window(&mut self) -> Option<QuietWindow> {
+        if self.margin.is_some() {
+            return None;
+        }
+        let groan = self.groan?;
+        Some(QuietWindow {
+            groan,
+            groan_state: self.groan_state,
+            filter_k: self.filter_k,
+            window_k: self.window_k,
+            acc: self.acc,
+            v: self.v,
+            groan_sq: self.groan_sq,
+            n: self.n,
+        })
+    }
+
+    fn put_window(&mut self, w: QuietWindow) {
+        self.groan_state = w.groan_state;
+        self.acc = w.acc;
+        self.v = w.v;
+        self.groan_sq = w.groan_sq;
+        self.n = w.n;
+    }
+
+    #[inline(always)]
+    fn quiet_sample(&mut self, k: u64, _dt: f64, pad_acc: f64, v_slide: f64, regime: stickslip_model::Regime) -> Result<()> {
+        if let Some(m) = &mut self.margin {
+            m.sample(v_slide, regime == stickslip_model::Regime::Stick);
+        }
+        if k < self.filter_k {
+            return Ok(());
+        }
+        self.filtered(pad_acc, v_slide, k >= self.window_k);
+        Ok(())
+    }
+}
+
+impl CellSink {
+    /// A sample through the groan filter, and into the window's statistics if `in_window`.
+    #[inline(always)]
+    fn filtered(&mut self, pad_acc: f64, v_slide: f64, in_window: bool) {
         let g = match &self.groan {
-            Some(bp) => bp.run(&mut self.groan_state, s.pad_acc as f32) as f64,
+            Some(bp) => bp.run(&mut self.groan_state, pad_acc as f32) as f64,
             None => 0.0,
         };
-        if s.t >= self.window_from && s.pad_acc.is_finite() && s.v_slide.is_finite() {
-            self.acc = (self.acc.0.min(s.pad_acc), self.acc.1.max(s.pad_acc));
-            self.v = (self.v.0.min(s.v_slide), self.v.1.max(s.v_slide));
+        if in_window && pad_acc.is_finite() && v_slide.is_finite() {
+            // (both finite: plain comparisons are the extremes)
+            if pad_acc < self.acc.0 {
+                self.acc.0 = pad_acc;
+            }
+            if pad_acc > self.acc.1 {
+                self.acc.1 = pad_acc;
+            }
+            if v_slide < self.v.0 {
+                self.v.0 = v_slide;
+            }
+            if v_slide > self.v.1 {
+                self.v.1 = v_slide;
+            }
             self.groan_sq += g * g;
             self.n += 1;
         }
-        Ok(())
     }
 }
 

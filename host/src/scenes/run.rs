@@ -1,13 +1,15 @@
 //! Running one scene: the stepper in the chosen precision, the observers (window statistics,
 //! cycle spread, transition log) and the per-step sink; a halt is an outcome, not an error.
 
+use stickslip_model::exact::TaylorFlows;
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
 use stickslip_model::model2::event_run::edges::EdgeStats;
 use stickslip_model::model3::pneumatic_run::DriveStats;
 use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition, NS};
 use stickslip_model::{
-    Coefficients, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, Segment, State, StickJump, Transition,
+    Coefficients, ExactState, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, SceneError, Segment, State, StickJump,
+    Transition,
 };
 
 use crate::scenes::cycles::{CycleObserver, CycleStats};
@@ -360,15 +362,20 @@ fn thesis_runs<T: Cached, S: Sink + ?Sized>(
     starts: &mut Starts<S>,
     cache: Option<&PropagatorCache>,
 ) -> Result<Vec<RunReport>> {
-    // The caller validated the scene; a failure here still gets a message, not a panic.
-    let (tables, state) = match cache {
-        Some(c) => c.tables::<T>(scene),
-        None => ExactTables::<T>::new(scene),
-    }
-    .map_err(|e| HostError::Input(e.to_string()))?;
-    let budget = OverBudget::of(tables.propagator().n_sub, planned_steps(scene));
     // each run on the set-up's tables, from a copy of its state
-    starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, ExactStepper::on(&tables, state), *z0, full, budget, &mut **sink)).collect()
+    let mut runs = |tables: &ExactTables<T>, state: ExactState<T>| -> Result<Vec<RunReport>> {
+        let budget = OverBudget::of(tables.propagator().n_sub, planned_steps(scene));
+        starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, ExactStepper::on(tables, state), *z0, full, budget, &mut **sink)).collect()
+    };
+    // The caller validated the scene; a failure here still gets a message, not a panic.
+    let input = |e: SceneError| HostError::Input(e.to_string());
+    match cache {
+        Some(c) => c.with_tables::<T, _>(scene, runs).map_err(input)?,
+        None => {
+            let (tables, state) = ExactTables::<T>::new(scene).map_err(input)?;
+            runs(&tables, state)
+        }
+    }
 }
 
 fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
@@ -541,6 +548,30 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
 /// stick again ([`run_in`]).
 const JUMP_RETRY_STEPS: u64 = 16;
 
+/// Most quiet steps a thesis run of [`Detail::Events`] takes in one go ([`run_in`]), so that
+/// the cancellation check between them runs at least this often.
+const QUIET_STEPS_MAX: u64 = 1 << 16;
+
+/// The first step k >= 0 whose end time k dt (formed as the run forms it) is at or after `t`
+/// (0 for t <= 0 or -inf; u64::MAX if none, t = inf or NaN).
+pub fn first_step_at(dt: f64, t: f64) -> u64 {
+    if !(t > 0.0) {
+        return if t.is_nan() { u64::MAX } else { 0 };
+    }
+    let guess = (t / dt).ceil();
+    if !(guess < 9.0e18) {
+        return u64::MAX;
+    }
+    let mut k = guess as u64;
+    while k > 0 && (k - 1) as f64 * dt >= t {
+        k -= 1;
+    }
+    while (k as f64 * dt) < t {
+        k += 1;
+    }
+    k
+}
+
 /// Start of the statistics window [s]: the step boundary nearest stats_from (as the thesis
 /// stepper's statistics take it).
 pub fn window_start(scene: &Scene) -> f64 {
@@ -552,7 +583,19 @@ pub fn planned_steps(scene: &Scene) -> u64 {
     ((scene.duration / scene.dt).round() as u64).max(1)
 }
 
-fn run_in<T: Real, S: Sink + ?Sized>(
+/// A quiet step's sample for [`run_in`]: step `k + 1`, handed to the sink until it fails
+/// (`failed`).
+#[inline(always)]
+fn quiet_sample<T: Real, S: Sink + ?Sized>(sink: &mut S, k: &mut u64, dt: f64, v_slide: T, acc: T, regime: Regime, failed: &mut Option<HostError>) {
+    *k += 1;
+    if failed.is_none() {
+        if let Err(e) = sink.quiet_sample(*k, dt, acc.to_f64(), v_slide.to_f64(), regime) {
+            *failed = Some(e);
+        }
+    }
+}
+
+fn run_in<T: Cached, S: Sink + ?Sized>(
     scene: &Scene,
     precision: Precision,
     mut stepper: ExactStepper<T, &ExactTables<T>>,
@@ -582,7 +625,11 @@ fn run_in<T: Real, S: Sink + ?Sized>(
     let steps_to_run = if budget.is_some() { 0 } else { steps_planned };
     // stick at event speed where the sink takes stick phases whole (the maps' cells)
     let jump = (!full && sink.takes_stick_runs()).then(|| StickJump::<T>::new(scene));
+    // and its transitions located on the exact flow's Taylor polynomials (f64)
+    let taylor = jump.as_ref().map(|_| TaylorFlows::new(scene));
     let mut next_jump_try = 0u64;
+    // the first step whose end the sink reads (k dt >= samples_from)
+    let first_sampled = first_step_at(scene.dt, samples_from);
     let mut iterations = 0u64;
     while steps_done < steps_to_run {
         crate::cancel::check_every(iterations)?;
@@ -601,11 +648,62 @@ fn run_in<T: Real, S: Sink + ?Sized>(
                     continue;
                 }
             }
+            // the common steps at loop speed, up to the next step that fires, may crest or
+            // leaves the range (that one below), in stick no further than the next jump's try
+            // (and no more than QUIET_STEPS_MAX at once: the cancellation check runs between)
+            let left = (steps_to_run - steps_done).min(QUIET_STEPS_MAX);
+            let max = if stepper.regime() == Regime::Stick && next_jump_try > steps_done { (next_jump_try - steps_done).min(left) } else { left };
+            let regime = stepper.regime();
+            let (tables, state) = stepper.parts_mut();
+            let mut k = state.steps();
+            let mut failed = None;
+            let dt = scene.dt;
+            let n = if k + 1 < first_sampled {
+                // before the samples the sink reads: the state alone
+                let max = max.min(first_sampled - 1 - k);
+                if regime == Regime::Stick {
+                    tables.quiet_stick_steps(state, max, |_, _| {})
+                } else {
+                    tables.quiet_slip_steps(state, max, |_, _| {})
+                }
+            } else if let Some(mut w) = sink.take_window() {
+                // the window's statistics by value, in registers through the loop
+                let n = if regime == Regime::Stick {
+                    tables.quiet_stick_steps(state, max, |z, acc| {
+                        k += 1;
+                        w.take(k, acc.to_f64(), (z[1] - v).to_f64())
+                    })
+                } else {
+                    tables.quiet_slip_steps(state, max, |z, acc| {
+                        k += 1;
+                        w.take(k, acc.to_f64(), (z[1] - v).to_f64())
+                    })
+                };
+                sink.put_window(w);
+                n
+            } else if regime == Regime::Stick {
+                tables.quiet_stick_steps(state, max, |z, acc| quiet_sample(sink, &mut k, dt, z[1] - v, acc, regime, &mut failed))
+            } else {
+                tables.quiet_slip_steps(state, max, |z, acc| quiet_sample(sink, &mut k, dt, z[1] - v, acc, regime, &mut failed))
+            };
+            if let Some(e) = failed {
+                return Err(e);
+            }
+            steps_done += n;
+            if n == max {
+                continue;
+            }
         }
         let stepped = if full {
             stepper.step_observed(&mut obs)
         } else {
-            let r = stepper.step();
+            let r = match &taylor {
+                Some(taylor) => {
+                    let (tables, state) = stepper.parts_mut();
+                    T::step_located(tables, state, taylor)
+                }
+                None => stepper.step(),
+            };
             for tr in stepper.transitions() {
                 events.transition(tr.t, tr.from == Regime::Stick, tr.to == Regime::Stick);
                 obs.note(tr);

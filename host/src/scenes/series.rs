@@ -5,6 +5,7 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
+use stickslip_model::rig::bandpass::{BandPass, CascadeState, GROAN_SECTIONS};
 use stickslip_model::Regime;
 
 use crate::error::{HostError, Result};
@@ -63,6 +64,24 @@ pub trait Sink {
     fn stick_samples(&mut self, _first_step: u64, _n: u64, _dt: f64) -> Result<()> {
         Ok(())
     }
+    /// The sample at the end of a quiet step (one without a transition) of a run that takes
+    /// stick runs ([`Sink::takes_stick_runs`]): the step's number `k` (it ends at k dt [s], at
+    /// or after [`Sink::samples_from`]), the pad's x'' [m/s^2], the sliding velocity [m/s] and
+    /// the regime; the state itself is not given. Such runs hand every step without a
+    /// transition here instead of to [`Sink::sample`]; the default forwards it there with the
+    /// state and forces NaN.
+    #[inline]
+    fn quiet_sample(&mut self, k: u64, dt: f64, pad_acc: f64, v_slide: f64, regime: Regime) -> Result<()> {
+        self.sample(&Sample { t: k as f64 * dt, z: [f64::NAN; 4], n: f64::NAN, f_f: f64::NAN, pad_acc, v_slide, regime })
+    }
+    /// The window statistics of quiet samples, handed to the run by value for a stretch of
+    /// quiet steps (kept in registers there) and back with [`Sink::put_window`]; `None` (the
+    /// default): the run hands each quiet sample to [`Sink::quiet_sample`].
+    fn take_window(&mut self) -> Option<QuietWindow> {
+        None
+    }
+    /// The window statistics [`Sink::take_window`] handed out, with the quiet samples since.
+    fn put_window(&mut self, _w: QuietWindow) {}
     /// The state at a transition inside a step, one side of it (`regime`: the regime left,
     /// then the one entered; x'' jumps there), for a sink that keeps extremes of the
     /// continuous motion: not a sample of the step grid (no filter takes it). Called only
@@ -70,6 +89,51 @@ pub trait Sink {
     /// [`Sink::samples_from`]. The default ignores it.
     fn between(&mut self, _s: &Sample) -> Result<()> {
         Ok(())
+    }
+}
+
+/// A map cell's window statistics of the pad's x'' and the sliding velocity, as a quiet
+/// stretch of a run takes them by value ([`Sink::take_window`]): the groan band-pass (f32) from
+/// step `filter_k` on, and from step `window_k` on the extremes, the band's sum of squares and
+/// the count.
+#[derive(Clone, Copy, Debug)]
+pub struct QuietWindow {
+    pub groan: BandPass<GROAN_SECTIONS>,
+    pub groan_state: CascadeState<GROAN_SECTIONS>,
+    pub filter_k: u64,
+    pub window_k: u64,
+    /// (min, max) of x'' [m/s^2] and of the sliding velocity [m/s].
+    pub acc: (f64, f64),
+    pub v: (f64, f64),
+    pub groan_sq: f64,
+    pub n: u64,
+}
+
+impl QuietWindow {
+    /// The sample at the end of step `k`.
+    #[inline(always)]
+    pub fn take(&mut self, k: u64, pad_acc: f64, v_slide: f64) {
+        if k < self.filter_k {
+            return;
+        }
+        let g = self.groan.run(&mut self.groan_state, pad_acc as f32) as f64;
+        if k >= self.window_k && pad_acc.is_finite() && v_slide.is_finite() {
+            // (both finite: plain comparisons are the extremes)
+            if pad_acc < self.acc.0 {
+                self.acc.0 = pad_acc;
+            }
+            if pad_acc > self.acc.1 {
+                self.acc.1 = pad_acc;
+            }
+            if v_slide < self.v.0 {
+                self.v.0 = v_slide;
+            }
+            if v_slide > self.v.1 {
+                self.v.1 = v_slide;
+            }
+            self.groan_sq += g * g;
+            self.n += 1;
+        }
     }
 }
 

@@ -47,11 +47,14 @@ use crate::scene::{Scene, SceneError};
 use crate::stickslip::{Guard, Guards, Regime};
 
 mod events;
+mod located;
 mod pair;
+mod quiet;
 mod setup;
 mod step;
 mod stick_jump;
 
+pub use located::TaylorFlows;
 pub use pair::ExactStepper;
 pub use stick_jump::{StickJump, JUMP_LEVELS};
 

@@ -26,13 +26,49 @@ impl<T: Real> ExactTables<T> {
 
     /// The tables of a validated scene on its propagator.
     fn on_propagator(scene: &Scene, co: &Coefficients, prop: Propagator<T>) -> (Self, ExactState<T>) {
-        let co = *co;
-        let guards = Guards::<T>::new(scene, &co);
+        let mut tables = ExactTables {
+            h_sub_t: T::zero(),
+            prop,
+            guards: Guards::<T>::new(scene, co),
+            fast: Self::fast_path(scene, co, &prop),
+            rotation: scene.rotation,
+            dt: scene.dt,
+            limits: Limits::new(scene, co),
+            curv: [[[T::zero(); 5]; 2]; 3],
+        };
+        let state = tables.rebuild_on(scene, co);
+        (tables, state)
+    }
+
+    /// These tables rebuilt in place for `scene` (validated here), keeping their propagator,
+    /// which must be the one of `scene`'s [`Propagator::key`] (a cache of tables by key: the
+    /// propagator is most of their size, and is not copied): the tables
+    /// [`Self::with_propagator`] builds, bit for bit. Returns the start state.
+    pub fn retarget(&mut self, scene: &Scene) -> Result<ExactState<T>, SceneError> {
+        scene.validate()?;
+        let co = Coefficients::of(scene);
+        debug_assert_eq!(self.prop.n_sub, Propagator::<T>::substeps(scene, &co, scene.dt));
+        Ok(self.rebuild_on(scene, &co))
+    }
+
+    /// Every field but the propagator, from `scene`; the start state.
+    fn rebuild_on(&mut self, scene: &Scene, co: &Coefficients) -> ExactState<T> {
         let t = T::from_f64;
-        let a = Self::stick_fold(&prop, scene.v);
-        let limits = Limits::new(scene, &co);
-        let fast = FastPath {
-            stick_rot: a,
+        self.guards = Guards::<T>::new(scene, co);
+        self.fast = Self::fast_path(scene, co, &self.prop);
+        self.rotation = scene.rotation;
+        self.dt = scene.dt;
+        self.limits = Limits::new(scene, co);
+        self.curv = Self::curvatures(scene, co);
+        self.h_sub_t = t(self.prop.h_sub);
+        let z = [T::zero(), t(scene.v), t(co.phi0), T::zero()];
+        self.start_state(z)
+    }
+
+    fn fast_path(scene: &Scene, co: &Coefficients, prop: &Propagator<T>) -> FastPath<T> {
+        let t = T::from_f64;
+        FastPath {
+            stick_rot: Self::stick_fold(prop, scene.v),
             v: t(scene.v),
             k_g: t(scene.k_g),
             c_x_v: t(scene.c_x * scene.v),
@@ -42,21 +78,7 @@ impl<T: Real> ExactTables<T> {
             n0: t(co.n0),
             mu_k: t(scene.mu_k),
             k_g_v: t(scene.k_g * scene.v),
-        };
-        let curv = Self::curvatures(scene, &co);
-        let z = [T::zero(), t(scene.v), t(co.phi0), T::zero()];
-        let tables = ExactTables {
-            h_sub_t: t(prop.h_sub),
-            prop,
-            guards,
-            fast,
-            rotation: scene.rotation,
-            dt: scene.dt,
-            limits,
-            curv,
-        };
-        let state = tables.start_state(z);
-        (tables, state)
+        }
     }
 
     /// The state a run starts in at `z0`: in stick, at step 0, no halt, nothing reported (with

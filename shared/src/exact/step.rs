@@ -61,7 +61,7 @@ impl<T: Real> ExactTables<T> {
 
     /// The exact flow over one whole substep in `regime`, exploiting the regime's structure.
     #[inline(always)]
-    fn fast_substep(&self, s: &ExactState<T>, regime: Regime, z: &[T; 4]) -> [T; 4] {
+    pub(super) fn fast_substep(&self, s: &ExactState<T>, regime: Regime, z: &[T; 4]) -> [T; 4] {
         match regime {
             Regime::Stick => {
                 let x = self.stick_x(s, s.anchor_subs);
@@ -122,7 +122,7 @@ impl<T: Real> ExactTables<T> {
 
     /// End-of-substep checks: finite, in range, in contact.
     #[inline(always)]
-    fn check(&self, s: &ExactState<T>, sub: u32) -> Result<(), Halt> {
+    pub(super) fn check(&self, s: &ExactState<T>, sub: u32) -> Result<(), Halt> {
         self.limits.check(&s.z, s.regime, || self.time_at(s, sub, Propagator::<T>::UNITS))
     }
 }

@@ -1,0 +1,104 @@
+//! Quiet steps at loop speed: a run of the common step (one substep, no guard fired, no crest
+//! possible, the state in range) in one regime, each step's end handed to the caller, without
+//! the per-step branches of [`ExactTables::step`] (its halt and substep tests, the reported
+//! transitions' reset) and with the regime's flow rows read once.
+//!
+//! Each step is [`ExactTables::step`]'s short path, the same operations in the same order:
+//! the states are the stepped run's bit for bit. The loop stops *before* the first step that
+//! is not common, leaving it to [`ExactTables::step`] or [`ExactTables::step_observed`]
+//! (or to [`ExactTables::step_located`], the maps' in-step search by polynomial root-finding).
+
+use super::*;
+
+impl<T: Real> ExactTables<T> {
+    /// Takes up to `max` steps of the run in `s` while each is the common step, calling
+    /// `each(z, pad_acc)` with the state at each step's end and the pad's x'' there (as
+    /// [`Propagator::accelerations`] forms it: 0 in stick); returns the steps taken. Stops before the first step that fires, may
+    /// crest or leaves the range (none is taken: the state is the one before it), and takes
+    /// none where a step has several substeps or the run has halted.
+    #[inline(always)]
+    pub fn quiet_steps<F: FnMut(&[T; 4], T)>(&self, s: &mut ExactState<T>, max: u64, each: F) -> u64 {
+        if s.regime == Regime::Stick {
+            self.quiet_stick_steps(s, max, each)
+        } else {
+            self.quiet_slip_steps(s, max, each)
+        }
+    }
+
+    /// [`Self::quiet_steps`] of a run in stick (none otherwise).
+    #[inline(always)]
+    pub fn quiet_stick_steps<F: FnMut(&[T; 4], T)>(&self, s: &mut ExactState<T>, max: u64, mut each: F) -> u64 {
+        if self.prop.n_sub != 1 || s.halted.is_some() || s.regime != Regime::Stick {
+            return 0;
+        }
+        let r = self.prop.accel_row(Regime::Stick);
+        let mut n = 0u64;
+        while n < max {
+            let z1 = self.fast_substep(s, Regime::Stick, &s.z);
+            if self.fires(Regime::Stick, &z1) || self.crest_possible(Regime::Stick, &s.z, &z1) || !self.limits.in_range(&z1) {
+                break;
+            }
+            s.z = z1;
+            s.anchor_subs = s.anchor_subs.saturating_add(1);
+            n += 1;
+            let z = &s.z;
+            each(z, r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4]);
+        }
+        Self::quiet_done(s, n)
+    }
+
+    /// [`Self::quiet_steps`] of a run in slip (none otherwise).
+    #[inline(always)]
+    pub fn quiet_slip_steps<F: FnMut(&[T; 4], T)>(&self, s: &mut ExactState<T>, max: u64, mut each: F) -> u64 {
+        let regime = s.regime;
+        if self.prop.n_sub != 1 || s.halted.is_some() || regime == Regime::Stick {
+            return 0;
+        }
+        let f = *self.prop.substep_flow(regime);
+        let rotation = self.rotation;
+        let r = self.prop.accel_row(regime);
+        let sign = if regime == Regime::SlipSlower { T::one() } else { -T::one() };
+        let g = *self.guards.of(regime).0[0];
+        let zero = T::zero();
+        let mut z = s.z;
+        // x'' at z: the guard's rate (+-x'') and the sample's pad_acc
+        let mut acc0 = r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4];
+        let mut n = 0u64;
+        while n < max {
+            let z1 = if rotation {
+                [
+                    z[0] + (f[0] * z[0] + f[1] * z[1] + f[2] * z[2] + f[3] * z[3] + f[4]),
+                    z[1] + (f[5] * z[0] + f[6] * z[1] + f[7] * z[2] + f[8] * z[3] + f[9]),
+                    z[2] + (f[12] * z[2] + f[13] * z[3] + f[14]),
+                    z[3] + (f[17] * z[2] + f[18] * z[3] + f[19]),
+                ]
+            } else {
+                [z[0] + (f[0] * z[0] + f[1] * z[1] + f[4]), z[1] + (f[5] * z[0] + f[6] * z[1] + f[9]), z[2], z[3]]
+            };
+            let acc1 = r[0] * z1[0] + r[1] * z1[1] + r[2] * z1[2] + r[3] * z1[3] + r[4];
+            if g.fired(&z1) || !self.limits.in_range(&z1) {
+                break;
+            }
+            // the crest test of `crest_suspect`: the guard's rate +-x'' from > 0 to < 0
+            let (d0, d1) = (sign * acc0, sign * acc1);
+            if d0 > zero && d1 < zero && self.crest_possible(regime, &z, &z1) {
+                break;
+            }
+            z = z1;
+            acc0 = acc1;
+            n += 1;
+            each(&z, acc1);
+        }
+        s.z = z;
+        Self::quiet_done(s, n)
+    }
+
+    #[inline(always)]
+    fn quiet_done(s: &mut ExactState<T>, n: u64) -> u64 {
+        if n > 0 {
+            s.step += n;
+            s.n_reported = 0;
+        }
+        n
+    }
+}
