@@ -426,3 +426,62 @@ impl ExactTables<f64> {
         Ok(transitions)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The polynomial with coefficients `c` (lowest first), with its derivatives.
+    fn poly(c: &[f64]) -> Poly {
+        let mut p = Poly::EMPTY;
+        p.c[..c.len()].copy_from_slice(c);
+        p.n = c.len();
+        p.derive();
+        p
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 4.0 * f64::EPSILON * b.abs().max(1.0)
+    }
+
+    #[test]
+    fn the_first_crossing_is_the_closed_forms_root() {
+        // g = (s - 0.3)(s + 2) = s^2 + 1.7 s - 0.6: below zero at 0, one root at 0.3
+        let p = poly(&[-0.6, 1.7, 1.0]);
+        assert!(close(p.first_crossing(1.0).unwrap(), 0.3));
+        // a crest: g = -(s - 0.5)^2 + 0.01 = -0.24 + s - s^2, above zero on (0.4, 0.6): the
+        // first crossing 0.4, though g(1) < 0
+        let p = poly(&[-0.24, 1.0, -1.0]);
+        assert!(close(p.first_crossing(1.0).unwrap(), 0.4));
+        // the same crest below zero: g = -(s - 0.5)^2 - 0.01: none
+        let p = poly(&[-0.26, 1.0, -1.0]);
+        assert_eq!(p.first_crossing(1.0), None);
+        // entered on the guard (g(0) = 0), dipping and back above zero: g = s (s - 0.6), the
+        // crossing at 0.6 after the minimum at 0.3
+        let p = poly(&[0.0, -0.6, 1.0]);
+        assert!(close(p.first_crossing(1.0).unwrap(), 0.6));
+        // entered on it and dipping for good: none
+        assert_eq!(p.first_crossing(0.5), None);
+        // entered on it and departing in the firing direction: at once
+        let p = poly(&[0.0, 0.6, 1.0]);
+        assert!(p.first_crossing(1.0).unwrap() <= f64::EPSILON);
+        // a cubic, the root of a transcendental-looking shape: g = s^3 + s - 0.5 (one real
+        // root, 0.4238537990...)
+        let p = poly(&[-0.5, 1.0, 0.0, 1.0]);
+        let r = p.first_crossing(1.0).unwrap();
+        assert!((r * r * r + r - 0.5).abs() < 4e-16, "{r}");
+    }
+
+    #[test]
+    fn the_even_odd_horner_is_horner() {
+        let c: [f64; MAX_TERMS] = core::array::from_fn(|k| ((k * 7 + 3) % 11) as f64 - 5.0);
+        let p = poly(&c);
+        for &s in &[0.0, 0.1, -0.37, 0.9] {
+            for n in 1..=MAX_TERMS {
+                let plain = c[..n].iter().rev().fold(0.0, |acc, &ck| acc * s + ck);
+                let two = horner2(&p.c, n, s);
+                assert!((plain - two).abs() <= 1e-13 * plain.abs().max(1.0), "n {n} s {s}: {plain} vs {two}");
+            }
+        }
+    }
+}

@@ -79,10 +79,14 @@ impl<T: Real> ExactTables<T> {
             if g.fired(&z1) || !self.limits.in_range(&z1) {
                 break;
             }
-            // the crest test of `crest_suspect`: the guard's rate +-x'' from > 0 to < 0
+            // the crest test of `crest_suspect`: the guard's rate +-x'' from > 0 to < 0 (then
+            // the rest of the test, on copies: the loop's state stays in registers)
             let (d0, d1) = (sign * acc0, sign * acc1);
-            if d0 > zero && d1 < zero && self.crest_possible(regime, &z, &z1) {
-                break;
+            if d0 > zero && d1 < zero {
+                let (za, zb) = (core::hint::black_box(z), z1);
+                if self.crest_possible(regime, &za, &zb) {
+                    break;
+                }
             }
             z = z1;
             acc0 = acc1;
