@@ -1,7 +1,7 @@
 //! Running one scene: the stepper in the chosen precision, the observers (window statistics,
 //! cycle spread, transition log) and the per-step sink; a halt is an outcome, not an error.
 
-use stickslip_model::exact::TaylorFlows;
+use stickslip_model::exact::{SlipPairs, TaylorFlows};
 use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
 use stickslip_model::model2::event_run::edges::EdgeStats;
@@ -627,6 +627,8 @@ fn run_in<T: Cached, S: Sink + ?Sized>(
     let jump = (!full && sink.takes_stick_runs()).then(|| StickJump::<T>::new(scene));
     // and its transitions located on the exact flow's Taylor polynomials (f64)
     let taylor = jump.as_ref().map(|_| TaylorFlows::new(scene));
+    // and, before the sink reads samples, slip two steps at a time (f64)
+    let pairs = jump.as_ref().filter(|_| T::DYADIC_LEVELS > 24).map(|_| SlipPairs::new(scene, stepper.tables()));
     let mut next_jump_try = 0u64;
     // the first step whose end the sink reads (k dt >= samples_from)
     let first_sampled = first_step_at(scene.dt, samples_from);
@@ -664,7 +666,24 @@ fn run_in<T: Cached, S: Sink + ?Sized>(
                 if regime == Regime::Stick {
                     tables.quiet_stick_steps(state, max, |_, _| {})
                 } else {
-                    tables.quiet_slip_steps(state, max, |_, _| {})
+                    // in slip two steps at a time while a pair has no event, then a couple of
+                    // single steps (the step of an event is left to the located step)
+                    let mut done = 0;
+                    loop {
+                        if let Some(p) = &pairs {
+                            done += tables.quiet_slip_pairs(p, state, max - done);
+                        }
+                        let single = (max - done).min(2);
+                        let m = tables.quiet_slip_steps(state, single, |_, _| {});
+                        done += m;
+                        if m < single || done == max || pairs.is_none() {
+                            if pairs.is_none() && m == single && done < max {
+                                done += tables.quiet_slip_steps(state, max - done, |_, _| {});
+                            }
+                            break;
+                        }
+                    }
+                    done
                 }
             } else if let Some(mut w) = sink.take_window() {
                 // the window's statistics by value, in registers through the loop

@@ -55,6 +55,7 @@ mod step;
 mod stick_jump;
 
 pub use located::TaylorFlows;
+pub use quiet::SlipPairs;
 pub use pair::ExactStepper;
 pub use stick_jump::{StickJump, JUMP_LEVELS};
 

@@ -9,6 +9,7 @@
 //! (or to [`ExactTables::step_located`], the maps' in-step search by polynomial root-finding).
 
 use super::*;
+use crate::propagator::Flow;
 
 impl<T: Real> ExactTables<T> {
     /// Takes up to `max` steps of the run in `s` while each is the common step, calling
@@ -104,5 +105,84 @@ impl<T: Real> ExactTables<T> {
             s.n_reported = 0;
         }
         n
+    }
+}
+
+/// The slip flows over two steps, for runs that need no state at every step end (the part of
+/// a map's run before its sink reads samples): [`ExactTables::quiet_slip_pairs`].
+#[derive(Clone, Copy, Debug)]
+pub struct SlipPairs<T: Real> {
+    /// Increment form over two substeps, E2 = E E + 2 E (E the substep's), squared in f64;
+    /// index: slip slower, slip faster.
+    flows: [Flow<T>; 2],
+    /// Whether two steps keep the quarter-radian rule (one substep per step, and the fastest
+    /// mode turning at most a quarter radian over two): a guard then has at most one extremum
+    /// in a pair, and the crest test holds over it.
+    usable: bool,
+}
+
+impl<T: Real> SlipPairs<T> {
+    /// The pairs of a validated `scene` on its tables.
+    pub fn new(scene: &Scene, tables: &ExactTables<T>) -> Self {
+        let co = Coefficients::of(scene);
+        let usable = tables.prop.n_sub == 1 && Propagator::<T>::substeps(scene, &co, 2.0 * scene.dt) == 1;
+        let mut flows = [[T::zero(); 20]; 2];
+        for (i, regime) in [Regime::SlipSlower, Regime::SlipFaster].into_iter().enumerate() {
+            let f = tables.prop.substep_flow(regime);
+            let e = |r: usize, c: usize| if r < 4 { f[r * 5 + c].to_f64() } else { 0.0 };
+            for r in 0..4 {
+                for c in 0..5 {
+                    let sq: f64 = (0..5).map(|k| e(r, k) * if k < 4 { e(k, c) } else { 0.0 }).sum();
+                    flows[i][r * 5 + c] = T::from_f64(sq + 2.0 * e(r, c));
+                }
+            }
+        }
+        SlipPairs { flows, usable }
+    }
+}
+
+impl<T: Real> ExactTables<T> {
+    /// Takes up to `max / 2` pairs of steps of the run in `s`, in slip, while each pair keeps
+    /// its guard below zero with no crest (its rate +-x'' not going from > 0 to < 0 over the
+    /// pair) and its end in range; returns the steps taken (even). The pair's end is its flow
+    /// over two steps ([`SlipPairs`]): the stepped state to rounding, not bit for bit, and no
+    /// state at the step between. For the steps before a map's samples: the caller goes on
+    /// step by step ([`Self::quiet_slip_steps`]) from where this stops.
+    #[inline(always)]
+    pub fn quiet_slip_pairs(&self, pairs: &SlipPairs<T>, s: &mut ExactState<T>, max: u64) -> u64 {
+        let regime = s.regime;
+        if !pairs.usable || s.halted.is_some() || regime == Regime::Stick {
+            return 0;
+        }
+        let f = pairs.flows[regime.index() - 1];
+        let rotation = self.rotation;
+        let r = self.prop.accel_row(regime);
+        let sign = if regime == Regime::SlipSlower { T::one() } else { -T::one() };
+        let g = *self.guards.of(regime).0[0];
+        let zero = T::zero();
+        let mut z = s.z;
+        let mut acc0 = r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4];
+        let mut n = 0u64;
+        while n + 2 <= max {
+            let z2 = if rotation {
+                [
+                    z[0] + (f[0] * z[0] + f[1] * z[1] + f[2] * z[2] + f[3] * z[3] + f[4]),
+                    z[1] + (f[5] * z[0] + f[6] * z[1] + f[7] * z[2] + f[8] * z[3] + f[9]),
+                    z[2] + (f[12] * z[2] + f[13] * z[3] + f[14]),
+                    z[3] + (f[17] * z[2] + f[18] * z[3] + f[19]),
+                ]
+            } else {
+                [z[0] + (f[0] * z[0] + f[1] * z[1] + f[4]), z[1] + (f[5] * z[0] + f[6] * z[1] + f[9]), z[2], z[3]]
+            };
+            let acc2 = r[0] * z2[0] + r[1] * z2[1] + r[2] * z2[2] + r[3] * z2[3] + r[4];
+            if g.fired(&z2) || !self.limits.in_range(&z2) || (sign * acc0 > zero && sign * acc2 < zero) {
+                break;
+            }
+            z = z2;
+            acc0 = acc2;
+            n += 2;
+        }
+        s.z = z;
+        Self::quiet_done(s, n)
     }
 }
