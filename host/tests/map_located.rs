@@ -5,33 +5,16 @@
 //! dyadic flows of each substep, a transition located by binary lifting over 2^53 units of it,
 //! a different computation from the polynomial's Newton iteration.
 
-use stickslip::map::cell::CellOptions;
-use stickslip::map::sweep::{Grid, Sweep};
-use stickslip::map::{self, MapJson, MapSpec};
-use stickslip::scenes::run::Precision;
+mod thesis_common;
+
 use stickslip_model::exact::TaylorFlows;
 use stickslip_model::{ExactStepper, Regime, Scene};
-
-fn builtin(name: &str) -> Scene {
-    stickslip::scenes::builtin::find(name).expect("a built-in scene").scene
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    if a == b {
-        0.0
-    } else {
-        (a - b).abs() / a.abs().max(b.abs())
-    }
-}
+use thesis_common::{builtin, map_of, rel};
 
 /// The six cases, the 1-DOF thesis scene, and two of the cases with their guide damped and
 /// at another band speed (other modes, other transitions).
 fn scenes() -> Vec<(String, Scene)> {
-    let mut v: Vec<(String, Scene)> = ["push_trail", "push_center", "push_lead", "pull_trail", "pull_center", "pull_lead"]
-        .iter()
-        .map(|n| (n.to_string(), builtin(n)))
-        .collect();
-    v.push(("push_center, rotation held".into(), Scene { rotation: false, ..builtin("push_center") }));
+    let mut v = thesis_common::scenes();
     v.push(("pull_lead, c_x 30, V 8 mm/s".into(), Scene { c_x: 30.0, v: 0.008, ..builtin("pull_lead") }));
     v.push(("push_center, c_x 10, mu_k 0.3".into(), Scene { c_x: 10.0, mu_k: 0.3, ..builtin("push_center") }));
     v
@@ -81,20 +64,6 @@ fn located_runs_have_the_stepped_runs_transitions() {
         }
         eprintln!("{name}: {} transitions, before 0.2 s within {worst_early:.1e} s", a.len());
     }
-}
-
-fn map_of(base: &str, scene: Scene, fast: bool, sweeps: &[&str]) -> MapJson {
-    let spec = MapSpec {
-        scene_name: base.into(),
-        base: scene,
-        grid: Grid::new(sweeps.iter().map(|s| Sweep::parse(s).unwrap()).collect()).unwrap(),
-        options: CellOptions { precision: Precision::F64, kick: 0.01, stick_jump: fast },
-        shard: None,
-        jobs: None,
-        progress: false,
-        share_sliding: true,
-    };
-    map::run_map(&spec).unwrap().0
 }
 
 /// Maps at event speed (the default) against maps stepped at every step (`--step-stick`):

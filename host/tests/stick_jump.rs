@@ -4,33 +4,10 @@
 //! The reference is always the ordinary step, a different computation (per-substep dyadic
 //! flows, one step at a time) from the jump's (flows over 2^j steps squared up in f64).
 
-use stickslip::map::cell::CellOptions;
-use stickslip::map::sweep::{Grid, Sweep};
-use stickslip::map::{self, MapJson, MapSpec};
-use stickslip::scenes::run::Precision;
+mod thesis_common;
+
 use stickslip_model::{ExactStepper, Real, Regime, Scene, StickJump};
-
-fn builtin(name: &str) -> Scene {
-    stickslip::scenes::builtin::find(name).expect("a built-in scene").scene
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    if a == b {
-        0.0
-    } else {
-        (a - b).abs() / a.abs().max(b.abs())
-    }
-}
-
-/// The six cases and the 1-DOF thesis scene (rotation held: the bound is exact there).
-fn scenes() -> Vec<(String, Scene)> {
-    let mut v: Vec<(String, Scene)> = ["push_trail", "push_center", "push_lead", "pull_trail", "pull_center", "pull_lead"]
-        .iter()
-        .map(|n| (n.to_string(), builtin(n)))
-        .collect();
-    v.push(("push_center, rotation held".into(), Scene { rotation: false, ..builtin("push_center") }));
-    v
-}
+use thesis_common::{builtin, map_of, rel, scenes};
 
 /// The first stick phase from rest, jumped: the jumped stepper, a stepper at the start, and
 /// the steps jumped (most of the phase).
@@ -141,20 +118,6 @@ fn runs_with_jumps_have_the_stepped_runs_transitions() {
     }
 }
 
-fn map_of(jump: bool, sweeps: &[&str]) -> MapJson {
-    let spec = MapSpec {
-        scene_name: "push_center".into(),
-        base: builtin("push_center"),
-        grid: Grid::new(sweeps.iter().map(|s| Sweep::parse(s).unwrap()).collect()).unwrap(),
-        options: CellOptions { precision: Precision::F64, kick: 0.01, stick_jump: jump },
-        shard: None,
-        jobs: None,
-        progress: false,
-        share_sliding: true,
-    };
-    map::run_map(&spec).unwrap().0
-}
-
 /// The maps' statistics with the jump and with every step sampled: the event times to
 /// rounding as the run amplifies it, so the stick fraction, the frequency and the
 /// peak-to-peak values to 1e-6; the groan RMS to 1e-5 (the ring-down in closed form in f64
@@ -163,7 +126,8 @@ fn map_of(jump: bool, sweeps: &[&str]) -> MapJson {
 #[test]
 fn a_map_with_the_jump_is_the_sampled_map() {
     let sweeps = ["beta=0.02:0.075:6", "mu_s=0.4:0.8:5"];
-    let (a, b) = (map_of(true, &sweeps), map_of(false, &sweeps));
+    let map = |jump| map_of("push_center", builtin("push_center"), jump, &sweeps);
+    let (a, b) = (map(true), map(false));
     assert_eq!(a.cells.len(), 30);
     let mut stick_slip = 0;
     for (ca, cb) in a.cells.iter().zip(&b.cells) {

@@ -31,10 +31,13 @@ pub struct MapArgs {
     /// Worker threads, 1 to 1024 (default: every core)
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub jobs: Option<u16>,
-    /// Step the thesis model's runs through stick too, sampling every step. By default a run
-    /// jumps over stick where a closed-form bound keeps the pad stuck and sums the groan
-    /// filter's ring-down in closed form: the same statistics to rounding, which a run that
-    /// amplifies differences can carry further (docs/maps.md, "Stick at event speed")
+    /// Step the thesis model's runs as `simulate` does: every step, each sampled, transitions
+    /// by binary lifting. By default (f64) a run jumps over stick where a closed-form bound
+    /// keeps the pad stuck (the groan filter's ring-down in closed form), takes its other steps
+    /// in a tight loop (two at a time before the window's samples) and locates transitions by
+    /// root-finding on the exact flow's Taylor polynomial: the same statistics to rounding,
+    /// which a run that amplifies differences can carry further (docs/maps.md, "Statistics at
+    /// event speed")
     #[arg(long)]
     pub step_stick: bool,
     #[command(flatten)]

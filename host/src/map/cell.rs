@@ -28,7 +28,7 @@
 
 use serde::{Deserialize, Serialize};
 use stickslip_model::model2::event_run::edges::{LEAD, TRAIL};
-use stickslip_model::rig::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ, GROAN_SECTIONS};
+use stickslip_model::rig::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ};
 use stickslip_model::Scene;
 
 use crate::error::Result;
@@ -146,20 +146,13 @@ struct CellSink {
     window_from: f64,
     /// The groan filter runs from here (its settling time before the window).
     filter_from: f64,
-    /// The first steps whose end times are at or after `window_from` and `filter_from`
-    /// ([`first_at`]): a quiet step's sample is placed by its number.
-    window_k: u64,
-    filter_k: u64,
-    groan: Option<BandPass<GROAN_SECTIONS>>,
-    groan_state: CascadeState<GROAN_SECTIONS>,
+    /// The groan filter, the extremes, the band's sum of squares and the count (with the first
+    /// steps of the filter and the window: a quiet step's sample is placed by its number).
+    w: QuietWindow,
     /// The filter's free response in closed form, for stick phases ([`RingDown`]).
     ring: Option<RingDown>,
     /// Take stick phases whole ([`Sink::takes_stick_runs`]).
     stick_runs: bool,
-    acc: (f64, f64),
-    v: (f64, f64),
-    groan_sq: f64,
-    n: u64,
     /// Steps taken whole in stick ([`Sink::stick_samples`]), not stepped.
     jumped: u64,
     /// The sliding velocity's distance from zero over the whole run (every sample), kept only
@@ -231,16 +224,18 @@ impl CellSink {
             // sample times are step ends: the window's first sample is the step ending at its start
             window_from: start - 0.5 * scene.dt,
             filter_from: start - GROAN_SETTLE_S - 0.5 * scene.dt,
-            window_k: first_at(0, u64::MAX, scene.dt, start - 0.5 * scene.dt),
-            filter_k: first_at(0, u64::MAX, scene.dt, start - GROAN_SETTLE_S - 0.5 * scene.dt),
-            groan,
-            groan_state: Default::default(),
+            w: QuietWindow {
+                groan,
+                groan_state: Default::default(),
+                filter_k: first_at(0, u64::MAX, scene.dt, start - GROAN_SETTLE_S - 0.5 * scene.dt),
+                window_k: first_at(0, u64::MAX, scene.dt, start - 0.5 * scene.dt),
+                acc: (f64::INFINITY, f64::NEG_INFINITY),
+                v: (f64::INFINITY, f64::NEG_INFINITY),
+                groan_sq: 0.0,
+                n: 0,
+            },
             ring: groan.as_ref().and_then(RingDown::of),
             stick_runs: true,
-            acc: (f64::INFINITY, f64::NEG_INFINITY),
-            v: (f64::INFINITY, f64::NEG_INFINITY),
-            groan_sq: 0.0,
-            n: 0,
             jumped: 0,
             margin: None,
         }
@@ -251,28 +246,28 @@ impl CellSink {
     /// `n` samples of zero input through the groan filter, summed if `in_window`: by the filter itself when the run is shorter than the
     /// filter's decay ([`RingDown::decay_samples`]), else in closed form.
     fn zero_input(&mut self, n: u64, in_window: bool) {
-        let Some(bp) = &self.groan else { return };
+        let Some(bp) = &self.w.groan else { return };
         match &self.ring {
             Some(ring) if n >= ring.decay_samples => {
                 if in_window {
-                    self.groan_sq += ring.energy(&self.groan_state);
+                    self.w.groan_sq += ring.energy(&self.w.groan_state);
                 }
-                self.groan_state = CascadeState::ZERO;
+                self.w.groan_state = CascadeState::ZERO;
             }
             Some(ring) if n > RING_LOOP_MAX => {
                 // the sum over n samples: the whole free response's less what follows them
-                let s = RingDown::values(&self.groan_state);
+                let s = RingDown::values(&self.w.groan_state);
                 let after = ring.advance(&s, n);
                 if in_window {
-                    self.groan_sq += (ring.quad(&s) - ring.quad(&after)).max(0.0);
+                    self.w.groan_sq += (ring.quad(&s) - ring.quad(&after)).max(0.0);
                 }
-                self.groan_state = RingDown::state(&after);
+                self.w.groan_state = RingDown::state(&after);
             }
             _ => {
                 for _ in 0..n {
-                    let g = bp.run(&mut self.groan_state, 0.0) as f64;
+                    let g = bp.run(&mut self.w.groan_state, 0.0) as f64;
                     if in_window {
-                        self.groan_sq += g * g;
+                        self.w.groan_sq += g * g;
                     }
                 }
             }
@@ -317,9 +312,9 @@ impl Sink for CellSink {
         self.zero_input(w0 - f0, false);
         if end > w0 {
             self.zero_input(end - w0, true);
-            self.acc = (self.acc.0.min(0.0), self.acc.1.max(0.0));
-            self.v = (self.v.0.min(0.0), self.v.1.max(0.0));
-            self.n += end - w0;
+            self.w.acc = (self.w.acc.0.min(0.0), self.w.acc.1.max(0.0));
+            self.w.v = (self.w.v.0.min(0.0), self.w.v.1.max(0.0));
+            self.w.n += end - w0;
         }
         Ok(())
     }
@@ -340,8 +335,8 @@ impl Sink for CellSink {
     /// take it (x'' peaks there, at a re-stick under Stribeck friction, between step ends).
     fn between(&mut self, s: &Sample) -> Result<()> {
         if s.t >= self.window_from && s.pad_acc.is_finite() && s.v_slide.is_finite() {
-            self.acc = (self.acc.0.min(s.pad_acc), self.acc.1.max(s.pad_acc));
-            self.v = (self.v.0.min(s.v_slide), self.v.1.max(s.v_slide));
+            self.w.acc = (self.w.acc.0.min(s.pad_acc), self.w.acc.1.max(s.pad_acc));
+            self.w.v = (self.w.v.0.min(s.v_slide), self.w.v.1.max(s.v_slide));
         }
         Ok(())
     }
@@ -354,33 +349,16 @@ impl Sink for CellSink {
         if s.t < self.filter_from {
             return Ok(());
         }
-        self.filtered(s.pad_acc, s.v_slide, s.t >= self.window_from);
+        self.w.sample(s.pad_acc, s.v_slide, s.t >= self.window_from);
         Ok(())
     }
 
     fn take_window(&mut self) -> Option<QuietWindow> {
-        if self.margin.is_some() {
-            return None;
-        }
-        let groan = self.groan?;
-        Some(QuietWindow {
-            groan,
-            groan_state: self.groan_state,
-            filter_k: self.filter_k,
-            window_k: self.window_k,
-            acc: self.acc,
-            v: self.v,
-            groan_sq: self.groan_sq,
-            n: self.n,
-        })
+        (self.margin.is_none() && self.w.groan.is_some()).then_some(self.w)
     }
 
     fn put_window(&mut self, w: QuietWindow) {
-        self.groan_state = w.groan_state;
-        self.acc = w.acc;
-        self.v = w.v;
-        self.groan_sq = w.groan_sq;
-        self.n = w.n;
+        self.w = w;
     }
 
     #[inline(always)]
@@ -388,39 +366,8 @@ impl Sink for CellSink {
         if let Some(m) = &mut self.margin {
             m.sample(v_slide, regime == stickslip_model::Regime::Stick);
         }
-        if k < self.filter_k {
-            return Ok(());
-        }
-        self.filtered(pad_acc, v_slide, k >= self.window_k);
+        self.w.take(k, pad_acc, v_slide);
         Ok(())
-    }
-}
-
-impl CellSink {
-    /// A sample through the groan filter, and into the window's statistics if `in_window`.
-    #[inline(always)]
-    fn filtered(&mut self, pad_acc: f64, v_slide: f64, in_window: bool) {
-        let g = match &self.groan {
-            Some(bp) => bp.run(&mut self.groan_state, pad_acc as f32) as f64,
-            None => 0.0,
-        };
-        if in_window && pad_acc.is_finite() && v_slide.is_finite() {
-            // (both finite: plain comparisons are the extremes)
-            if pad_acc < self.acc.0 {
-                self.acc.0 = pad_acc;
-            }
-            if pad_acc > self.acc.1 {
-                self.acc.1 = pad_acc;
-            }
-            if v_slide < self.v.0 {
-                self.v.0 = v_slide;
-            }
-            if v_slide > self.v.1 {
-                self.v.1 = v_slide;
-            }
-            self.groan_sq += g * g;
-            self.n += 1;
-        }
     }
 }
 
@@ -454,16 +401,16 @@ pub fn classify(report: &RunReport, slide_v_pp: f64, steady_limit: f64) -> &'sta
 
 /// The run's cell from its report and window sink.
 fn run_cell(scene: &Scene, report: &RunReport, sink: &CellSink, kick: f64) -> RunCell {
-    let window = report.has_window() && sink.n > 0;
-    let slide_v_pp = if window { sink.v.1 - sink.v.0 } else { f64::NAN };
+    let window = report.has_window() && sink.w.n > 0;
+    let slide_v_pp = if window { sink.w.v.1 - sink.w.v.0 } else { f64::NAN };
     let regime = classify(report, slide_v_pp, STEADY_PP * kick * scene.v);
     let w = |v: f64| if window { fin(v) } else { None };
     RunCell {
         regime: regime.to_string(),
         stick_fraction: w(report.stats.stick_fraction),
         stick_slip_hz: if report.stats.slip_onsets >= 2 { w(report.stats.stick_slip_hz) } else { None },
-        pad_x_pp: w(sink.acc.1 - sink.acc.0),
-        groan_rms: if sink.groan.is_some() && window { fin((sink.groan_sq / sink.n as f64).sqrt()) } else { None },
+        pad_x_pp: w(sink.w.acc.1 - sink.w.acc.0),
+        groan_rms: if sink.w.groan.is_some() && window { fin((sink.w.groan_sq / sink.w.n as f64).sqrt()) } else { None },
         slide_v_pp: w(slide_v_pp),
         halt_s: report.outcome.halt_time(),
         open_fraction_trail: report.edges.and_then(|e| w(e.open_fraction(TRAIL))),
@@ -516,11 +463,15 @@ pub struct CellOptions {
     pub precision: Precision,
     /// The relative velocity kick of the start from steady sliding ([`Start::Sliding`]).
     pub kick: f64,
-    /// Stick at event speed in the thesis model's runs: the stepper jumps over stick while a
-    /// closed-form bound keeps the guard ([`stickslip_model::StickJump`]) and the groan
-    /// filter's zero input is summed in closed form. `false` samples every step (the same
-    /// map to rounding except where the run is sensitive at the last digit: the test of the
-    /// jump).
+    /// Statistics at event speed in the thesis model's runs: the stepper jumps over stick
+    /// while a closed-form bound keeps the guard ([`stickslip_model::StickJump`]) and the
+    /// groan filter's zero input is summed in closed form; the common steps run in a tight
+    /// loop ([`stickslip_model::ExactTables::quiet_steps`]; in slip two at a time before the
+    /// samples, [`stickslip_model::exact::SlipPairs`]) and, in f64, a step's transitions are
+    /// located on the exact flow's Taylor polynomial
+    /// ([`stickslip_model::ExactTables::step_located`]). `false` steps and samples every step
+    /// as `simulate` does (the same map to rounding except where the run is sensitive at the
+    /// last digit: the tests `stick_jump` and `map_located`).
     pub stick_jump: bool,
 }
 

@@ -92,13 +92,13 @@ pub trait Sink {
     }
 }
 
-/// A map cell's window statistics of the pad's x'' and the sliding velocity, as a quiet
-/// stretch of a run takes them by value ([`Sink::take_window`]): the groan band-pass (f32) from
-/// step `filter_k` on, and from step `window_k` on the extremes, the band's sum of squares and
-/// the count.
+/// A map cell's window statistics of the pad's x'' and the sliding velocity: the groan
+/// band-pass (f32; `None` where it cannot be designed at the run's rate) from step `filter_k`
+/// on, and from step `window_k` on the extremes, the band's sum of squares and the count. A
+/// quiet stretch of a run takes them by value ([`Sink::take_window`]).
 #[derive(Clone, Copy, Debug)]
 pub struct QuietWindow {
-    pub groan: BandPass<GROAN_SECTIONS>,
+    pub groan: Option<BandPass<GROAN_SECTIONS>>,
     pub groan_state: CascadeState<GROAN_SECTIONS>,
     pub filter_k: u64,
     pub window_k: u64,
@@ -113,11 +113,20 @@ impl QuietWindow {
     /// The sample at the end of step `k`.
     #[inline(always)]
     pub fn take(&mut self, k: u64, pad_acc: f64, v_slide: f64) {
-        if k < self.filter_k {
-            return;
+        if k >= self.filter_k {
+            self.sample(pad_acc, v_slide, k >= self.window_k);
         }
-        let g = self.groan.run(&mut self.groan_state, pad_acc as f32) as f64;
-        if k >= self.window_k && pad_acc.is_finite() && v_slide.is_finite() {
+    }
+
+    /// A sample through the groan filter, and into the window's statistics if `in_window`
+    /// (and both values finite).
+    #[inline(always)]
+    pub fn sample(&mut self, pad_acc: f64, v_slide: f64, in_window: bool) {
+        let g = match &self.groan {
+            Some(bp) => bp.run(&mut self.groan_state, pad_acc as f32) as f64,
+            None => 0.0,
+        };
+        if in_window && pad_acc.is_finite() && v_slide.is_finite() {
             // (both finite: plain comparisons are the extremes)
             if pad_acc < self.acc.0 {
                 self.acc.0 = pad_acc;

@@ -166,11 +166,9 @@ impl<T: Real> ExactTables<T> {
             let ze = if at == units { z_end } else { apply(self.prop.flow(regime, 0), &zp) };
             obs.segment(&Segment { regime, step: s.step, sub, p0: pos, p1: at, z0: z, z1: ze }, &self.prop);
             let next = self.guards.next_regime(regime, which, &ze);
-            let mut zn = ze;
+            let zn = self.enter(s, next, ze);
             if next == Regime::Stick {
-                zn[1] = self.fast.v;
                 entered_stick_at = Some(at);
-                s.anchor_x = zn[0];
             }
             if next == regime {
                 touched = Some((regime, which));
@@ -178,12 +176,7 @@ impl<T: Real> ExactTables<T> {
                 touched = None;
                 let tr = Transition { t: self.time_at(s, sub, at), from: regime, to: next, state: State::from_array(zn) };
                 obs.transition(&tr);
-                if (s.n_reported as usize) < TRANSITIONS_PER_STEP {
-                    s.reported[s.n_reported as usize] = tr;
-                    s.n_reported += 1;
-                } else {
-                    s.dropped += 1;
-                }
+                Self::report(s, tr);
                 transitions += 1;
             }
             count += 1;
@@ -201,25 +194,51 @@ impl<T: Real> ExactTables<T> {
             }
             z_end = self.prop.advance(regime, &z, units - pos);
         }
+        // x from the anchor: elapsed = (units - at) units
+        let e0 = entered_stick_at.map(|at| T::from_f64((units - at) as f64 / units as f64 * self.prop.h_sub));
+        self.end_substep(s, regime, e0, z_end);
+        Ok(transitions)
+    }
+
+    /// The state entering `next` from `ze`: in stick x' = V, and the stick anchor at its x.
+    #[inline(always)]
+    pub(super) fn enter(&self, s: &mut ExactState<T>, next: Regime, ze: [T; 4]) -> [T; 4] {
+        let mut zn = ze;
+        if next == Regime::Stick {
+            zn[1] = self.fast.v;
+            s.anchor_x = zn[0];
+        }
+        zn
+    }
+
+    /// Keeps `tr` among the step's reported transitions (or counts it dropped).
+    #[inline(always)]
+    pub(super) fn report(s: &mut ExactState<T>, tr: Transition<T>) {
+        if (s.n_reported as usize) < TRANSITIONS_PER_STEP {
+            s.reported[s.n_reported as usize] = tr;
+            s.n_reported += 1;
+        } else {
+            s.dropped += 1;
+        }
+    }
+
+    /// The end of a substep resolved in place: its regime, and in stick x from the anchor
+    /// (`entered_e0`: the substep entered stick, that long before its end; else a stick
+    /// substep whose guard fired and came back, or a touch: the anchor kept) and x' = V.
+    pub(super) fn end_substep(&self, s: &mut ExactState<T>, regime: Regime, entered_e0: Option<T>, mut z_end: [T; 4]) {
         s.regime = regime;
         if regime == Regime::Stick {
-            match entered_stick_at {
-                Some(at) => {
-                    // x from the anchor: elapsed = (units - at) units
-                    let e0 = (units - at) as f64 / units as f64 * self.prop.h_sub;
-                    s.anchor_e0 = T::from_f64(e0);
+            match entered_e0 {
+                Some(e0) => {
+                    s.anchor_e0 = e0;
                     s.anchor_subs = 0;
                     z_end[0] = s.anchor_x + self.fast.v * s.anchor_e0;
                 }
-                None => {
-                    // a stick substep whose guard fired and came back (or a touch): keep the anchor
-                    z_end[0] = self.stick_x(s, s.anchor_subs);
-                }
+                None => z_end[0] = self.stick_x(s, s.anchor_subs),
             }
             z_end[1] = self.fast.v;
             s.anchor_subs = s.anchor_subs.saturating_add(1);
         }
         s.z = z_end;
-        Ok(transitions)
     }
 }

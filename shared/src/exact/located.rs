@@ -369,23 +369,15 @@ impl ExactTables<f64> {
             let at = pos + sigma;
             let ze = flow.state(sigma);
             let next = self.guards.next_regime(regime, which, &ze);
-            let mut zn = ze;
+            let zn = self.enter(s, next, ze);
             if next == Regime::Stick {
-                zn[1] = self.fast.v;
                 entered_stick_at = Some(at);
-                s.anchor_x = zn[0];
             }
             if next == regime {
                 touched = Some((regime, which));
             } else {
                 touched = None;
-                let tr = Transition { t: s.step as f64 * self.dt + at, from: regime, to: next, state: State::from_array(zn) };
-                if (s.n_reported as usize) < TRANSITIONS_PER_STEP {
-                    s.reported[s.n_reported as usize] = tr;
-                    s.n_reported += 1;
-                } else {
-                    s.dropped += 1;
-                }
+                Self::report(s, Transition { t: s.step as f64 * self.dt + at, from: regime, to: next, state: State::from_array(zn) });
                 transitions += 1;
             }
             count += 1;
@@ -402,22 +394,7 @@ impl ExactTables<f64> {
                 break;
             }
         }
-        s.regime = regime;
-        if regime == Regime::Stick {
-            match entered_stick_at {
-                Some(at) => {
-                    s.anchor_e0 = h - at;
-                    s.anchor_subs = 0;
-                    z_end[0] = s.anchor_x + self.fast.v * s.anchor_e0;
-                }
-                None => {
-                    z_end[0] = self.stick_x(s, s.anchor_subs);
-                }
-            }
-            z_end[1] = self.fast.v;
-            s.anchor_subs = s.anchor_subs.saturating_add(1);
-        }
-        s.z = z_end;
+        self.end_substep(s, regime, entered_stick_at.map(|at| h - at), z_end);
         if let Err(hl) = self.check(s, 0) {
             s.halted = Some(hl);
             return Err(hl);

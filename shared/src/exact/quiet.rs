@@ -66,16 +66,7 @@ impl<T: Real> ExactTables<T> {
         let mut acc0 = r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4];
         let mut n = 0u64;
         while n < max {
-            let z1 = if rotation {
-                [
-                    z[0] + (f[0] * z[0] + f[1] * z[1] + f[2] * z[2] + f[3] * z[3] + f[4]),
-                    z[1] + (f[5] * z[0] + f[6] * z[1] + f[7] * z[2] + f[8] * z[3] + f[9]),
-                    z[2] + (f[12] * z[2] + f[13] * z[3] + f[14]),
-                    z[3] + (f[17] * z[2] + f[18] * z[3] + f[19]),
-                ]
-            } else {
-                [z[0] + (f[0] * z[0] + f[1] * z[1] + f[4]), z[1] + (f[5] * z[0] + f[6] * z[1] + f[9]), z[2], z[3]]
-            };
+            let z1 = super::step::slip_flow(&f, &z, rotation);
             let acc1 = r[0] * z1[0] + r[1] * z1[1] + r[2] * z1[2] + r[3] * z1[3] + r[4];
             if g.fired(&z1) || !self.limits.in_range(&z1) {
                 break;
@@ -164,16 +155,7 @@ impl<T: Real> ExactTables<T> {
         let mut acc0 = r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4];
         let mut n = 0u64;
         while n + 2 <= max {
-            let z2 = if rotation {
-                [
-                    z[0] + (f[0] * z[0] + f[1] * z[1] + f[2] * z[2] + f[3] * z[3] + f[4]),
-                    z[1] + (f[5] * z[0] + f[6] * z[1] + f[7] * z[2] + f[8] * z[3] + f[9]),
-                    z[2] + (f[12] * z[2] + f[13] * z[3] + f[14]),
-                    z[3] + (f[17] * z[2] + f[18] * z[3] + f[19]),
-                ]
-            } else {
-                [z[0] + (f[0] * z[0] + f[1] * z[1] + f[4]), z[1] + (f[5] * z[0] + f[6] * z[1] + f[9]), z[2], z[3]]
-            };
+            let z2 = super::step::slip_flow(&f, &z, rotation);
             let acc2 = r[0] * z2[0] + r[1] * z2[1] + r[2] * z2[2] + r[3] * z2[3] + r[4];
             if g.fired(&z2) || !self.limits.in_range(&z2) || (sign * acc0 > zero && sign * acc2 < zero) {
                 break;

@@ -3,6 +3,7 @@
 //! range, in contact); a substep with a fired or cresting guard goes to [`super::events`].
 
 use super::*;
+use crate::propagator::Flow;
 
 impl<T: Real> ExactTables<T> {
     /// One step of `dt` of the run in `s` (its state: what a step writes), with no observer.
@@ -72,24 +73,7 @@ impl<T: Real> ExactTables<T> {
                     [x, self.fast.v, z[2], z[3]]
                 }
             }
-            _ => {
-                let f = self.prop.substep_flow(regime);
-                if self.rotation {
-                    [
-                        z[0] + (f[0] * z[0] + f[1] * z[1] + f[2] * z[2] + f[3] * z[3] + f[4]),
-                        z[1] + (f[5] * z[0] + f[6] * z[1] + f[7] * z[2] + f[8] * z[3] + f[9]),
-                        z[2] + (f[12] * z[2] + f[13] * z[3] + f[14]),
-                        z[3] + (f[17] * z[2] + f[18] * z[3] + f[19]),
-                    ]
-                } else {
-                    [
-                        z[0] + (f[0] * z[0] + f[1] * z[1] + f[4]),
-                        z[1] + (f[5] * z[0] + f[6] * z[1] + f[9]),
-                        z[2],
-                        z[3],
-                    ]
-                }
-            }
+            _ => slip_flow(self.prop.substep_flow(regime), z, self.rotation),
         }
     }
 
@@ -124,6 +108,22 @@ impl<T: Real> ExactTables<T> {
     #[inline(always)]
     pub(super) fn check(&self, s: &ExactState<T>, sub: u32) -> Result<(), Halt> {
         self.limits.check(&s.z, s.regime, || self.time_at(s, sub, Propagator::<T>::UNITS))
+    }
+}
+
+/// `z` after a slip flow `f` (increment form): slip's block structure (phi moves on its own)
+/// skips the zeros of f's phi rows; without rotation phi and phi' stay.
+#[inline(always)]
+pub(super) fn slip_flow<T: Real>(f: &Flow<T>, z: &[T; 4], rotation: bool) -> [T; 4] {
+    if rotation {
+        [
+            z[0] + (f[0] * z[0] + f[1] * z[1] + f[2] * z[2] + f[3] * z[3] + f[4]),
+            z[1] + (f[5] * z[0] + f[6] * z[1] + f[7] * z[2] + f[8] * z[3] + f[9]),
+            z[2] + (f[12] * z[2] + f[13] * z[3] + f[14]),
+            z[3] + (f[17] * z[2] + f[18] * z[3] + f[19]),
+        ]
+    } else {
+        [z[0] + (f[0] * z[0] + f[1] * z[1] + f[4]), z[1] + (f[5] * z[0] + f[6] * z[1] + f[9]), z[2], z[3]]
     }
 }
 
