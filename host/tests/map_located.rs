@@ -108,3 +108,4 @@ fn located_maps_are_the_stepped_maps() {
         assert!(stick_slip >= 10, "{name}: the map should stick-slip in many runs ({stick_slip})");
     }
 }
+

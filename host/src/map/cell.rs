@@ -26,9 +26,12 @@
 //! run from [`GROAN_SETTLE_S`] before the window, so that it has settled). Stick fraction and stick-slip frequency are the run's
 //! exact window statistics (as `simulate` reports them).
 
+use std::cell::RefCell;
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 use stickslip_model::model2::event_run::edges::{LEAD, TRAIL};
-use stickslip_model::rig::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ};
+use stickslip_model::rig::bandpass::{BandPass, CascadeState, GROAN_BAND_HZ, GROAN_SECTIONS};
 use stickslip_model::Scene;
 
 use crate::error::Result;
@@ -150,7 +153,7 @@ struct CellSink {
     /// steps of the filter and the window: a quiet step's sample is placed by its number).
     w: QuietWindow,
     /// The filter's free response in closed form, for stick phases ([`RingDown`]).
-    ring: Option<RingDown>,
+    ring: Option<Arc<RingDown>>,
     /// Take stick phases whole ([`Sink::takes_stick_runs`]).
     stick_runs: bool,
     /// Steps taken whole in stick ([`Sink::stick_samples`]), not stepped.
@@ -219,7 +222,7 @@ impl CellSink {
 
     fn new(scene: &Scene) -> CellSink {
         let start = run::window_start(scene);
-        let groan = BandPass::butterworth(GROAN_BAND_HZ.0, GROAN_BAND_HZ.1, 1.0 / scene.dt).ok();
+        let (groan, ring) = groan_filter(scene.dt);
         CellSink {
             // sample times are step ends: the window's first sample is the step ending at its start
             window_from: start - 0.5 * scene.dt,
@@ -234,7 +237,7 @@ impl CellSink {
                 groan_sq: 0.0,
                 n: 0,
             },
-            ring: groan.as_ref().and_then(RingDown::of),
+            ring,
             stick_runs: true,
             jumped: 0,
             margin: None,
@@ -273,6 +276,33 @@ impl CellSink {
             }
         }
     }
+}
+
+thread_local! {
+    /// The last groan filter designed on this thread, by the step's bits: a map's cells share
+    /// one step, and the filter's design and its ring-down's closed form (the Gramian, the
+    /// powers) are the same for all of them.
+    static GROAN_FILTER: RefCell<Option<(u64, GroanFilter)>> = const { RefCell::new(None) };
+}
+
+/// The groan band-pass at the rate 1 / dt (None where it cannot be designed) and its
+/// ring-down in closed form.
+type GroanFilter = (Option<BandPass<GROAN_SECTIONS>>, Option<Arc<RingDown>>);
+
+/// [`GroanFilter`] for step `dt`, designed once a thread and step.
+fn groan_filter(dt: f64) -> GroanFilter {
+    GROAN_FILTER.with(|slot| {
+        let mut slot = slot.borrow_mut();
+        if let Some((bits, f)) = slot.as_ref() {
+            if *bits == dt.to_bits() {
+                return f.clone();
+            }
+        }
+        let groan = BandPass::butterworth(GROAN_BAND_HZ.0, GROAN_BAND_HZ.1, 1.0 / dt).ok();
+        let f = (groan, groan.as_ref().and_then(RingDown::of).map(Arc::new));
+        *slot = Some((dt.to_bits(), f.clone()));
+        f
+    })
 }
 
 /// The first step k in `from..to` whose time k dt is at or after `t` (`to` if none), times

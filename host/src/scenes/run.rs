@@ -365,7 +365,12 @@ fn thesis_runs<T: Cached, S: Sink + ?Sized>(
     // each run on the set-up's tables, from a copy of its state
     let mut runs = |tables: &ExactTables<T>, state: ExactState<T>| -> Result<Vec<RunReport>> {
         let budget = OverBudget::of(tables.propagator().n_sub, planned_steps(scene));
-        starts.iter_mut().map(|(z0, sink)| run_in(scene, precision, ExactStepper::on(tables, state), *z0, full, budget, &mut **sink)).collect()
+        // the event speed's tables, once for the runs of the scene that take stick whole
+        let speed = (!full && starts.iter().any(|(_, sink)| sink.takes_stick_runs())).then(|| EventSpeed::new(scene, tables));
+        starts
+            .iter_mut()
+            .map(|(z0, sink)| run_in(scene, precision, speed.as_ref(), ExactStepper::on(tables, state), *z0, full, budget, &mut **sink))
+            .collect()
     };
     // The caller validated the scene; a failure here still gets a message, not a panic.
     let input = |e: SceneError| HostError::Input(e.to_string());
@@ -544,6 +549,25 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     })
 }
 
+/// What a thesis run of [`Detail::Events`] at event speed reads beside the stepper's tables
+/// (a map cell's runs share it): the jump over stick, the regimes' Taylor flows for the
+/// located transitions (f64) and the slip flows over two steps (f64).
+pub(crate) struct EventSpeed<T: Real> {
+    jump: StickJump<T>,
+    taylor: TaylorFlows,
+    pairs: Option<SlipPairs<T>>,
+}
+
+impl<T: Real> EventSpeed<T> {
+    fn new(scene: &Scene, tables: &ExactTables<T>) -> Self {
+        EventSpeed {
+            jump: StickJump::<T>::new(scene),
+            taylor: TaylorFlows::new(scene),
+            pairs: (T::DYADIC_LEVELS > 24).then(|| SlipPairs::new(scene, tables)),
+        }
+    }
+}
+
 /// Steps a thesis run of [`Detail::Events`] steps in stick before it tries the jump over
 /// stick again ([`run_in`]).
 const JUMP_RETRY_STEPS: u64 = 16;
@@ -598,6 +622,7 @@ fn quiet_sample<T: Real, S: Sink + ?Sized>(sink: &mut S, k: &mut u64, dt: f64, v
 fn run_in<T: Cached, S: Sink + ?Sized>(
     scene: &Scene,
     precision: Precision,
+    speed: Option<&EventSpeed<T>>,
     mut stepper: ExactStepper<T, &ExactTables<T>>,
     z0: Option<[f64; 8]>,
     full: bool,
@@ -624,11 +649,10 @@ fn run_in<T: Cached, S: Sink + ?Sized>(
     let mut steps_done = 0;
     let steps_to_run = if budget.is_some() { 0 } else { steps_planned };
     // stick at event speed where the sink takes stick phases whole (the maps' cells)
-    let jump = (!full && sink.takes_stick_runs()).then(|| StickJump::<T>::new(scene));
-    // and its transitions located on the exact flow's Taylor polynomials (f64)
-    let taylor = jump.as_ref().map(|_| TaylorFlows::new(scene));
-    // and, before the sink reads samples, slip two steps at a time (f64)
-    let pairs = jump.as_ref().filter(|_| T::DYADIC_LEVELS > 24).map(|_| SlipPairs::new(scene, stepper.tables()));
+    let speed = speed.filter(|_| !full && sink.takes_stick_runs());
+    let jump = speed.map(|e| &e.jump);
+    let taylor = speed.map(|e| &e.taylor);
+    let pairs = speed.and_then(|e| e.pairs.as_ref());
     let mut next_jump_try = 0u64;
     // the first step whose end the sink reads (k dt >= samples_from)
     let first_sampled = first_step_at(scene.dt, samples_from);
@@ -636,7 +660,7 @@ fn run_in<T: Cached, S: Sink + ?Sized>(
     while steps_done < steps_to_run {
         crate::cancel::check_every(iterations)?;
         iterations += 1;
-        if let Some(jump) = &jump {
+        if let Some(jump) = jump {
             if stepper.regime() == Regime::Stick && steps_done >= next_jump_try {
                 let (tables, state) = stepper.parts_mut();
                 let first = state.steps() + 1;
@@ -670,7 +694,7 @@ fn run_in<T: Cached, S: Sink + ?Sized>(
                     // single steps (the step of an event is left to the located step)
                     let mut done = 0;
                     loop {
-                        if let Some(p) = &pairs {
+                        if let Some(p) = pairs {
                             done += tables.quiet_slip_pairs(p, state, max - done);
                         }
                         let single = (max - done).min(2);
@@ -716,7 +740,7 @@ fn run_in<T: Cached, S: Sink + ?Sized>(
         let stepped = if full {
             stepper.step_observed(&mut obs)
         } else {
-            let r = match &taylor {
+            let r = match taylor {
                 Some(taylor) => {
                     let (tables, state) = stepper.parts_mut();
                     T::step_located(tables, state, taylor)

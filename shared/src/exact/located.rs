@@ -6,7 +6,7 @@
 //! exact flow from z over sigma is z(sigma) = sum_n v_n sigma^n with v_0 = z and
 //! v_n = A [v_(n-1); delta_(n,1)] / n (the constant 1 enters v_1 only). Over a substep the
 //! fastest mode turns by at most a quarter radian, so the terms fall at least as fast as
-//! (1/4)^n / n!: (10 to 14 terms: [`TaylorFlows::new`] fixes their number from the fastest mode), and every guard g = c . [z; 1] is then a polynomial in sigma.
+//! (1/4)^n / n!: (10 to 15 terms for 2^-60: [`TaylorFlows::new`] fixes their number from the fastest mode), and every guard g = c . [z; 1] is then a polynomial in sigma.
 //!
 //! **The first crossing.** On a substep a guard has at most one extremum (the quarter-radian
 //! rule). With g_0 < 0 at the segment's start (the regime holds):
@@ -29,8 +29,9 @@
 
 use super::*;
 
-/// Most Taylor terms kept (the quarter-radian substep needs 16 for 2^-64).
-const MAX_TERMS: usize = 18;
+/// Most Taylor terms kept (the quarter-radian substep needs 15 for 2^-60): the polynomials
+/// are evaluated at this length, zeros beyond their terms, unrolled.
+const MAX_TERMS: usize = 16;
 /// Root iterations before the bracket's midpoint is taken as the zero (Newton converges in a
 /// handful; bisection halves 53 bits in 53).
 const MAX_ROOT_ITERATIONS: usize = 80;
@@ -42,7 +43,7 @@ const MAX_ROOT_ITERATIONS: usize = 80;
 pub struct TaylorFlows {
     a: [[[f64; 5]; 4]; 3],
     /// Terms kept (v_0 .. v_(terms - 1)): the remainder (rate h)^n / n! of the fastest mode
-    /// over a substep is below 2^-64 from n = terms - 2 on.
+    /// over a substep is below 2^-60 from n = terms - 1 on.
     terms: usize,
 }
 
@@ -59,14 +60,15 @@ impl TaylorFlows {
         }
         let n_sub = Propagator::<f64>::substeps(scene, &co, scene.dt);
         let rh = crate::propagator::fastest_rate(scene, &co) * scene.dt / f64::from(n_sub);
-        // the smallest n with (rate h)^n / n! <= 2^-64, and two more
+        // the smallest n with (rate h)^n / n! <= 2^-60 (below the last bit of every sum), and
+        // one more
         let mut n = 1usize;
         let mut term = rh;
-        while n + 2 < MAX_TERMS && term > 5.421010862427522e-20 {
+        while n + 1 < MAX_TERMS && term > 8.673617379884035e-19 {
             n += 1;
             term *= rh / n as f64;
         }
-        TaylorFlows { a, terms: (n + 2).min(MAX_TERMS) }
+        TaylorFlows { a, terms: (n + 1).min(MAX_TERMS) }
     }
 }
 
@@ -99,10 +101,11 @@ impl Taylor {
         self.n = n;
     }
 
-    /// The state at sigma.
+    /// The state at sigma (the terms beyond n are zero).
+    #[inline]
     fn state(&self, sigma: f64) -> [f64; 4] {
-        let mut out = self.v[self.n - 1];
-        for k in (0..self.n - 1).rev() {
+        let mut out = self.v[MAX_TERMS - 1];
+        for k in (0..MAX_TERMS - 1).rev() {
             for i in 0..4 {
                 out[i] = out[i] * sigma + self.v[k][i];
             }
@@ -113,12 +116,12 @@ impl Taylor {
     /// The coefficients of guard `c` (g = c . [z; 1]) as a polynomial in sigma, into `p`.
     #[inline]
     fn guard(&self, c: &[f64; 5], p: &mut Poly) {
-        for k in 0..self.n {
+        // the terms beyond n are zero in v (filled so from EMPTY and never written)
+        for k in 0..MAX_TERMS {
             let v = &self.v[k];
             p.c[k] = c[0] * v[0] + c[1] * v[1] + c[2] * v[2] + c[3] * v[3];
         }
         p.c[0] += c[4];
-        p.n = self.n;
         p.derive();
     }
 }
@@ -129,59 +132,50 @@ struct Poly {
     c: [f64; MAX_TERMS],
     d: [f64; MAX_TERMS],
     e: [f64; MAX_TERMS],
-    n: usize,
 }
 
-/// sum_k c[k] s^k for k < n, as its even and odd parts in s^2 (two independent chains).
+/// sum_k c[k] s^k over all MAX_TERMS coefficients, as its even and odd parts in s^2 (two
+/// independent chains, unrolled).
 #[inline(always)]
-fn horner2(c: &[f64; MAX_TERMS], n: usize, s: f64) -> f64 {
-    if n == 0 {
-        return 0.0;
-    }
+fn horner2(c: &[f64; MAX_TERMS], s: f64) -> f64 {
     let s2 = s * s;
-    let top = n - 1;
-    // the highest even and odd indices below n
-    let (mut ie, mut io) = if top % 2 == 0 { (top, top.wrapping_sub(1)) } else { (top - 1, top) };
-    let mut even = c[ie];
-    let mut odd = if io < n { c[io] } else { 0.0 };
-    while ie >= 2 {
-        ie -= 2;
-        even = even * s2 + c[ie];
-        if io < n && io >= 2 {
-            io -= 2;
-            odd = odd * s2 + c[io];
-        }
+    let mut even = c[MAX_TERMS - 2];
+    let mut odd = c[MAX_TERMS - 1];
+    let mut k = MAX_TERMS - 2;
+    while k >= 2 {
+        k -= 2;
+        even = even * s2 + c[k];
+        odd = odd * s2 + c[k + 1];
     }
     even + s * odd
 }
 
 impl Poly {
-    const EMPTY: Poly = Poly { c: [0.0; MAX_TERMS], d: [0.0; MAX_TERMS], e: [0.0; MAX_TERMS], n: 1 };
+    const EMPTY: Poly = Poly { c: [0.0; MAX_TERMS], d: [0.0; MAX_TERMS], e: [0.0; MAX_TERMS] };
 
-    /// The derivatives' coefficients from `c[..n]`.
-    #[inline]
+    /// The derivatives' coefficients from `c` (zeros beyond its terms).
+    #[inline(always)]
     fn derive(&mut self) {
-        let n = self.n;
-        for k in 0..n - 1 {
+        for k in 0..MAX_TERMS - 1 {
             self.d[k] = (k + 1) as f64 * self.c[k + 1];
         }
-        self.d[n - 1] = 0.0;
-        for k in 0..n.saturating_sub(2) {
+        self.d[MAX_TERMS - 1] = 0.0;
+        for k in 0..MAX_TERMS - 1 {
             self.e[k] = (k + 1) as f64 * self.d[k + 1];
         }
-        self.e[n.saturating_sub(2)] = 0.0;
+        self.e[MAX_TERMS - 1] = 0.0;
     }
 
     /// The value and the derivative at sigma.
     #[inline]
     fn eval(&self, sigma: f64) -> (f64, f64) {
-        (horner2(&self.c, self.n, sigma), horner2(&self.d, self.n - 1, sigma))
+        (horner2(&self.c, sigma), horner2(&self.d, sigma))
     }
 
     /// The derivative's value and its own derivative at sigma.
     #[inline]
     fn eval_rate(&self, sigma: f64) -> (f64, f64) {
-        (horner2(&self.d, self.n - 1, sigma), horner2(&self.e, self.n.saturating_sub(2), sigma))
+        (horner2(&self.d, sigma), horner2(&self.e, sigma))
     }
 
     /// The zero of `f` (value and derivative at a point) in [lo, hi], where it changes sign:
@@ -412,7 +406,6 @@ mod tests {
     fn poly(c: &[f64]) -> Poly {
         let mut p = Poly::EMPTY;
         p.c[..c.len()].copy_from_slice(c);
-        p.n = c.len();
         p.derive();
         p
     }
@@ -455,8 +448,10 @@ mod tests {
         let p = poly(&c);
         for &s in &[0.0, 0.1, -0.37, 0.9] {
             for n in 1..=MAX_TERMS {
+                let mut cn = [0.0; MAX_TERMS];
+                cn[..n].copy_from_slice(&p.c[..n]);
                 let plain = c[..n].iter().rev().fold(0.0, |acc, &ck| acc * s + ck);
-                let two = horner2(&p.c, n, s);
+                let two = horner2(&cn, s);
                 assert!((plain - two).abs() <= 1e-13 * plain.abs().max(1.0), "n {n} s {s}: {plain} vs {two}");
             }
         }
