@@ -9,7 +9,7 @@ mod thesis_common;
 
 use stickslip_model::exact::TaylorFlows;
 use stickslip_model::{ExactStepper, Regime, Scene};
-use thesis_common::{builtin, map_of, rel};
+use thesis_common::{assert_maps_agree, builtin, map_of};
 
 /// The six cases, the 1-DOF thesis scene, and two of the cases with their guide damped and
 /// at another band speed (other modes, other transitions).
@@ -80,31 +80,7 @@ fn located_maps_are_the_stepped_maps() {
     for (name, scene, sweeps) in cases {
         let (a, b) = (map_of(name, scene, true, &sweeps), map_of(name, scene, false, &sweeps));
         assert_eq!(a.cells.len(), 25);
-        let mut stick_slip = 0;
-        for (ca, cb) in a.cells.iter().zip(&b.cells) {
-            assert_eq!(ca.invalid, cb.invalid, "{name} cell {}", ca.index);
-            for (ra, rb) in [(&ca.from_rest, &cb.from_rest), (&ca.from_sliding, &cb.from_sliding)] {
-                let (Some(ra), Some(rb)) = (ra, rb) else {
-                    assert_eq!(ra.is_none(), rb.is_none(), "{name} cell {}", ca.index);
-                    continue;
-                };
-                assert_eq!(ra.regime, rb.regime, "{name} cell {}", ca.index);
-                stick_slip += usize::from(ra.regime == "stick_slip");
-                let pairs = [
-                    ("stick_fraction", ra.stick_fraction, rb.stick_fraction, 1e-6),
-                    ("stick_slip_hz", ra.stick_slip_hz, rb.stick_slip_hz, 1e-6),
-                    ("pad_x_pp", ra.pad_x_pp, rb.pad_x_pp, 1e-6),
-                    ("slide_v_pp", ra.slide_v_pp, rb.slide_v_pp, 1e-6),
-                    ("groan_rms", ra.groan_rms, rb.groan_rms, 1e-5),
-                ];
-                for (key, x, y, tol) in pairs {
-                    match (x, y) {
-                        (Some(x), Some(y)) => assert!(rel(x, y) <= tol, "{name} cell {} {key}: {x} at event speed, {y} stepped", ca.index),
-                        (x, y) => assert_eq!(x, y, "{name} cell {} {key}", ca.index),
-                    }
-                }
-            }
-        }
+        let stick_slip = assert_maps_agree(&format!("{name} at event speed against stepped"), &a, &b);
         assert!(stick_slip >= 10, "{name}: the map should stick-slip in many runs ({stick_slip})");
     }
 }

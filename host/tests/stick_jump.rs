@@ -7,7 +7,7 @@
 mod thesis_common;
 
 use stickslip_model::{ExactStepper, Real, Regime, Scene, StickJump};
-use thesis_common::{builtin, map_of, rel, scenes};
+use thesis_common::{assert_maps_agree, builtin, map_of, rel, scenes};
 
 /// The first stick phase from rest, jumped: the jumped stepper, a stepper at the start, and
 /// the steps jumped (most of the phase).
@@ -129,26 +129,6 @@ fn a_map_with_the_jump_is_the_sampled_map() {
     let map = |jump| map_of("push_center", builtin("push_center"), jump, &sweeps);
     let (a, b) = (map(true), map(false));
     assert_eq!(a.cells.len(), 30);
-    let mut stick_slip = 0;
-    for (ca, cb) in a.cells.iter().zip(&b.cells) {
-        for (ra, rb) in [(&ca.from_rest, &cb.from_rest), (&ca.from_sliding, &cb.from_sliding)] {
-            let (ra, rb) = (ra.as_ref().unwrap(), rb.as_ref().unwrap());
-            assert_eq!(ra.regime, rb.regime, "cell {}", ca.index);
-            stick_slip += usize::from(ra.regime == "stick_slip");
-            let pairs = [
-                ("stick_fraction", ra.stick_fraction, rb.stick_fraction, 1e-6),
-                ("stick_slip_hz", ra.stick_slip_hz, rb.stick_slip_hz, 1e-6),
-                ("pad_x_pp", ra.pad_x_pp, rb.pad_x_pp, 1e-6),
-                ("slide_v_pp", ra.slide_v_pp, rb.slide_v_pp, 1e-6),
-                ("groan_rms", ra.groan_rms, rb.groan_rms, 1e-5),
-            ];
-            for (key, x, y, tol) in pairs {
-                match (x, y) {
-                    (Some(x), Some(y)) => assert!(rel(x, y) <= tol, "cell {} {key}: {x} with the jump, {y} sampled", ca.index),
-                    (x, y) => assert_eq!(x, y, "cell {} {key}", ca.index),
-                }
-            }
-        }
-    }
+    let stick_slip = assert_maps_agree("push_center with the jump against sampled", &a, &b);
     assert!(stick_slip >= 20, "the map should be mostly stick-slip from rest ({stick_slip})");
 }

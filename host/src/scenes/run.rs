@@ -619,6 +619,7 @@ fn quiet_sample<T: Real, S: Sink + ?Sized>(sink: &mut S, k: &mut u64, dt: f64, v
     }
 }
 
+#[allow(clippy::too_many_arguments)] // the run's scene, precision, tables, start and sink
 fn run_in<T: Cached, S: Sink + ?Sized>(
     scene: &Scene,
     precision: Precision,

@@ -47,3 +47,36 @@ pub fn map_of(name: &str, scene: Scene, fast: bool, sweeps: &[&str]) -> MapJson 
     };
     map::run_map(&spec).unwrap().0
 }
+
+/// The regimes of two maps of the same cells equal, their statistics within 1e-6 (the groan
+/// RMS 1e-5: f32's filter against the ring-down's closed form in stick); returns the runs from
+/// rest or from sliding that stick-slip. `what`: the maps, for the messages.
+pub fn assert_maps_agree(what: &str, a: &MapJson, b: &MapJson) -> usize {
+    assert_eq!(a.cells.len(), b.cells.len(), "{what}");
+    let mut stick_slip = 0;
+    for (ca, cb) in a.cells.iter().zip(&b.cells) {
+        assert_eq!(ca.invalid, cb.invalid, "{what} cell {}", ca.index);
+        for (ra, rb) in [(&ca.from_rest, &cb.from_rest), (&ca.from_sliding, &cb.from_sliding)] {
+            let (Some(ra), Some(rb)) = (ra, rb) else {
+                assert_eq!(ra.is_none(), rb.is_none(), "{what} cell {}", ca.index);
+                continue;
+            };
+            assert_eq!(ra.regime, rb.regime, "{what} cell {}", ca.index);
+            stick_slip += usize::from(ra.regime == "stick_slip");
+            let pairs = [
+                ("stick_fraction", ra.stick_fraction, rb.stick_fraction, 1e-6),
+                ("stick_slip_hz", ra.stick_slip_hz, rb.stick_slip_hz, 1e-6),
+                ("pad_x_pp", ra.pad_x_pp, rb.pad_x_pp, 1e-6),
+                ("slide_v_pp", ra.slide_v_pp, rb.slide_v_pp, 1e-6),
+                ("groan_rms", ra.groan_rms, rb.groan_rms, 1e-5),
+            ];
+            for (key, x, y, tol) in pairs {
+                match (x, y) {
+                    (Some(x), Some(y)) => assert!(rel(x, y) <= tol, "{what} cell {} {key}: {x} against {y}", ca.index),
+                    (x, y) => assert_eq!(x, y, "{what} cell {} {key}", ca.index),
+                }
+            }
+        }
+    }
+    stick_slip
+}

@@ -54,9 +54,7 @@ impl TaylorFlows {
         let mut a = [[[0.0; 5]; 4]; 3];
         for regime in Regime::ALL {
             let m = system_matrix(scene, &co, regime);
-            for r in 0..4 {
-                a[regime.index()][r] = m[r];
-            }
+            a[regime.index()].copy_from_slice(&m[..4]);
         }
         let n_sub = Propagator::<f64>::substeps(scene, &co, scene.dt);
         let rh = crate::propagator::fastest_rate(scene, &co) * scene.dt / f64::from(n_sub);
@@ -106,8 +104,8 @@ impl Taylor {
     fn state(&self, sigma: f64) -> [f64; 4] {
         let mut out = self.v[MAX_TERMS - 1];
         for k in (0..MAX_TERMS - 1).rev() {
-            for i in 0..4 {
-                out[i] = out[i] * sigma + self.v[k][i];
+            for (o, vk) in out.iter_mut().zip(self.v[k]) {
+                *o = *o * sigma + vk;
             }
         }
         out
@@ -284,7 +282,7 @@ fn hermite_root(lo: f64, hi: f64, ends: [(f64, f64); 2]) -> f64 {
 impl ExactTables<f64> {
     /// Whether guard `c` of the regime of `a` may cross zero between `z` and `z_end` (a
     /// segment of at most a substep): fired at the end, or its rate c . A [z; 1] going from
-    /// > 0 to < 0 (a crest). The polynomial's search decides; a guard that passes neither
+    /// positive to negative (a crest). The polynomial's search decides; a guard that passes neither
     /// test has no crossing there (at most one extremum a substep).
     #[inline(always)]
     fn may_cross(a: &[[f64; 5]; 4], c: &[f64; 5], z: &[f64; 4], z_end: &[f64; 4]) -> bool {

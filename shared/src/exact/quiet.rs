@@ -50,12 +50,21 @@ impl<T: Real> ExactTables<T> {
 
     /// [`Self::quiet_steps`] of a run in slip (none otherwise).
     #[inline(always)]
-    pub fn quiet_slip_steps<F: FnMut(&[T; 4], T)>(&self, s: &mut ExactState<T>, max: u64, mut each: F) -> u64 {
-        let regime = s.regime;
-        if self.prop.n_sub != 1 || s.halted.is_some() || regime == Regime::Stick {
+    pub fn quiet_slip_steps<F: FnMut(&[T; 4], T)>(&self, s: &mut ExactState<T>, max: u64, each: F) -> u64 {
+        if self.prop.n_sub != 1 || s.halted.is_some() || s.regime == Regime::Stick {
             return 0;
         }
-        let f = *self.prop.substep_flow(regime);
+        let f = *self.prop.substep_flow(s.regime);
+        self.slip_loop::<false, F>(s, &f, max, each)
+    }
+
+    /// The loop of [`Self::quiet_slip_steps`] (`PAIR` false: flow `f` over a step, each end
+    /// handed to `each`, a crest suspect tested to the end) and of [`Self::quiet_slip_pairs`]
+    /// (`PAIR`: `f` over two steps, no state between, any crest suspect stops it).
+    #[inline(always)]
+    fn slip_loop<const PAIR: bool, F: FnMut(&[T; 4], T)>(&self, s: &mut ExactState<T>, f: &Flow<T>, max: u64, mut each: F) -> u64 {
+        let regime = s.regime;
+        let stride = if PAIR { 2 } else { 1 };
         let rotation = self.rotation;
         let r = self.prop.accel_row(regime);
         let sign = if regime == Regime::SlipSlower { T::one() } else { -T::one() };
@@ -65,16 +74,20 @@ impl<T: Real> ExactTables<T> {
         // x'' at z: the guard's rate (+-x'') and the sample's pad_acc
         let mut acc0 = r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4];
         let mut n = 0u64;
-        while n < max {
-            let z1 = super::step::slip_flow(&f, &z, rotation);
+        while n + stride <= max {
+            let z1 = super::step::slip_flow(f, &z, rotation);
             let acc1 = r[0] * z1[0] + r[1] * z1[1] + r[2] * z1[2] + r[3] * z1[3] + r[4];
             if g.fired(&z1) || !self.limits.in_range(&z1) {
                 break;
             }
-            // the crest test of `crest_suspect`: the guard's rate +-x'' from > 0 to < 0 (then
-            // the rest of the test, on copies: the loop's state stays in registers)
+            // the crest test of `crest_suspect`: the guard's rate +-x'' from > 0 to < 0 (then,
+            // for a single step, the rest of the test, on copies: the loop's state stays in
+            // registers)
             let (d0, d1) = (sign * acc0, sign * acc1);
             if d0 > zero && d1 < zero {
+                if PAIR {
+                    break;
+                }
                 let (za, zb) = (core::hint::black_box(z), z1);
                 if self.crest_possible(regime, &za, &zb) {
                     break;
@@ -82,8 +95,10 @@ impl<T: Real> ExactTables<T> {
             }
             z = z1;
             acc0 = acc1;
-            n += 1;
-            each(&z, acc1);
+            n += stride;
+            if !PAIR {
+                each(&z, acc1);
+            }
         }
         s.z = z;
         Self::quiet_done(s, n)
@@ -141,30 +156,10 @@ impl<T: Real> ExactTables<T> {
     /// step by step ([`Self::quiet_slip_steps`]) from where this stops.
     #[inline(always)]
     pub fn quiet_slip_pairs(&self, pairs: &SlipPairs<T>, s: &mut ExactState<T>, max: u64) -> u64 {
-        let regime = s.regime;
-        if !pairs.usable || s.halted.is_some() || regime == Regime::Stick {
+        if !pairs.usable || s.halted.is_some() || s.regime == Regime::Stick {
             return 0;
         }
-        let f = pairs.flows[regime.index() - 1];
-        let rotation = self.rotation;
-        let r = self.prop.accel_row(regime);
-        let sign = if regime == Regime::SlipSlower { T::one() } else { -T::one() };
-        let g = *self.guards.of(regime).0[0];
-        let zero = T::zero();
-        let mut z = s.z;
-        let mut acc0 = r[0] * z[0] + r[1] * z[1] + r[2] * z[2] + r[3] * z[3] + r[4];
-        let mut n = 0u64;
-        while n + 2 <= max {
-            let z2 = super::step::slip_flow(&f, &z, rotation);
-            let acc2 = r[0] * z2[0] + r[1] * z2[1] + r[2] * z2[2] + r[3] * z2[3] + r[4];
-            if g.fired(&z2) || !self.limits.in_range(&z2) || (sign * acc0 > zero && sign * acc2 < zero) {
-                break;
-            }
-            z = z2;
-            acc0 = acc2;
-            n += 2;
-        }
-        s.z = z;
-        Self::quiet_done(s, n)
+        let f = pairs.flows[s.regime.index() - 1];
+        self.slip_loop::<true, _>(s, &f, max, |_, _| {})
     }
 }
