@@ -32,10 +32,11 @@ pub struct MapArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub jobs: Option<u16>,
     /// Step the thesis model's runs as `simulate` does: every step, each sampled, transitions
-    /// by binary lifting. By default (f64) a run jumps over stick where a closed-form bound
-    /// keeps the pad stuck (the groan filter's ring-down in closed form), takes its other steps
-    /// in a tight loop (two at a time before the window's samples) and locates transitions by
-    /// root-finding on the exact flow's Taylor polynomial: the same statistics to rounding,
+    /// by binary lifting. By default a run jumps over stick where a closed-form bound keeps the
+    /// pad stuck (the groan filter's ring-down in closed form), takes its other steps in a
+    /// tight loop and, in f64, slip two at a time before the window's samples and locates
+    /// transitions by root-finding on the exact flow's Taylor polynomial: the same statistics
+    /// to rounding,
     /// which a run that amplifies differences can carry further (docs/maps.md, "Statistics at
     /// event speed")
     #[arg(long)]
