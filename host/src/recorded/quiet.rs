@@ -23,6 +23,10 @@
 //!    variance of all their rows about their common mean is at most [`LEVEL_FACTOR`] x their
 //!    mean within-block variance (plus 4 quanta^2), so slow motion, a drifting offset or
 //!    flat stretches at different levels (a clipped signal at its two rails) are not a floor;
+//!    and at most [`TREND_SHARE`] of their variance within a block is a straight line through
+//!    it (where that spread is two quanta or more), so the zero crossings of a signal that
+//!    never sticks (a slow sine: each crossing a ramp, quieter than anything else in it) are
+//!    not a floor either;
 //! 5. the floor of each channel and of a_rel from the quiet rows (mean, sigma, peak-to-peak),
 //!    and the quantum: the larger smallest nonzero step of pad_x and disc_x over the record.
 //!
@@ -65,6 +69,10 @@ pub const QUIET_FACTOR: f64 = 4.0;
 /// The quiet rows' variance about their common mean, at most this times their mean
 /// within-block variance.
 pub const LEVEL_FACTOR: f64 = 4.0;
+/// The quiet blocks are smooth motion, not noise, where more than this share of their variance
+/// within a block is a straight line through it (white noise: about 1/31; noise band-limited to
+/// a quarter of the sampling rate: about 0.1).
+pub const TREND_SHARE: f64 = 0.5;
 /// A run of identical rows at the record's start or end is fill, not stick, where the floor
 /// without it has a_rel's sigma of at least this many quanta (module documentation).
 pub const FILL_NOISE_QUANTA: f64 = 4.0;
@@ -83,6 +91,9 @@ struct Bin {
     max: [f64; FLOOR_VALUES],
     /// Sum over its blocks of rows x the block's variance of a_rel.
     within: f64,
+    /// Sum over its blocks of the part of that a straight line through the block explains
+    /// (the least-squares line's sum of squares about the block's mean).
+    trend: f64,
     t_first: f64,
     t_last: f64,
 }
@@ -95,6 +106,7 @@ const EMPTY: Bin = Bin {
     min: [f64::INFINITY; FLOOR_VALUES],
     max: [f64::NEG_INFINITY; FLOOR_VALUES],
     within: 0.0,
+    trend: 0.0,
     t_first: f64::INFINITY,
     t_last: f64::NEG_INFINITY,
 };
@@ -231,6 +243,13 @@ impl QuietSearch {
         bin.blocks += 1;
         bin.n += b.len() as u64;
         bin.within += var * n;
+        // the line's share: (sum (t - t_mean) x)^2 / sum (t - t_mean)^2 over the block's rows
+        let t_mean = 0.5 * (n - 1.0);
+        let sxt: f64 = b.iter().enumerate().map(|(t, r)| (t as f64 - t_mean) * (r[4] - mean)).sum();
+        let stt = n * (n * n - 1.0) / 12.0;
+        if stt > 0.0 {
+            bin.trend += sxt * sxt / stt;
+        }
         bin.t_first = bin.t_first.min(self.block_t.0);
         bin.t_last = bin.t_last.max(self.block_t.1);
         for r in b {
@@ -262,13 +281,15 @@ impl QuietSearch {
             (self.lead.take(), self.pending.take().map(|(k, held)| (k, held, (self.run.1, self.run.2))))
         };
         if lead.is_none() && trail.is_none() && self.inside.is_empty() {
-            return self.floor();
+            return self.floor(true);
         }
         let resolved = |f: &FloorOutcome| {
             let sigma = f.report.sigma_m_s2[4] as f64;
             sigma > 0.0 && sigma >= FILL_NOISE_QUANTA * f.quantum_m_s2
         };
-        let without = self.floor();
+        // (whether the runs are fill is decided on the floor without them whatever its blocks'
+        // shape; a floor returned is tested for it)
+        let without = self.floor(false);
         let without_failed = without.is_err();
         let inside_rows: u64 = self.inside.iter().map(|(_, b)| b.n).sum();
         if let Ok(mut f) = without {
@@ -278,6 +299,7 @@ impl QuietSearch {
             // them is the quietest of the slip's blocks (about as many rows as the runs: 2,560
             // quiet rows for 2,528 in runs on the campaign's record)
             if resolved(&f) && INSIDE_FILL_SHARE * inside_rows <= f.report.samples as u64 {
+                self.floor(true)?;
                 f.fill_lead = lead.map(|l| l.2);
                 f.fill_trail = trail.map(|l| l.2);
                 f.fill_inside = self.inside_first.map(|span| (self.inside_runs, inside_rows, span));
@@ -291,7 +313,7 @@ impl QuietSearch {
             merge(&mut self.bins[k], &held);
         }
         if inside_were_held && (lead.is_some() || trail.is_some()) {
-            if let Ok(mut f) = self.floor() {
+            if let Ok(mut f) = self.floor(true) {
                 if resolved(&f) {
                     f.fill_lead = lead.map(|l| l.2);
                     f.fill_trail = trail.map(|l| l.2);
@@ -303,7 +325,7 @@ impl QuietSearch {
         for (k, held, _) in lead.iter().chain(trail.iter()) {
             merge(&mut self.bins[*k], held);
         }
-        match self.floor() {
+        match self.floor(true) {
             Ok(f) if f.report.sigma_m_s2[4] == 0.0 && without_failed => {
                 let span = |s: &Option<(usize, Bin, (f64, f64))>| s.as_ref().map(|l| format!("t = {} to {} s", l.2 .0, l.2 .1));
                 let inside = self.inside_first.map(|(a, b)| format!("{} between, the first t = {a} to {b} s", self.inside_runs));
@@ -317,8 +339,9 @@ impl QuietSearch {
         }
     }
 
-    /// The floor from the blocks in the histogram.
-    fn floor(&self) -> Result<FloorOutcome, String> {
+    /// The floor from the blocks in the histogram (`test_trend`: with the test that its blocks
+    /// are not straight lines, [`TREND_SHARE`]).
+    fn floor(&self, test_trend: bool) -> Result<FloorOutcome, String> {
         // a partial last block is left out: its variance is over fewer rows
         let total: u64 = self.bins.iter().map(|b| b.blocks).sum();
         if total == 0 {
@@ -365,6 +388,20 @@ impl QuietSearch {
                 var[4] / within.max(f64::MIN_POSITIVE)
             ));
         }
+        // noise spreads over a block's 31 degrees of freedom (a line takes about 1/31 of white
+        // noise, a few times that of noise band-limited well below the sampling rate); smooth
+        // motion through zero (the crossings of a slow oscillation, the quietest stretches of a
+        // signal that never sticks) is a line
+        // (tested where the quiet rows' spread within a block is resolved, two quanta and
+        // more: on a coarse converter stick is runs of one count, and the few quiet blocks
+        // with any spread are the stick's edges, a step of a count or two)
+        let trend = q.trend / q.within.max(f64::MIN_POSITIVE);
+        if test_trend && within > 4.0 * quantum * quantum && !(trend <= TREND_SHARE) {
+            return Err(format!(
+                "the quietest blocks of a_rel are straight lines ({:.0} % of their variance within a block is a trend through it): smooth motion through zero, not stick's noise",
+                100.0 * trend
+            ));
+        }
         let o = self.origin.expect("rows were taken");
         let report = FloorReport {
             samples: q.n.min(u32::MAX as u64) as u32,
@@ -401,6 +438,7 @@ fn merge(into: &mut Bin, from: &Bin) {
     into.blocks += from.blocks;
     into.n += from.n;
     into.within += from.within;
+    into.trend += from.trend;
     into.t_first = into.t_first.min(from.t_first);
     into.t_last = into.t_last.max(from.t_last);
     for i in 0..FLOOR_VALUES {
