@@ -18,6 +18,12 @@ use serde_json::Value;
 /// [m/s^2] added to pad_x. Returns the CSV and the true stick fraction.
 fn stick_slip(fs: f64, secs: f64, f_ss: f64, sf: f64, j: f64, sigma: f64, offset: f64) -> (String, f64) {
     let mut noise = Noise(0x9e37_79b9_7f4a_7c15);
+    stick_slip_with(fs, secs, f_ss, sf, j, offset, |_| noise.gauss(sigma))
+}
+
+/// [`stick_slip`] with the noise of channel `c` (0 disc_x, 1 pad_x, 2 pad_trail, 3 pad_lead)
+/// from `noise(c)`.
+fn stick_slip_with(fs: f64, secs: f64, f_ss: f64, sf: f64, j: f64, offset: f64, mut noise: impl FnMut(usize) -> f64) -> (String, f64) {
     let n = (fs * secs).round() as usize;
     let period = 1.0 / f_ss;
     let t_slip = (1.0 - sf) * period;
@@ -33,7 +39,7 @@ fn stick_slip(fs: f64, secs: f64, f_ss: f64, sf: f64, j: f64, sigma: f64, offset
             -j * (std::f64::consts::PI * (phase - sf * period) / t_slip).cos()
         };
         // the edge sensors: the pad's rotation, 0.6 and -0.8 of its x acceleration
-        let (d, p, tr, le) = (noise.gauss(sigma), noise.gauss(sigma), noise.gauss(sigma), noise.gauss(sigma));
+        let (d, p, tr, le) = (noise(0), noise(1), noise(2), noise(3));
         csv += &format!("{t:.9},{d:.6},{:.6},{:.6},{:.6}\n", a + offset + p, 0.6 * a + tr, -0.8 * a + le);
     }
     (csv, stick_rows as f64 / n as f64)
@@ -223,28 +229,14 @@ fn a_slow_sine_is_no_stick_slip_and_band_limited_noise_is_still_a_floor() {
     let w = (std::f64::consts::PI * 2000.0 / fs).tan();
     let d = 1.0 + std::f64::consts::SQRT_2 * w + w * w;
     let (k, a1, a2) = (w * w / d, 2.0 * (w * w - 1.0) / d, (1.0 - std::f64::consts::SQRT_2 * w + w * w) / d);
-    let mut lp = [[0.0f64; 4]; 2];
-    let mut filt = |ch: usize, x: f64| {
-        let s = &mut lp[ch];
+    let mut lp = [[0.0f64; 4]; 4];
+    // white noise of 0.3 m/s^2 through the low-pass: about 0.05 m/s^2
+    let (csv, truth) = stick_slip_with(fs, 1.0, 50.0, 0.5, 10.0, 0.0, |c| {
+        let x = noise.gauss(0.3);
+        let s = &mut lp[c];
         let y = k * x + 2.0 * k * s[0] + k * s[1] - a1 * s[2] - a2 * s[3];
         *s = [x, s[0], y, s[2]];
         y
-    };
-    let (period, sf, j) = (1.0 / 50.0, 0.5, 10.0);
-    let mut csv = String::from("t_s,disc_x,pad_x\n");
-    let (mut stick_rows, n) = (0usize, fs as usize);
-    for i in 0..n {
-        let t = i as f64 / fs;
-        let ph = t % period;
-        let a = if ph < sf * period {
-            stick_rows += 1;
-            0.0
-        } else {
-            -j * (std::f64::consts::PI * (ph - sf * period) / ((1.0 - sf) * period)).cos()
-        };
-        // white noise of 0.3 m/s^2 through the low-pass: about 0.05 m/s^2
-        let (dn, pn) = (filt(0, noise.gauss(0.3)), filt(1, noise.gauss(0.3)));
-        csv += &format!("{t:.9},{dn:.6},{:.6}\n", a + pn);
-    }
-    told(&analyze(&dir, "band_limited.csv", &csv), stick_rows as f64 / n as f64);
+    });
+    told(&analyze(&dir, "band_limited.csv", &csv), truth);
 }
