@@ -128,7 +128,10 @@ fn a_cells_pad_x_keeps_the_peak_at_re_stick_and_a_stuck_cell_sticks_one() {
     let sim = json(&["simulate", file.to_str().unwrap(), "--duration", "0.3", "--stats-from", "0.15", "--json"]);
     let (map_pp, sim_pp) = (num(&slips["pad_x_pp"]), num(&sim["pad_x_pp"]));
     assert!((map_pp / sim_pp - 1.0).abs() < 1e-3, "pad_x peak-to-peak: map {map_pp}, simulate {sim_pp}");
-    assert_eq!(num(&slips["stick_fraction"]), num(&sim["stick_fraction"]));
+    // the map's model-2 runs at event speed: the sampled run's statistics to 1e-5 (docs/maps.md,
+    // "Model 2 at event speed"; here 1.5e-12)
+    let (map_sf, sim_sf) = (num(&slips["stick_fraction"]), num(&sim["stick_fraction"]));
+    assert!((map_sf - sim_sf).abs() <= 1e-9, "stick fraction: map {map_sf}, simulate {sim_sf}");
     let path = dir.join("map.json");
     std::fs::write(&path, serde_json::to_string(&m).unwrap()).unwrap();
     ok(&["map", "merge", path.to_str().unwrap(), "--json"]);
@@ -158,7 +161,10 @@ fn a_files_damping_ratios_hold_in_every_cell() {
         let sim = json(&a);
         let (got, want) = (num(&c["linear"]["max_growth_rate"]), num(&sim["linear"]["max_growth_rate"]));
         assert!((got - want).abs() <= 1e-9 * want.abs(), "cell {}: growth {got} 1/s, simulate {want}", c["index"]);
-        assert_eq!(c["from_rest"]["stick_fraction"], sim["stick_fraction"], "cell {}", c["index"]);
+        // (at event speed: the sampled run's to 1e-5 (docs/maps.md, "Model 2 at event speed"),
+        // here within 6e-9)
+        let (map_sf, sim_sf) = (num(&c["from_rest"]["stick_fraction"]), num(&sim["stick_fraction"]));
+        assert!((map_sf - sim_sf).abs() <= 1e-6, "cell {}: stick fraction {map_sf}, simulate {sim_sf}", c["index"]);
         far += usize::from(k_g != 2e5);
     }
     assert!(far >= 2, "no cell away from the file's own k_g: not the case this test is about");

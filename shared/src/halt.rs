@@ -90,6 +90,11 @@ impl<T: Real> Limits<T> {
         self.classify(z, regime, t())
     }
 
+    /// The floor of phi below which the pad has lost contact [rad].
+    pub(crate) fn phi_floor(&self) -> T {
+        self.phi_floor
+    }
+
     /// Whether `z` passes every check (false for any NaN).
     #[inline(always)]
     pub fn in_range(&self, z: &[T; 4]) -> bool {

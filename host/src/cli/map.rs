@@ -31,14 +31,15 @@ pub struct MapArgs {
     /// Worker threads, 1 to 1024 (default: every core)
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub jobs: Option<u16>,
-    /// Step the thesis model's runs as `simulate` does: every step, each sampled, transitions
-    /// by binary lifting. By default a run jumps over stick where a closed-form bound keeps the
-    /// pad stuck (the groan filter's ring-down in closed form), takes its other steps in a
+    /// Step every run as `simulate` does: every step, each sampled, transitions by binary
+    /// lifting. By default a thesis-model run jumps over stick where a closed-form bound keeps
+    /// the pad stuck (the groan filter's ring-down in closed form), takes its other steps in a
     /// tight loop and, in f64, slip two at a time before the window's samples and locates
     /// transitions by root-finding on the exact flow's Taylor polynomial: the same statistics
-    /// to rounding,
-    /// which a run that amplifies differences can carry further (docs/maps.md, "Statistics at
-    /// event speed")
+    /// to rounding, which a run that amplifies differences can carry further; a model-2 run in
+    /// f64 (Stribeck, exponent 1) goes 4 steps at a time in slip and stick and locates
+    /// transitions on the guard's quadratic: the statistics to 1e-5, the groan RMS to about
+    /// 3e-4 (docs/maps.md, "Statistics at event speed", "Model 2 at event speed")
     #[arg(long)]
     pub step_stick: bool,
     #[command(flatten)]

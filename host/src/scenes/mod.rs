@@ -15,3 +15,4 @@ pub mod pneumatic;
 pub mod unilateral;
 pub mod sliding;
 pub mod table_cache;
+pub mod wide_runs;

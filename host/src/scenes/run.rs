@@ -6,7 +6,7 @@ use stickslip_model::propagator::Propagator;
 use stickslip_model::stats::{EventWindow, RunStats, StatsObserver};
 use stickslip_model::model2::event_run::edges::EdgeStats;
 use stickslip_model::model3::pneumatic_run::DriveStats;
-use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition, NS};
+use stickslip_model::model2::{AnyModel2Stepper, Shared, Model2Observer, Model2Segment, Model2Stats, Model2StatsObserver, Model2Transition, WideSamples, WideChunks, NS};
 use stickslip_model::{
     Coefficients, ExactState, ExactStepper, ExactTables, Halt, Observer, Real, Regime, Scene, SceneError, Segment, State, StickJump,
     Transition,
@@ -16,6 +16,8 @@ use crate::scenes::cycles::{CycleObserver, CycleStats};
 use crate::error::{HostError, Result};
 use crate::scenes::series::{Sample, Sink};
 use crate::scenes::table_cache::{Cached, PropagatorCache};
+use crate::scenes::wide_runs::{WideReal, LOCATE_BELOW_LEVEL};
+pub use crate::scenes::wide_runs::WIDE_STEPS;
 
 /// The floating-point type the stepper runs in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -383,18 +385,29 @@ fn thesis_runs<T: Cached, S: Sink + ?Sized>(
     }
 }
 
-fn model2_runs<T: Real, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
-    let proto = AnyModel2Stepper::<T>::new(scene).map_err(|e| HostError::Input(e.to_string()))?;
+fn model2_runs<T: WideReal, S: Sink + ?Sized>(scene: &Scene, precision: Precision, full: bool, starts: &mut Starts<S>) -> Result<Vec<RunReport>> {
+    // at event speed (runs of statistics only that take it: a map's cells) the slip tables of
+    // the thread's last cell are reused where they are the same, and Stribeck slip goes in wide chunks
+    let fast = !full && starts.iter().any(|(_, sink)| sink.takes_stick_runs());
+    let proto = if fast { T::stepper_reusing(scene) } else { AnyModel2Stepper::<T>::new(scene) };
+    let proto = proto.map_err(|e| HostError::Input(e.to_string()))?;
     let budget = OverBudget::of(proto.substeps(), planned_steps(scene));
+    let wide = if fast { T::wide_chunks(&proto, scene, WIDE_STEPS) } else { None };
     let mut reports = Vec::with_capacity(starts.len());
     for (z0, sink) in starts.iter_mut() {
         // each run on the set-up's tables (tens of KB), from a copy of its state
         let stepper = proto.shared();
+        let wide = wide.as_ref().filter(|_| sink.takes_stick_runs());
         reports.push(if full {
-            run_model2_in::<T, S, true>(scene, precision, stepper, *z0, budget, &mut **sink)?
+            run_model2_in::<T, S, true, false>(scene, precision, stepper, *z0, budget, None, &mut **sink)?
+        } else if wide.is_some() {
+            run_model2_in::<T, S, false, true>(scene, precision, stepper, *z0, budget, wide, &mut **sink)?
         } else {
-            run_model2_in::<T, S, false>(scene, precision, stepper, *z0, budget, &mut **sink)?
+            run_model2_in::<T, S, false, false>(scene, precision, stepper, *z0, budget, None, &mut **sink)?
         });
+    }
+    if fast {
+        T::keep_donor(scene, proto);
     }
     Ok(reports)
 }
@@ -416,7 +429,7 @@ pub(crate) fn run_stats(s: &Model2Stats) -> RunStats {
 /// The model-2 run's observers: window statistics, cycle spread, transition log. `FULL`:
 /// the window statistics keep the extremes, which need z' at each segment's ends; without
 /// them ([`Detail::Events`]) the stepper computes no derivatives.
-pub(crate) struct Model2RunObserver<const FULL: bool> {
+pub(crate) struct Model2RunObserver<const FULL: bool, const FAST: bool = false> {
     /// The statistics window's start [s]: the window statistics take no segment ending
     /// at or before it.
     pub(crate) window_start: f64,
@@ -428,8 +441,11 @@ pub(crate) struct Model2RunObserver<const FULL: bool> {
     pub(crate) step_transitions: Option<Vec<(f64, Regime, Regime, [f64; NS])>>,
 }
 
-impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
+impl<T: Real, const FULL: bool, const FAST: bool> Model2Observer<T> for Model2RunObserver<FULL, FAST> {
     const DERIVATIVES: bool = FULL;
+    /// At event speed (`FAST`, f64): transitions lifted to 2^-9 of a substep, then located on
+    /// the guard's quadratic ([`Model2Observer::LOCATE_BELOW_LEVEL`]).
+    const LOCATE_BELOW_LEVEL: usize = if FAST && T::DYADIC_LEVELS > 24 { LOCATE_BELOW_LEVEL } else { 0 };
 
     fn segment(&mut self, seg: &Model2Segment<T>) {
         if seg.t1 <= self.window_start {
@@ -460,12 +476,14 @@ impl<T: Real, const FULL: bool> Model2Observer<T> for Model2RunObserver<FULL> {
     }
 }
 
-fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
+#[allow(clippy::too_many_arguments)] // a run's scene, start, budget, wide tables and sink
+fn run_model2_in<T: WideReal, S: Sink + ?Sized, const FULL: bool, const FAST: bool>(
     scene: &Scene,
     precision: Precision,
     mut stepper: AnyModel2Stepper<T, Shared<'_>>,
     z0: Option<[f64; 8]>,
     budget: Option<OverBudget>,
+    wide: Option<&WideChunks>,
     sink: &mut S,
 ) -> Result<RunReport> {
     if let Some(z0) = z0 {
@@ -473,7 +491,7 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     }
     // the window starts at the step boundary nearest stats_from, as in the thesis stepper
     let window_start = window_start(scene);
-    let mut obs = Model2RunObserver::<FULL> {
+    let mut obs = Model2RunObserver::<FULL, FAST> {
         window_start,
         stats: if FULL { Model2StatsObserver::new(window_start, scene.v) } else { Model2StatsObserver::events_only(window_start, scene.v) },
         cycles: CycleObserver::new(window_start),
@@ -484,8 +502,42 @@ fn run_model2_in<T: Real, S: Sink + ?Sized, const FULL: bool>(
     let (forces, kinematics, samples_from) = (sink.wants_forces(), sink.wants_kinematics(), sink.samples_from());
     let mut outcome = budget.map_or(Outcome::Completed, Outcome::Budget);
     let mut steps_done = 0;
-    for i in 0..if budget.is_some() { 0 } else { steps_planned } {
-        crate::cancel::check_every(i)?;
+    let steps = if budget.is_some() { 0 } else { steps_planned };
+    // a wide chunk not taken is tried again after this many steps
+    let mut wide_rest = 0usize;
+    let mut wide_out = WideSamples::default();
+    let dt = scene.dt;
+    let mut i = 0u64;
+    let mut next_check = 0u64;
+    while i < steps {
+        // (a wide chunk moves i by several steps: not every multiple is met)
+        if i >= next_check {
+            crate::cancel::check()?;
+            next_check = i + crate::cancel::CHECK_EVERY_STEPS;
+        }
+        if let Some(w) = wide {
+            let m = w.steps() as u64;
+            if wide_rest == 0 && i + m <= steps {
+                let samples = (i + m) as f64 * dt >= samples_from;
+                if T::wide_step(&mut stepper, w, &mut obs, samples, &mut wide_out) {
+                    if samples {
+                        for k in 1..=m {
+                            if (i + k) as f64 * dt >= samples_from {
+                                let j = (k - 1) as usize;
+                                sink.quiet_sample(i + k, dt, wide_out.pad_acc[j], wide_out.v[j], stepper.regime())?;
+                            }
+                        }
+                    }
+                    i += m;
+                    steps_done += m;
+                    continue;
+                }
+                // not taken: the sampled path's steps, and again after m - 1 of them
+                wide_rest = m as usize;
+            }
+            wide_rest = wide_rest.saturating_sub(1);
+        }
+        i += 1;
         let stepped = stepper.step_observed(&mut obs);
         if let Some(trs) = &mut obs.step_transitions {
             for (t, from, to, z) in trs.drain(..) {

@@ -12,7 +12,7 @@ use crate::model2::composition::{
     Band, BandFace, Composition, Coulomb, CoulombFace, FloatFace, Stribeck, StribeckBand, StribeckBandFace,
     StribeckFace, StribeckFloatFace,
 };
-use crate::model2::stepper::{Model2Observer, Model2Stepper, Model2Tables};
+use crate::model2::stepper::{Model2Observer, Model2Stepper, Model2Tables, WideSamples, WideChunks};
 use crate::model2::system::NS;
 use crate::real::Real;
 use crate::scene::{FrictionLaw, Scene, SceneError};
@@ -56,6 +56,18 @@ pub enum AnyModel2Stepper<T: Real, K: TableStore<T> = Owned> {
     StribeckFloatFace(Model2Stepper<T, StribeckFloatFace, K::Of<StribeckFloatFace>>),
 }
 
+/// The Stribeck compositions (whose slip tables a donor can give), for
+/// [`AnyModel2Stepper::new_reusing`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Stribeck,
+    StribeckBand,
+    StribeckFace,
+    StribeckBandFace,
+    StribeckFloatFace,
+    Other,
+}
+
 macro_rules! each {
     ($self:expr, $s:ident => $e:expr) => {
         match $self {
@@ -87,6 +99,37 @@ impl<T: Real> AnyModel2Stepper<T> {
             AnyModel2Stepper::StribeckBandFace(s) => AnyModel2Stepper::StribeckBandFace(s.shared()),
             AnyModel2Stepper::FloatFace(s) => AnyModel2Stepper::FloatFace(s.shared()),
             AnyModel2Stepper::StribeckFloatFace(s) => AnyModel2Stepper::StribeckFloatFace(s.shared()),
+        }
+    }
+
+    /// [`Self::new`], with each Stribeck slip's kinetic tables taken from `donor` where they
+    /// are the same computation ([`Model2Stepper::new_reusing`]: f64, the same composition,
+    /// substep, A and b): the same stepper, for a map's cells that differ in V.
+    pub fn new_reusing(scene: &Scene, donor: &Self) -> Result<Self, SceneError> {
+        let fresh = Self::new_fresh_kind(scene);
+        macro_rules! reuse {
+            ($($v:ident),*) => {
+                match (fresh, donor) {
+                    $((Kind::$v, AnyModel2Stepper::$v(d)) => Ok(AnyModel2Stepper::$v(Model2Stepper::new_reusing(scene, d.tables())?)),)*
+                    _ => Self::new(scene),
+                }
+            };
+        }
+        reuse!(Stribeck, StribeckBand, StribeckFace, StribeckBandFace, StribeckFloatFace)
+    }
+
+    /// The composition `scene` asks for (as [`Self::new`] chooses it).
+    fn new_fresh_kind(scene: &Scene) -> Kind {
+        let stribeck = scene.friction == FrictionLaw::Stribeck;
+        if scene.floating() {
+            return if stribeck { Kind::StribeckFloatFace } else { Kind::Other };
+        }
+        match (stribeck, scene.band, scene.face) {
+            (true, false, false) => Kind::Stribeck,
+            (true, true, false) => Kind::StribeckBand,
+            (true, false, true) => Kind::StribeckFace,
+            (true, true, true) => Kind::StribeckBandFace,
+            _ => Kind::Other,
         }
     }
 
@@ -170,5 +213,26 @@ impl<T: Real, K: TableStore<T>> AnyModel2Stepper<T, K> {
     }
     pub fn step_observed<O: Model2Observer<T>>(&mut self, obs: &mut O) -> Result<usize, Halt> {
         each!(self, s => s.step_observed(obs))
+    }
+}
+
+impl<K: TableStore<f64>> AnyModel2Stepper<f64, K> {
+    /// The tables of wide chunks of `m` steps of Stribeck slip for `scene`, the scene this
+    /// stepper was built for ([`Model2Tables::wide_chunks`]; `None` where the scene takes none).
+    pub fn wide_chunks(&self, scene: &Scene, m: usize) -> Option<WideChunks> {
+        each!(self, s => s.tables().wide_chunks(scene, m))
+    }
+
+    /// m steps in one wide chunk, or false with the state untouched
+    /// ([`Model2Tables::wide_step`]).
+    pub fn wide_step<O: Model2Observer<f64>>(&mut self, w: &WideChunks, obs: &mut O, samples: bool, out: &mut WideSamples) -> bool {
+        each!(self, s => {
+            let (t, st) = s.parts_mut();
+            if st.regime() == crate::stickslip::Regime::Stick {
+                t.wide_stick(w, st, obs, samples, out)
+            } else {
+                t.wide_step(w, st, obs, samples, out)
+            }
+        })
     }
 }

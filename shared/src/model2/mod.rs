@@ -26,5 +26,5 @@ pub use composition::{
     StribeckFloatFace,
 };
 pub use stats::{Model2Stats, Model2StatsObserver};
-pub use stepper::{Model2Observer, Model2Segment, Model2State, Model2Stepper, Model2Tables, Model2Transition};
+pub use stepper::{Model2Observer, Model2Segment, Model2State, Model2Stepper, Model2Tables, Model2Transition, WideSamples, WideChunks, WIDE_MAX};
 pub use system::{System, NA, NS, Y};

@@ -172,6 +172,140 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         Some(self.lift(regime, z, ex0, pos, top, j, |c| dot::<T, C>(&g, c) < T::zero()))
     }
 
+    /// [`Self::crossing`] of a guard that fires at the chunk's end, for an observer whose
+    /// [`Model2Observer::LOCATE_BELOW_LEVEL`] is `stop` > 0: lifted as `crossing` lifts down to
+    /// level `stop`, then located on the guard's quadratic Taylor polynomial from the last point
+    /// p where it holds (`quadratic_step`: at most 2^stop - 1 units; for f64 and stop = 44,
+    /// 2^-9 of a substep, whose third-order term is far below the tolerance a map's statistics
+    /// are held to). Where that step is not clean (a rate <= 0, or the guard not holding at
+    /// the point it gives), the lift goes on to the last level as `crossing`'s does.
+    #[allow(clippy::too_many_arguments)] // a chunk's start and what is known there
+    pub(super) fn located_crossing(&self, regime: Regime, which: usize, z: &[T; NS], ex0: Option<&Excess<T>>, pos: u64, j: usize, stop: usize) -> (u64, [T; NS]) {
+        let g = *self.guard(regime, which);
+        let end = pos + (1u64 << j);
+        let lo = Self::min_level(regime);
+        // (a chunk at or below `stop` is lifted to the last level)
+        let stop = if j > stop.max(lo) { stop.max(lo) } else { lo };
+        let mut p = pos;
+        let mut cur = *z;
+        let mut ex = if Self::is_stribeck_slip(regime) { ex0.copied() } else { None };
+        let mut level = j;
+        let lift_to = |p: &mut u64, cur: &mut [T; NS], ex: &mut Option<Excess<T>>, level: &mut usize, last: usize| loop {
+            let step = 1u64 << *level;
+            if *p + step < end {
+                let cand = self.lift_chunk(regime, *level, cur, ex);
+                if dot::<T, C>(&g, &cand) < T::zero() {
+                    *p += step;
+                    *cur = cand;
+                    *ex = None;
+                }
+            }
+            if *level <= last {
+                break;
+            }
+            *level -= 1;
+        };
+        lift_to(&mut p, &mut cur, &mut ex, &mut level, stop);
+        if stop > lo {
+            let exc = if Self::is_stribeck_slip(regime) { Some(ex.unwrap_or_else(|| self.excess(&cur))) } else { None };
+            if let Some((d, zp)) = self.quadratic_step(regime, &g, &cur, exc.as_ref(), ((1u64 << stop) - 1).min(end - p - 1)) {
+                return (p + d, zp);
+            }
+            level -= 1;
+            lift_to(&mut p, &mut cur, &mut ex, &mut level, lo);
+        }
+        (p, cur)
+    }
+
+    /// The located step of [`Self::located_crossing`] from `cur` (where guard `g` holds, with
+    /// the falling part `ex` in Stribeck slip): z' and z'' there (z'' = A z' + b q', q' from
+    /// the rates of v and N), the guard's quadratic g0 + g1 t + g2 t^2 / 2, its first root t
+    /// (the stable form 2 (-g0) / (g1 + sqrt(g1^2 - 2 g0 g2))) less the time its round-off spans
+    /// (64 ulps of its terms over its rate), the last whole unit d before that (at most `span`),
+    /// and the state cur + d z' + d^2 z'' / 2 there, where the guard must still hold.
+    /// `None` where any of that fails (the lift then goes on).
+    /// A row's rate along `x` (its terms without the constant): row . (x, 0).
+    #[inline(always)]
+    fn rate_along(r: &[T; NA], x: &[T; NS]) -> T {
+        let mut acc = T::zero();
+        for c in 0..C::ROWS {
+            acc = acc + r[c] * x[c];
+        }
+        acc
+    }
+
+    /// z' and z'' at `z` in `regime` (z'' = A z' + b q', q' from the rates of v and N and the
+    /// falling part `ex` in Stribeck slip): the quadratic Taylor polynomial of the motion.
+    fn taylor2(&self, regime: Regime, z: &[T; NS], ex: Option<&Excess<T>>) -> ([T; NS], [T; NS]) {
+        let zd = self.derivative(regime, z);
+        let a = &self.a[regime.index()];
+        let mut zdd: [T; NS] = core::array::from_fn(|r| if r < C::ROWS { Self::rate_along(&a[r], &zd) } else { T::zero() });
+        if let Some(ex) = ex {
+            // q = sigma d_mu e N with e = exp(-y^delta), y = |v| / v_s
+            let (vd, nd) = (Self::rate_along(&self.r_v, &zd), Self::rate_along(&self.r_n, &zd));
+            let dy = if ex.v > T::zero() { vd } else { T::zero() - vd } * self.inv_v_s;
+            let de = if self.delta_is_one { T::zero() - ex.e * dy } else { T::zero() - ex.e * self.delta * ex.y.powf(self.delta - T::one()) * dy };
+            let qd = T::from_f64(regime.friction_sign()) * self.d_mu * (de * ex.n + ex.e * nd);
+            for (r, v) in zdd.iter_mut().enumerate().take(C::ROWS) {
+                *v = *v + self.b[r] * qd;
+            }
+        }
+        (zd, zdd)
+    }
+
+    /// The last `rem` units of a substep from `z` in one step of the quadratic Taylor
+    /// polynomial ([`Self::taylor2`]), for an observer whose
+    /// [`Model2Observer::LOCATE_BELOW_LEVEL`] is above 0 and `rem` below 2^that: where every
+    /// guard the general loop would test (`touched` aside; an unarmed slip's guard only where
+    /// it would be tested) stays below zero over the step by its bound
+    /// g0 + |g1| t + |g2| t^2 / 2 < 0, so that none fires or crests in it. Arms an unarmed slip
+    /// as the loop would. `None`: the loop's dyadic chunks take the units.
+    pub(super) fn taylor_tail(&self, s: &mut Model2State<T>, regime: Regime, z: &[T; NS], ex: Option<&Excess<T>>, rem: u64, touched: Option<(Regime, usize)>) -> Option<[T; NS]> {
+        let (zd, zdd) = self.taylor2(regime, z, ex);
+        let t = units_t::<T>(rem) * self.hu_t;
+        let half = T::from_f64(0.5) * t * t;
+        let z1: [T; NS] = core::array::from_fn(|r| if r < C::ROWS { z[r] + (t * zd[r] + half * zdd[r]) } else { z[r] });
+        let unarmed = regime != Regime::Stick && !s.armed;
+        for which in 0..Self::guard_count(regime) {
+            let g = self.guard(regime, which);
+            if touched == Some((regime, which)) || (unarmed && !(dot::<T, C>(self.guard(regime, 0), &z1) > self.v_round)) {
+                continue;
+            }
+            let bound = dot::<T, C>(g, z) + t * Self::rate_along(g, &zd).abs() + half * Self::rate_along(g, &zdd).abs();
+            if !(bound < T::zero()) || !(dot::<T, C>(g, &z1) < T::zero()) {
+                return None;
+            }
+        }
+        if unarmed && dot::<T, C>(self.guard(regime, 0), &z1) < -self.v_round {
+            s.armed = true;
+        }
+        Some(z1)
+    }
+
+    fn quadratic_step(&self, regime: Regime, g: &[T; NA], cur: &[T; NS], ex: Option<&Excess<T>>, span: u64) -> Option<(u64, [T; NS])> {
+        let (zd, zdd) = self.taylor2(regime, cur, ex);
+        let g0 = dot::<T, C>(g, cur).to_f64();
+        let g1 = Self::rate_along(g, &zd).to_f64();
+        let g2 = Self::rate_along(g, &zdd).to_f64();
+        let disc = g1 * g1 - 2.0 * g0 * g2;
+        if !(g0 < 0.0 && g1 > 0.0 && disc >= 0.0) {
+            return None;
+        }
+        // the root, less the time the guard's round-off at cur spans (64 ulps of its terms), so
+        // that the guard still holds where the step lands
+        let noise: f64 = (0..C::ROWS).map(|c| libm::fabs(g[c].to_f64() * cur[c].to_f64())).sum::<f64>() + libm::fabs(g[ONE].to_f64());
+        let t = 2.0 * (-g0) / (g1 + libm::sqrt(disc)) - 64.0 * f64::EPSILON * noise / g1;
+        let units = t / self.hu_t.to_f64();
+        if !(units >= 0.0 && units.is_finite()) {
+            return None;
+        }
+        let d = (libm::floor(units) as u64).min(span);
+        let h = units_t::<T>(d) * self.hu_t;
+        let half = T::from_f64(0.5) * h * h;
+        let zp: [T; NS] = core::array::from_fn(|r| if r < C::ROWS { cur[r] + (h * zd[r] + half * zdd[r]) } else { cur[r] });
+        (dot::<T, C>(g, &zp) < T::zero()).then_some((d, zp))
+    }
+
     /// Sets the sliding velocity to zero on entry to stick: x' = V without the band; with it,
     /// pad and band take their common momentum velocity. With the face: the friction impulse
     /// p that stops the face, -v / (r_v . b), moves phi' (and u') by b p, and x' then takes

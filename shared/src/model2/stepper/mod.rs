@@ -82,8 +82,10 @@ mod events;
 mod pair;
 mod setup;
 mod substep;
+mod wide;
 
 pub use pair::Model2Stepper;
+pub use wide::{WideSamples, WideChunks, DY_MAX, WIDE_MAX};
 
 /// Deepest refinement of a Stribeck substep below the whole substep (2^-16).
 const STRIBECK_REFINE: usize = 16;
@@ -241,6 +243,12 @@ pub struct Model2Transition<T> {
 pub trait Model2Observer<T: Real> {
     /// Whether segments need z' at their ends (costs two evaluations per segment).
     const DERIVATIVES: bool = true;
+    /// 0 (the default): a guard that fires is lifted on the dyadic grid to its last level,
+    /// bit for bit the sampled path. Above 0, lifted down to this level and located below it
+    /// by one Newton step on the guard ([`Model2Tables::step`]'s `located_crossing`): for runs
+    /// of statistics only (a map's cells, f64), where the last levels' chunks cost most of a
+    /// transition.
+    const LOCATE_BELOW_LEVEL: usize = 0;
     fn segment(&mut self, _seg: &Model2Segment<T>) {}
     fn transition(&mut self, _tr: &Model2Transition<T>) {}
 }

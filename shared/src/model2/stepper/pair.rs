@@ -38,12 +38,31 @@ impl<T: Real, C: Composition> Model2Stepper<T, C> {
         let (p, _) = Model2Tables::build_in(
             slot,
             scene,
+            None,
             |tables, z0| Model2Stepper { tables, state: Model2State::at(z0), composition: PhantomData },
             |p| &mut p.tables,
         )?;
         // the stick anchor of the start (x = 0; with the face x + s w phi_0)
         p.state.anchor_x = p.tables.face_position(&p.state.z);
         Ok(p)
+    }
+
+    /// [`Self::new`] with each Stribeck slip's kinetic tables taken from `donor` where they
+    /// are the same computation (f64; see `fill_tables_reusing`): the same stepper.
+    pub fn new_reusing(scene: &Scene, donor: &Model2Tables<T, C>) -> Result<Self, SceneError> {
+        let mut slot = None;
+        let (p, _) = Model2Tables::build_in(
+            &mut slot,
+            scene,
+            Some(donor),
+            |tables, z0| Model2Stepper { tables, state: Model2State::at(z0), composition: PhantomData },
+            |p| &mut p.tables,
+        )?;
+        p.state.anchor_x = p.tables.face_position(&p.state.z);
+        match slot {
+            Some(s) => Ok(s),
+            None => unreachable!("build_in returned Ok without filling the slot"),
+        }
     }
 
     /// A run on these tables that borrows them, in this stepper's state: the same run as a

@@ -22,7 +22,7 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
     /// are filled where they stay, not on the stack and then moved, which a Cortex-M4F's stack
     /// cannot hold twice. On an error `slot` is left as it was.
     pub fn init_in<'a>(slot: &'a mut Option<Self>, scene: &Scene) -> Result<(&'a mut Self, Model2State<T>), SceneError> {
-        let (t, z0) = Self::build_in(slot, scene, |t, _| t, |t| t)?;
+        let (t, z0) = Self::build_in(slot, scene, None, |t, _| t, |t| t)?;
         let state = t.start_state(z0);
         Ok((t, state))
     }
@@ -37,6 +37,7 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
     pub(super) fn build_in<'a, P>(
         slot: &'a mut Option<P>,
         scene: &Scene,
+        donor: Option<&Self>,
         pack: impl FnOnce(Self, [T; NS]) -> P,
         tables: impl FnOnce(&mut P) -> &mut Self,
     ) -> Result<(&'a mut P, [T; NS]), SceneError> {
@@ -156,7 +157,10 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         for (j, r) in s.rate_limit.as_mut().iter_mut().enumerate() {
             *r = t(STRIBECK_RATE_H / (h_sub * libm::ldexp(1.0, j as i32 - Self::LEVELS as i32)));
         }
-        s.fill_tables(scene, &sys);
+        match donor {
+            Some(d) => s.fill_tables_reusing(scene, &sys, d),
+            None => s.fill_tables(scene, &sys),
+        }
         s.slip_sparse = !C::FLOAT
             && [Regime::SlipSlower, Regime::SlipFaster]
             .iter()
@@ -169,8 +173,32 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
     /// than on the stack (with the loops in its frame, the M4F's build of the whole stepper went
     /// through a copy on the stack).
     #[inline(never)]
-    #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
     pub(super) fn fill_tables(&mut self, scene: &Scene, sys: &System) {
+        self.fill_tables_from(scene, sys, None);
+    }
+
+    /// [`Self::fill_tables`], taking each Stribeck slip's kinetic tables (its flows and ETDRK4
+    /// vectors on every level) from `donor` where they are computed from the same values: f64
+    /// tables whose substep, regime matrix A and b are `donor`'s bit for bit (they depend on
+    /// nothing else: not on V, which enters stick and the near operators). The same tables as
+    /// computing them; a map's cells that differ in V share them (the host's table cache).
+    #[inline(never)]
+    pub(super) fn fill_tables_reusing(&mut self, scene: &Scene, sys: &System, donor: &Self) {
+        self.fill_tables_from(scene, sys, Some(donor));
+    }
+
+    /// Whether `donor`'s kinetic tables of slip `regime` are the ones `sys` gives these tables.
+    fn kinetic_as_in(&self, sys: &System, regime: Regime, donor: &Self) -> bool {
+        let i = regime.index();
+        T::DYADIC_LEVELS > 24
+            && donor.h_sub.to_bits() == self.h_sub.to_bits()
+            && (0..NS).all(|r| donor.b[r].to_f64().to_bits() == sys.b[r].to_bits())
+            && (0..NS).all(|r| (0..NA).all(|c| donor.a[i][r][c].to_f64().to_bits() == sys.a[i][r][c].to_bits()))
+    }
+
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
+    fn fill_tables_from(&mut self, scene: &Scene, sys: &System, donor: Option<&Self>) {
         let h_sub = self.h_sub;
         let t = T::from_f64;
         // the flow's columns: the moved entries, then the constant 1
@@ -189,7 +217,15 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
             // slip), on the top NEAR_LEVELS levels
             let near_ops = if with_phi && self.near_on { NEAR_OPS } else { 0 };
             let top = Self::LEVELS + 1 - NEAR_LEVELS;
-            let kinetic = (0..=Self::LEVELS).map(|j| (0, j));
+            let reused = match donor {
+                Some(d) if with_phi && self.kinetic_as_in(sys, regime, d) => {
+                    self.flows[regime.index()] = d.flows[regime.index()];
+                    self.etd.as_mut()[regime.index() - 1] = d.etd.as_ref()[regime.index() - 1];
+                    true
+                }
+                _ => false,
+            };
+            let kinetic = (if reused { Self::LEVELS + 1 } else { 0 }..=Self::LEVELS).map(|j| (0, j));
             let near = (1..=near_ops).flat_map(|k| (top..=Self::LEVELS).map(move |j| (k, j)));
             // e^(tau A) tau phi_1(tau A) b of the previous level in the same chain (operator
             // k): the final combination's w0 at level j carries it (see `etd_chunk`)

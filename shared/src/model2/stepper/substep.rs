@@ -156,6 +156,20 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         let mut touched: Option<(Regime, usize)> = None;
         while pos < units {
             let stribeck_slip = Self::is_stribeck_slip(regime);
+            // at event speed, the substep's last units below 2^LOCATE_BELOW_LEVEL in one step of
+            // the quadratic Taylor polynomial where no guard can fire in them (`taylor_tail`)
+            if O::LOCATE_BELOW_LEVEL > 0 && first.is_none() && units - pos < (1u64 << O::LOCATE_BELOW_LEVEL) {
+                let ex0 = if stribeck_slip { Some(head.unwrap_or_else(|| self.excess(&z))) } else { None };
+                if let Some(mut z1) = self.taylor_tail(s, regime, &z, ex0.as_ref(), units - pos, touched) {
+                    self.anchor_stick_x(s, regime, &mut z1, units);
+                    self.emit(s, obs, regime, sub, pos, units, z, z1);
+                    pos = units;
+                    z = z1;
+                    head = None;
+                    self.check(s, &z, regime, sub, pos)?;
+                    continue;
+                }
+            }
             let (ex0, j, z1, ex1) = match first.take() {
                 Some(f) => (f.ex0, f.j, f.z1, f.ex1),
                 None => {
@@ -181,7 +195,12 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
                 if unarmed && !(dot::<T, C>(self.guard(regime, 0), &z1) > self.v_round) {
                     continue;
                 }
-                if let Some((p, zp)) = self.crossing(regime, which, &z, pos, j, &z1, ex0.as_ref(), ex1.as_ref()) {
+                let located = if O::LOCATE_BELOW_LEVEL > 0 && !(dot::<T, C>(self.guard(regime, which), &z1) < T::zero()) {
+                    Some(self.located_crossing(regime, which, &z, ex0.as_ref(), pos, j, O::LOCATE_BELOW_LEVEL))
+                } else {
+                    self.crossing(regime, which, &z, pos, j, &z1, ex0.as_ref(), ex1.as_ref())
+                };
+                if let Some((p, zp)) = located {
                     if best.is_none_or(|b| p < b.0) {
                         best = Some((p, zp, which));
                     }

@@ -1,0 +1,449 @@
+//! Several steps at a time, for runs that need only statistics (a map's cells, f64 on the
+//! host): in Stribeck slip one ETDRK4 chunk over m steps where the sampled path takes m, in
+//! stick the exact flow over m steps; the samples at the steps between from the exact linear
+//! flow (and in slip a cubic forcing).
+//!
+//! **The slip chunk.** The same Cox-Matthews ETDRK4 as [`super::etd`] with the kinetic operator,
+//! over H = m dt (m even, at most [`WIDE_MAX`]; the scene's substep must be its step). Its
+//! tables are the powers of one augmented exponential over dt.
+//!
+//! **The samples between.** By variation of constants,
+//! z(tau) = e^(tau A) (z0, 1) + int_0^tau e^((tau - s) A) b q(s) ds, with q(s) the cubic
+//! Hermite interpolant of the forcing's values and rates at the chunk's two ends (q0, q0' at z0;
+//! q1, q1' at the chunk's end; q' from z' = A z + b q and the shape's derivative). Its monomial
+//! terms are m! tau^(m+1) phi_(m+1)(tau A) b / H^m, so each row a sample needs (the sliding
+//! velocity, the normal force, the pad's x'' less its Stribeck term, and the contact rows) is a
+//! row of e^(tau A) times (z0, 1) plus four weights on (q0, H q0', q1, H q1'), fixed at
+//! set-up. The pad's x'' there adds b_x q at the interpolated v and N.
+//!
+//! **When a slip chunk is taken** (else the run steps as the sampled path does): in a slip
+//! already armed, where the falling slope's rate times H is at most a quarter at both ends (the
+//! sampled path then takes the kinetic operator too: no near operator, no split), where the
+//! sliding velocity at every sample of the chunk keeps its sign and stays [`CLEAR`] times its
+//! largest change from sample to sample (first plus second differences) away from zero (no
+//! velocity match and no crest of the guard between samples, where the sampled path would
+//! locate one), where every contact row (the floating pad's springs; a hinged pad's phi) keeps
+//! its floor at every sample, and where the chunk's end is in range.
+//!
+//! **The stick chunk** ([`Model2Tables::wide_stick`]) is exact: the flow over m steps and the
+//! rows of the flows over 1 .. m - 1 steps, taken where both breakaway guards stay below zero
+//! by [`CLEAR`] times their largest change from sample to sample.
+//!
+//! The statistics are then those of the same continuous motion to the method's error, which
+//! the map's tests measure against the sampled path (`map_wide`).
+
+use super::*;
+
+/// Most steps one wide chunk takes.
+pub const WIDE_MAX: usize = 8;
+
+/// A sample's sliding velocity must stay this many times its largest change from sample to
+/// sample away from zero.
+pub const CLEAR: f64 = 4.0;
+
+/// The largest change of |v| / v_s over a slip chunk of at most 4 steps: the falling part
+/// exp(-|v| / v_s) then changes by at most a factor e, and the cubic forcing follows it closely
+/// (on the hinged rig set's fast slips, 1 brought the chunks' errors from 1.5e-4 to round-off;
+/// 0.25 cost the floating set's map 1.6 times the time for no gain there).
+pub const DY_MAX: f64 = 1.0;
+
+
+/// The rows a sample between a chunk's ends reads: v, N, x'' less its Stribeck term, phi, the
+/// two contact springs' compressions (the floating pad).
+const ROWS: usize = 6;
+const R_V: usize = 0;
+const R_N: usize = 1;
+const R_ACC: usize = 2;
+/// The contact rows (phi, y + d_L phi, y + d_T phi) and their floors.
+const R_CONTACT: usize = 3;
+
+/// The tables of wide chunks of m steps: for both slips (index: slip regime - 1) and for
+/// stick.
+#[derive(Clone, Debug)]
+pub struct WideChunks {
+    m: usize,
+    /// H = m dt [s].
+    h: f64,
+    /// The half chunk's flow less the identity, by rows over (z, 1).
+    half: [[[f64; NA]; NS]; 2],
+    /// (H/2) phi_1(A H/2) b, and the ETDRK4 weights of the whole chunk (see `etd_chunk`).
+    phi1: [[f64; NS]; 2],
+    w0: [[f64; NS]; 2],
+    wab: [[f64; NS]; 2],
+    wc: [[f64; NS]; 2],
+    /// At step k = 1 .. m - 1 of the chunk, each row times e^(k dt A), over (z0, 1) ...
+    rows: [[[[f64; NA]; ROWS]; WIDE_MAX - 1]; 2],
+    /// ... and its weights on (q0, H q0', q1, H q1').
+    weights: [[[[f64; 4]; ROWS]; WIDE_MAX - 1]; 2],
+    /// The rates of v and N: (row A) over (z, 1), and row . b.
+    dv: [[f64; NA]; 2],
+    dn: [[f64; NA]; 2],
+    vb: f64,
+    nb: f64,
+    /// The pad's x'' per newton of friction, b_x [1/kg].
+    bx: f64,
+    /// The falling slope's largest rate the chunk takes: 1/4 / H [1/s].
+    rate_max: f64,
+    /// The largest change of |v| / v_s the chunk takes ([`DY_MAX`] up to 4 steps; a quarter
+    /// beyond, where the truncation error grows as the chunk's length to the fifth).
+    dy_max: f64,
+    /// The contact rows' floors at the samples (the checks' floors; -inf where unchecked).
+    floors: [f64; 3],
+    /// Stick: the flow over m steps less the identity, by rows over (z, 1) ...
+    stick_flow: [[f64; NA]; NS],
+    /// ... and at step k = 1 .. m - 1 the rows [`STICK_ROWS`] times e^(k dt A_stick).
+    stick_rows: [[[f64; NA]; STICK_ROWS]; WIDE_MAX - 1],
+}
+
+/// The rows a stick sample between a chunk's ends reads: the two breakaway guards, the pad's
+/// x'', the sliding velocity, the floating pad's two contact compressions.
+const STICK_ROWS: usize = 6;
+
+impl WideChunks {
+    /// Steps per chunk.
+    pub fn steps(&self) -> usize {
+        self.m
+    }
+
+    /// Row `q` at step `k` of a chunk of slip `i` from `z`, with the forcing's end values `f`
+    /// (q0, H q0', q1, H q1').
+    #[inline(always)]
+    fn at(&self, i: usize, k: usize, q: usize, z: &[f64; NS], f: &[f64; 4]) -> f64 {
+        let wt = &self.weights[i][k - 1][q];
+        dot9(&self.rows[i][k - 1][q], z) + (wt[0] * f[0] + wt[1] * f[1] + wt[2] * f[2] + wt[3] * f[3])
+    }
+
+    /// The half chunk's flow increment of slip `i` from `x` (rows beyond `rows` stay 0).
+    #[inline(always)]
+    fn half_inc(&self, i: usize, x: &[f64; NS], rows: usize) -> [f64; NS] {
+        core::array::from_fn(|r| if r < rows { dot9(&self.half[i][r], x) } else { 0.0 })
+    }
+}
+
+/// A wide chunk's samples at its m step ends: the pad's x'' [m/s^2] and the sliding velocity
+/// [m/s].
+#[derive(Clone, Copy, Debug)]
+pub struct WideSamples {
+    pub pad_acc: [f64; WIDE_MAX],
+    pub v: [f64; WIDE_MAX],
+}
+
+impl Default for WideSamples {
+    fn default() -> Self {
+        WideSamples { pad_acc: [0.0; WIDE_MAX], v: [0.0; WIDE_MAX] }
+    }
+}
+
+#[inline(always)]
+fn dot9(r: &[f64; NA], z: &[f64; NS]) -> f64 {
+    row_dot_all(r, z)
+}
+
+impl<C: Composition> Model2Tables<f64, C> {
+    /// The tables of wide chunks of `m` steps for `scene` (the scene these tables were built
+    /// for), in slip and in stick, or `None` where the scene takes none: Coulomb friction, an exponent other than 1,
+    /// more than one substep per step, or `m` odd or outside 2 ..= [`WIDE_MAX`].
+    #[allow(clippy::needless_range_loop)] // matrix code: indices read as the formulas
+    pub fn wide_chunks(&self, scene: &Scene, m: usize) -> Option<WideChunks> {
+        if !C::STRIBECK || !self.delta_is_one || self.n_sub != 1 || !(2..=WIDE_MAX).contains(&m) || m % 2 != 0 {
+            return None;
+        }
+        let co = Coefficients::of(scene);
+        let sys = if C::FLOAT { System::floating_pad(scene, &co) } else { System::hinged(scene, &co) };
+        let dt = self.dt;
+        let h = m as f64 * dt;
+        const M: usize = NA + 4;
+        let mut w = WideChunks {
+            m,
+            h,
+            half: [[[0.0; NA]; NS]; 2],
+            phi1: [[0.0; NS]; 2],
+            w0: [[0.0; NS]; 2],
+            wab: [[0.0; NS]; 2],
+            wc: [[0.0; NS]; 2],
+            rows: [[[[0.0; NA]; ROWS]; WIDE_MAX - 1]; 2],
+            weights: [[[[0.0; 4]; ROWS]; WIDE_MAX - 1]; 2],
+            dv: [[0.0; NA]; 2],
+            dn: [[0.0; NA]; 2],
+            vb: (0..NA).map(|r| sys.r_v[r] * sys.b[r]).sum(),
+            nb: (0..NA).map(|r| sys.r_n[r] * sys.b[r]).sum(),
+            bx: sys.b[1],
+            rate_max: STRIBECK_RATE_H / h,
+            dy_max: if m <= 4 { DY_MAX } else { 0.25 * DY_MAX },
+            floors: [f64::NEG_INFINITY; 3],
+            stick_flow: [[0.0; NA]; NS],
+            stick_rows: [[[0.0; NA]; STICK_ROWS]; WIDE_MAX - 1],
+        };
+        // the contact rows and their floors, as `check` reads them
+        let mut contact = [[0.0f64; NA]; 3];
+        if scene.rotation {
+            contact[0][2] = 1.0;
+            w.floors[0] = self.limits.phi_floor().to_f64();
+        }
+        if C::FLOAT {
+            let [d_l, d_t, floor_l, floor_t, _, _] = self.float_limits;
+            contact[1][Y] = 1.0;
+            contact[1][2] = d_l;
+            contact[2][Y] = 1.0;
+            contact[2][2] = d_t;
+            w.floors[1] = floor_l;
+            w.floors[2] = floor_t;
+        }
+        for (i, regime) in [Regime::SlipSlower, Regime::SlipFaster].into_iter().enumerate() {
+            let a = &sys.a[regime.index()];
+            let row_a = |r: &[f64; NA]| -> [f64; NA] { core::array::from_fn(|c| (0..NA).map(|k| r[k] * a[k][c]).sum()) };
+            w.dv[i] = row_a(&sys.r_v);
+            w.dn[i] = row_a(&sys.r_n);
+            let rows: [[f64; NA]; ROWS] = [sys.r_v, sys.r_n, a[1], contact[0], contact[1], contact[2]];
+            // [[A, b, 0, 0, 0], [0, 0, 1, 0, 0], [0, 0, 0, 1, 0], [0, 0, 0, 0, 1], [0, ...]]: its
+            // exponential over tau holds e^(tau A) and, in the columns NA + j, tau^(j+1)
+            // phi_(j+1)(tau A) b
+            let mut aug: MatN<M> = [[0.0; M]; M];
+            for r in 0..NA {
+                aug[r][..NA].copy_from_slice(&a[r]);
+                aug[r][NA] = sys.b[r];
+            }
+            for j in 0..3 {
+                aug[NA + j][NA + j + 1] = 1.0;
+            }
+            let mut step = linalg::expm_minus_identity(&linalg::scale(&aug, dt));
+            for r in 0..M {
+                step[r][r] += 1.0;
+            }
+            let mut p = step;
+            let mut half_term = [0.0f64; NS];
+            for k in 1..=m {
+                if k > 1 {
+                    p = linalg::mul(&p, &step);
+                }
+                if k < m {
+                    for (q, row) in rows.iter().enumerate() {
+                        w.rows[i][k - 1][q] = core::array::from_fn(|c| (0..NA).map(|r| row[r] * p[r][c]).sum());
+                        // m! tau^(m+1) phi_(m+1)(tau A) b / H^m, m = 0 .. 3
+                        let g: [f64; 4] = core::array::from_fn(|j| {
+                            let fact = [1.0, 1.0, 2.0, 6.0][j];
+                            fact * (0..NA).map(|r| row[r] * p[r][NA + j]).sum::<f64>() / libm::pow(h, j as f64)
+                        });
+                        // the cubic Hermite basis in monomials of s / H
+                        w.weights[i][k - 1][q] = [g[0] - 3.0 * g[2] + 2.0 * g[3], g[1] - 2.0 * g[2] + g[3], 3.0 * g[2] - 2.0 * g[3], g[3] - g[2]];
+                    }
+                }
+                if 2 * k == m {
+                    for r in 0..C::ROWS {
+                        for c in 0..NA {
+                            w.half[i][r][c] = p[r][c] - if r == c { 1.0 } else { 0.0 };
+                        }
+                        w.phi1[i][r] = p[r][NA];
+                    }
+                    // e^(A H/2) (H/2) phi_1(A H/2) b: the whole chunk's w0 carries it
+                    half_term = core::array::from_fn(|r| if r < C::ROWS { (0..NS).map(|c| p[r][c] * p[c][NA]).sum() } else { 0.0 });
+                }
+                if k == m {
+                    for r in 0..C::ROWS {
+                        let (c1, c2, c3) = (p[r][NA], p[r][NA + 1] / h, p[r][NA + 2] / (h * h));
+                        w.w0[i][r] = c1 - 3.0 * c2 + 4.0 * c3 - half_term[r];
+                        w.wab[i][r] = 2.0 * c2 - 4.0 * c3;
+                        w.wc[i][r] = 4.0 * c3 - c2;
+                    }
+                }
+            }
+        }
+        // stick: the exact flow's powers
+        let a = &sys.a[Regime::Stick.index()];
+        let rows: [[f64; NA]; STICK_ROWS] = [self.guards[0], self.guards[1], a[1], sys.r_v, contact[1], contact[2]];
+        let mut step = linalg::expm_minus_identity(&linalg::scale(a, dt));
+        for r in 0..NA {
+            step[r][r] += 1.0;
+        }
+        let mut p = step;
+        for k in 1..=m {
+            if k > 1 {
+                p = linalg::mul(&p, &step);
+            }
+            if k < m {
+                for (q, row) in rows.iter().enumerate() {
+                    w.stick_rows[k - 1][q] = core::array::from_fn(|c| (0..NA).map(|r| row[r] * p[r][c]).sum());
+                }
+            } else {
+                for r in 0..C::ROWS {
+                    w.stick_flow[r] = core::array::from_fn(|c| p[r][c] - if r == c { 1.0 } else { 0.0 });
+                }
+            }
+        }
+        Some(w)
+    }
+
+    /// m steps of stick of the run in `s` in one wide chunk, as [`Self::wide_step`]: the exact
+    /// flow over m steps, the samples between from the flow's rows, taken where each breakaway
+    /// guard stays below zero at every sample by [`CLEAR`] times its largest change from sample
+    /// to sample (no breakaway and no crest between samples), the contact rows keep their floors
+    /// and the chunk's end is in range. The same motion as the sampled path's to round-off.
+    pub fn wide_stick<O: Model2Observer<f64>>(&self, w: &WideChunks, s: &mut Model2State<f64>, obs: &mut O, samples: bool, out: &mut WideSamples) -> bool {
+        if O::DERIVATIVES || s.halted.is_some() || s.regime != Regime::Stick {
+            return false;
+        }
+        let m = w.m;
+        let z = s.z;
+        let mut z1: [f64; NS] = core::array::from_fn(|r| if r < C::ROWS { z[r] + dot9(&w.stick_flow[r], &z) } else { z[r] });
+        let (c_lo, c_hi) = if C::FLOAT { (1, 3) } else { (0, 0) };
+        let mut clear = true;
+        for (g, row) in [(0usize, &self.guards[0]), (1, &self.guards[1])] {
+            let (mut prev, mut d_prev) = (dot::<f64, C>(row, &z), f64::NAN);
+            let (mut top, mut d1, mut d2) = (prev, 0.0f64, 0.0f64);
+            for k in 1..=m {
+                let v = if k < m { dot9(&w.stick_rows[k - 1][g], &z) } else { dot::<f64, C>(row, &z1) };
+                top = top.max(v);
+                let d = v - prev;
+                d1 = d1.max(d.abs());
+                if d_prev.is_finite() {
+                    d2 = d2.max((d - d_prev).abs());
+                }
+                (prev, d_prev) = (v, d);
+            }
+            clear &= top < -CLEAR * (d1 + d2);
+        }
+        if !clear {
+            return false;
+        }
+        for k in 1..m {
+            for j in c_lo..c_hi {
+                if !(dot9(&w.stick_rows[k - 1][3 + j], &z) >= w.floors[j]) {
+                    return false;
+                }
+            }
+        }
+        let t0 = s.step as f64 * self.dt;
+        // the stick anchor's x (as `anchor_stick_x` sets it at the end of the chunk's last substep)
+        s.subs_done += m as u64 - 1;
+        self.anchor_stick_x(s, Regime::Stick, &mut z1, Self::UNITS);
+        s.subs_done -= m as u64 - 1;
+        let pad = [z1[0], z1[1], z1[2], z1[3]];
+        let band_ok = !C::BAND || ((z1[4].abs() <= self.u_limit) & (z1[5].abs() <= self.udot_limit));
+        if !(self.limits.in_range(&pad) & band_ok & self.float_ok(&z1)) {
+            return false;
+        }
+        if samples {
+            for k in 1..m {
+                out.pad_acc[k - 1] = dot9(&w.stick_rows[k - 1][2], &z);
+                out.v[k - 1] = dot9(&w.stick_rows[k - 1][3], &z);
+            }
+            out.pad_acc[m - 1] = dot::<f64, C>(&self.a[0][1], &z1);
+            out.v[m - 1] = self.sliding_velocity(&z1);
+        }
+        let t1 = (s.step + m as u64 - 1) as f64 * self.dt + self.h_sub;
+        obs.segment(&Model2Segment { regime: Regime::Stick, t0, t1, z0: z, z1, zd0: [0.0; NS], zd1: [0.0; NS] });
+        s.z = z1;
+        s.head = None;
+        s.step += m as u64;
+        s.subs_done += m as u64;
+        true
+    }
+
+    /// m steps of the run in `s` in one wide chunk (see the module's documentation), its
+    /// samples in `out` (each step end's x'' and v; filled only where `samples`), one segment
+    /// to `obs`. Returns false, with `s` untouched, where the chunk is not taken: the run then
+    /// steps as the sampled path does.
+    pub fn wide_step<O: Model2Observer<f64>>(&self, w: &WideChunks, s: &mut Model2State<f64>, obs: &mut O, samples: bool, out: &mut WideSamples) -> bool {
+        let regime = s.regime;
+        if O::DERIVATIVES || !C::STRIBECK || s.halted.is_some() || !s.armed || regime == Regime::Stick {
+            return false;
+        }
+        let i = regime.index() - 1;
+        let m = w.m;
+        let rows = C::ROWS;
+        let z = s.z;
+        let ex0 = match s.head {
+            Some(ex) => ex,
+            None => self.excess(&z),
+        };
+        if !(self.rate_coef * (ex0.n * ex0.e).abs() <= w.rate_max) {
+            return false;
+        }
+        let sigma = regime.friction_sign();
+        let ph = &w.phi1[i];
+        let q0 = self.q_of(sigma, &ex0);
+        let eh = w.half_inc(i, &z, rows);
+        let da: [f64; NS] = core::array::from_fn(|r| eh[r] + ph[r] * q0);
+        let a: [f64; NS] = core::array::from_fn(|r| z[r] + da[r]);
+        let qa = self.q_of(sigma, &self.excess(&a));
+        let bb: [f64; NS] = core::array::from_fn(|r| z[r] + (eh[r] + ph[r] * qa));
+        let qb = self.q_of(sigma, &self.excess(&bb));
+        let ea = w.half_inc(i, &a, rows);
+        let qcb = 2.0 * qb - q0;
+        let c: [f64; NS] = core::array::from_fn(|r| a[r] + (ea[r] + ph[r] * qcb));
+        let qc = self.q_of(sigma, &self.excess(&c));
+        let qab = qa + qb;
+        let z1: [f64; NS] = core::array::from_fn(|r| {
+            if r < rows {
+                z[r] + (da[r] + ea[r] + w.w0[i][r] * q0 + w.wab[i][r] * qab + w.wc[i][r] * qc)
+            } else {
+                z[r]
+            }
+        });
+        let ex1 = self.excess(&z1);
+        if !(self.rate_coef * (ex1.n * ex1.e).abs() <= w.rate_max) || !(libm::fabs(ex1.v - ex0.v) * self.inv_v_s <= w.dy_max) {
+            return false;
+        }
+        // the forcing's rates at the ends: q = sigma d_mu e N, e = exp(-|v| / v_s)
+        let rate = |zz: &[f64; NS], ex: &Excess<f64>, q: f64| {
+            let vd = dot9(&w.dv[i], zz) + w.vb * q;
+            let nd = dot9(&w.dn[i], zz) + w.nb * q;
+            sigma * self.d_mu * ex.e * (nd - ex.n * ex.v.signum() * vd * self.inv_v_s)
+        };
+        let q1 = self.q_of(sigma, &ex1);
+        let f = [q0, w.h * rate(&z, &ex0, q0), q1, w.h * rate(&z1, &ex1, q1)];
+        // the contact rows checked at the samples: the floating pad's springs; a hinged pad's phi
+        let (c_lo, c_hi) = if C::FLOAT { (1, 3) } else if w.floors[0] > f64::NEG_INFINITY { (0, 1) } else { (0, 0) };
+        // the sliding velocity at every sample, its sign kept and clear of zero
+        let (mut v_prev, mut d_prev) = (ex0.v, f64::NAN);
+        let (mut min_abs, mut d1, mut d2) = (ex0.v.abs(), 0.0f64, 0.0f64);
+        let sign = ex0.v.signum();
+        let sd = sigma * self.d_mu;
+        for k in 1..=m {
+            let v = if k < m { w.at(i, k, R_V, &z, &f) } else { ex1.v };
+            if !(v.signum() == sign) {
+                return false;
+            }
+            if k < m {
+                for j in c_lo..c_hi {
+                    if !(w.at(i, k, R_CONTACT + j, &z, &f) >= w.floors[j]) {
+                        return false;
+                    }
+                }
+                if samples {
+                    let n = w.at(i, k, R_N, &z, &f);
+                    let e = (-(v.abs() * self.inv_v_s)).exp();
+                    out.pad_acc[k - 1] = w.at(i, k, R_ACC, &z, &f) + w.bx * (sd * e * n);
+                    out.v[k - 1] = v;
+                }
+            }
+            min_abs = min_abs.min(v.abs());
+            let d = v - v_prev;
+            d1 = d1.max(d.abs());
+            if d_prev.is_finite() {
+                d2 = d2.max((d - d_prev).abs());
+            }
+            (v_prev, d_prev) = (v, d);
+        }
+        if !(min_abs > CLEAR * (d1 + d2)) {
+            return false;
+        }
+        let pad = [z1[0], z1[1], z1[2], z1[3]];
+        let band_ok = !C::BAND || ((z1[4].abs() <= self.u_limit) & (z1[5].abs() <= self.udot_limit));
+        if !(self.limits.in_range(&pad) & band_ok & self.float_ok(&z1)) {
+            return false;
+        }
+        if samples {
+            out.pad_acc[m - 1] = dot::<f64, C>(&self.a[regime.index()][1], &z1) + self.b[1] * q1;
+            out.v[m - 1] = ex1.v;
+        }
+        let t0 = s.step as f64 * self.dt;
+        let t1 = (s.step + m as u64 - 1) as f64 * self.dt + self.h_sub;
+        obs.segment(&Model2Segment { regime, t0, t1, z0: z, z1, zd0: [0.0; NS], zd1: [0.0; NS] });
+        s.z = z1;
+        s.head = Some(ex1);
+        s.step += m as u64;
+        s.subs_done += m as u64;
+        true
+    }
+}
