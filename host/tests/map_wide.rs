@@ -12,7 +12,7 @@ mod thesis_common;
 use stickslip::scenes::run::{start_state, Start};
 use stickslip_model::model2::{AnyModel2Stepper, WideChunks, WideSamples};
 use stickslip_model::{Regime, Scene};
-use thesis_common::{builtin, map_of, rel};
+use thesis_common::{assert_maps_within, builtin, map_of};
 
 /// The steps of one wide chunk (the map's choice).
 const M: usize = stickslip::scenes::run::WIDE_STEPS;
@@ -127,40 +127,11 @@ fn wide_maps_are_the_stepped_maps() {
     for (name, scene, sweeps) in cases {
         let (a, b) = (map_of(name, scene, true, &sweeps), map_of(name, scene, false, &sweeps));
         assert_eq!(a.cells.len(), 16);
-        let mut compared = 0;
-        let mut worst = [0.0f64; 5];
-        for (ca, cb) in a.cells.iter().zip(&b.cells) {
-            for (ra, rb) in [(&ca.from_rest, &cb.from_rest), (&ca.from_sliding, &cb.from_sliding)] {
-                let (Some(ra), Some(rb)) = (ra, rb) else {
-                    assert_eq!(ra.is_none(), rb.is_none(), "{name} cell {}", ca.index);
-                    continue;
-                };
-                assert_eq!(ra.regime, rb.regime, "{name} cell {}", ca.index);
-                compared += 1;
-                let pairs = [
-                    ("stick_fraction", ra.stick_fraction, rb.stick_fraction, 1e-4),
-                    ("stick_slip_hz", ra.stick_slip_hz, rb.stick_slip_hz, 1e-4),
-                    ("pad_x_pp", ra.pad_x_pp, rb.pad_x_pp, 1e-4),
-                    ("slide_v_pp", ra.slide_v_pp, rb.slide_v_pp, 1e-4),
-                    ("groan_rms", ra.groan_rms, rb.groan_rms, 3e-3),
-                ];
-                for (i, (key, x, y, tol)) in pairs.into_iter().enumerate() {
-                    match (x, y) {
-                        (Some(x), Some(y)) => {
-                            let d = if key == "stick_fraction" { (x - y).abs() } else { rel(x, y) };
-                            worst[i] = worst[i].max(d);
-                            assert!(d <= tol, "{name} cell {} {key}: {x} at event speed, {y} stepped", ca.index);
-                        }
-                        (x, y) => assert_eq!(x, y, "{name} cell {} {key}", ca.index),
-                    }
-                }
-            }
-        }
-        eprintln!("{name}: {compared} runs, worst {:?}", worst.map(|w| format!("{w:.1e}")));
+        let (_, worst) = assert_maps_within(&format!("{name} at event speed against stepped"), &a, &b, [1e-4, 1e-4, 1e-4, 1e-4, 3e-3], true);
+        eprintln!("{name}: worst {:?}", worst.map(|w| format!("{w:.1e}")));
         if scene.stribeck_exponent != 1.0 {
             assert_eq!(worst, [0.0; 5], "{name}: no wide chunks, the sampled path");
         }
-        assert!(compared >= 16, "{name}: runs compared ({compared})");
     }
 }
 
