@@ -8,12 +8,18 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
     /// branch; the halt's classification (and its time, in f64) is out of line.
     #[inline(always)]
     pub(super) fn check(&self, s: &Model2State<T>, z: &[T; NS], regime: Regime, sub: u32, unit: u64) -> Result<(), Halt> {
-        let pad = [z[0], z[1], z[2], z[3]];
-        let band_ok = !C::BAND || ((z[4].abs() <= self.u_limit) & (z[5].abs() <= self.udot_limit));
-        if self.limits.in_range(&pad) & band_ok & self.float_ok(z) {
+        if self.in_range(z) {
             return Ok(());
         }
         self.check_failed(s, z, regime, sub, unit)
+    }
+
+    /// Whether `z` passes [`Self::check`] (false for any NaN).
+    #[inline(always)]
+    pub(super) fn in_range(&self, z: &[T; NS]) -> bool {
+        let pad = [z[0], z[1], z[2], z[3]];
+        let band_ok = !C::BAND || ((z[4].abs() <= self.u_limit) & (z[5].abs() <= self.udot_limit));
+        self.limits.in_range(&pad) & band_ok & self.float_ok(z)
     }
 
     /// The floating pad: both contact springs compressed (y + d phi >= 0, to round-off), y and

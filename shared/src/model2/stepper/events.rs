@@ -234,6 +234,16 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         acc
     }
 
+    /// The Stribeck forcing's rate q' from the falling part `ex` at a point and the rates of v
+    /// and N there (`vd`, `nd`): q = sigma d_mu e N with e = exp(-y^delta), y = |v| / v_s, so
+    /// q' = sigma d_mu (e' N + e N'), e' = -e delta y^(delta - 1) y'.
+    #[inline(always)]
+    pub(super) fn forcing_rate(&self, sigma: T, ex: &Excess<T>, vd: T, nd: T) -> T {
+        let dy = if ex.v > T::zero() { vd } else { T::zero() - vd } * self.inv_v_s;
+        let de = if self.delta_is_one { T::zero() - ex.e * dy } else { T::zero() - ex.e * self.delta * ex.y.powf(self.delta - T::one()) * dy };
+        sigma * self.d_mu * (de * ex.n + ex.e * nd)
+    }
+
     /// z' and z'' at `z` in `regime` (z'' = A z' + b q', q' from the rates of v and N and the
     /// falling part `ex` in Stribeck slip): the quadratic Taylor polynomial of the motion.
     fn taylor2(&self, regime: Regime, z: &[T; NS], ex: Option<&Excess<T>>) -> ([T; NS], [T; NS]) {
@@ -241,11 +251,8 @@ impl<T: Real, C: Composition> Model2Tables<T, C> {
         let a = &self.a[regime.index()];
         let mut zdd: [T; NS] = core::array::from_fn(|r| if r < C::ROWS { Self::rate_along(&a[r], &zd) } else { T::zero() });
         if let Some(ex) = ex {
-            // q = sigma d_mu e N with e = exp(-y^delta), y = |v| / v_s
             let (vd, nd) = (Self::rate_along(&self.r_v, &zd), Self::rate_along(&self.r_n, &zd));
-            let dy = if ex.v > T::zero() { vd } else { T::zero() - vd } * self.inv_v_s;
-            let de = if self.delta_is_one { T::zero() - ex.e * dy } else { T::zero() - ex.e * self.delta * ex.y.powf(self.delta - T::one()) * dy };
-            let qd = T::from_f64(regime.friction_sign()) * self.d_mu * (de * ex.n + ex.e * nd);
+            let qd = self.forcing_rate(T::from_f64(regime.friction_sign()), ex, vd, nd);
             for (r, v) in zdd.iter_mut().enumerate().take(C::ROWS) {
                 *v = *v + self.b[r] * qd;
             }

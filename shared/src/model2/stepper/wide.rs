@@ -312,14 +312,11 @@ impl<C: Composition> Model2Tables<f64, C> {
                 }
             }
         }
-        let t0 = s.step as f64 * self.dt;
         // the stick anchor's x (as `anchor_stick_x` sets it at the end of the chunk's last substep)
         s.subs_done += m as u64 - 1;
         self.anchor_stick_x(s, Regime::Stick, &mut z1, Self::UNITS);
         s.subs_done -= m as u64 - 1;
-        let pad = [z1[0], z1[1], z1[2], z1[3]];
-        let band_ok = !C::BAND || ((z1[4].abs() <= self.u_limit) & (z1[5].abs() <= self.udot_limit));
-        if !(self.limits.in_range(&pad) & band_ok & self.float_ok(&z1)) {
+        if !self.in_range(&z1) {
             return false;
         }
         if samples {
@@ -330,13 +327,21 @@ impl<C: Composition> Model2Tables<f64, C> {
             out.pad_acc[m - 1] = dot::<f64, C>(&self.a[0][1], &z1);
             out.v[m - 1] = self.sliding_velocity(&z1);
         }
+        self.take_wide(s, obs, Regime::Stick, m, z, z1, None);
+        true
+    }
+
+    /// A wide chunk of m steps from `z` to `z1` taken: its one segment to `obs`, and the state
+    /// moved on (`head`: the falling part at `z1` in Stribeck slip).
+    #[allow(clippy::too_many_arguments)] // a chunk's regime, length, ends and falling part
+    fn take_wide<O: Model2Observer<f64>>(&self, s: &mut Model2State<f64>, obs: &mut O, regime: Regime, m: usize, z: [f64; NS], z1: [f64; NS], head: Option<Excess<f64>>) {
+        let t0 = s.step as f64 * self.dt;
         let t1 = (s.step + m as u64 - 1) as f64 * self.dt + self.h_sub;
-        obs.segment(&Model2Segment { regime: Regime::Stick, t0, t1, z0: z, z1, zd0: [0.0; NS], zd1: [0.0; NS] });
+        obs.segment(&Model2Segment { regime, t0, t1, z0: z, z1, zd0: [0.0; NS], zd1: [0.0; NS] });
         s.z = z1;
-        s.head = None;
+        s.head = head;
         s.step += m as u64;
         s.subs_done += m as u64;
-        true
     }
 
     /// m steps of the run in `s` in one wide chunk (see the module's documentation), its
@@ -386,9 +391,7 @@ impl<C: Composition> Model2Tables<f64, C> {
         }
         // the forcing's rates at the ends: q = sigma d_mu e N, e = exp(-|v| / v_s)
         let rate = |zz: &[f64; NS], ex: &Excess<f64>, q: f64| {
-            let vd = dot9(&w.dv[i], zz) + w.vb * q;
-            let nd = dot9(&w.dn[i], zz) + w.nb * q;
-            sigma * self.d_mu * ex.e * (nd - ex.n * ex.v.signum() * vd * self.inv_v_s)
+            self.forcing_rate(sigma, ex, dot9(&w.dv[i], zz) + w.vb * q, dot9(&w.dn[i], zz) + w.nb * q)
         };
         let q1 = self.q_of(sigma, &ex1);
         let f = [q0, w.h * rate(&z, &ex0, q0), q1, w.h * rate(&z1, &ex1, q1)];
@@ -428,22 +431,14 @@ impl<C: Composition> Model2Tables<f64, C> {
         if !(min_abs > CLEAR * (d1 + d2)) {
             return false;
         }
-        let pad = [z1[0], z1[1], z1[2], z1[3]];
-        let band_ok = !C::BAND || ((z1[4].abs() <= self.u_limit) & (z1[5].abs() <= self.udot_limit));
-        if !(self.limits.in_range(&pad) & band_ok & self.float_ok(&z1)) {
+        if !self.in_range(&z1) {
             return false;
         }
         if samples {
             out.pad_acc[m - 1] = dot::<f64, C>(&self.a[regime.index()][1], &z1) + self.b[1] * q1;
             out.v[m - 1] = ex1.v;
         }
-        let t0 = s.step as f64 * self.dt;
-        let t1 = (s.step + m as u64 - 1) as f64 * self.dt + self.h_sub;
-        obs.segment(&Model2Segment { regime, t0, t1, z0: z, z1, zd0: [0.0; NS], zd1: [0.0; NS] });
-        s.z = z1;
-        s.head = Some(ex1);
-        s.step += m as u64;
-        s.subs_done += m as u64;
+        self.take_wide(s, obs, regime, m, z, z1, Some(ex1));
         true
     }
 }
