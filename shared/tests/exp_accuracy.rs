@@ -2,7 +2,8 @@
 //! y in [0, 20] (docs/numerics.md, "Transcendentals on the Cortex-M4F"): the model's own
 //! `expf::expf` (the default), libm::expf (the feature `libm-exp`) and micromath's
 //! `F32Ext::exp` (the feature `micromath`), each against f64 libm::exp of the same f32
-//! argument; and the model's over f32's whole range, with its edges. `cargo test --release -p stickslip-model --test
+//! argument; and the model's over f32's whole range, with its edges. In f64, the maps'
+//! `exp64::exp_fast` against libm::exp. `cargo test --release -p stickslip-model --test
 //! exp_accuracy -- --nocapture` prints the figures.
 
 /// Max relative error and where, over `n + 1` evenly spaced y in [0, 20] and every f32 in
@@ -126,4 +127,35 @@ fn the_f64_exp_is_libms_bit_for_bit() {
     for x in [0.0, -0.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN, f64::MIN_POSITIVE, 5e-324, f64::MAX, f64::MIN] {
         check(x);
     }
+}
+
+/// The map's fast f64 exponential (`exp64::exp_fast`) against libm's: within 1e-15 relative
+/// over the Stribeck law's arguments (every 1e-6 of [-40, 0]), at a stride over [-700, 700],
+/// and at the edges (±700 and beyond, NaN, inf: libm's own values).
+#[test]
+fn exp_fast_within_1e_15() {
+    use stickslip_model::exp64::exp_fast;
+    let mut worst = (0.0f64, 0.0f64);
+    let mut check = |x: f64| {
+        let (got, exact) = (exp_fast(x), libm::exp(x));
+        let err = ((got - exact) / exact).abs();
+        if err > worst.0 {
+            worst = (err, x);
+        }
+    };
+    for i in 0..=40_000_000u32 {
+        check(-40.0 * i as f64 / 40_000_000.0);
+    }
+    for i in 0..=1_400_000u32 {
+        check(-700.0 + 1e-3 * i as f64 + 1.234e-7);
+    }
+    for x in [-1e-300, 0.0, 1e-300, 1e-20, -1e-20, 0.5 * core::f64::consts::LN_2, -0.5 * core::f64::consts::LN_2, 699.999, -699.999] {
+        check(x);
+    }
+    println!("exp_fast: max relative error {:.3e} (at x = {})", worst.0, worst.1);
+    assert!(worst.0 < 1e-15, "exp_fast: {:.3e} at {}", worst.0, worst.1);
+    for x in [700.0, -700.0, 710.0, -745.0, -800.0, f64::INFINITY, f64::NEG_INFINITY] {
+        assert_eq!(exp_fast(x).to_bits(), libm::exp(x).to_bits(), "exp_fast({x})");
+    }
+    assert!(exp_fast(f64::NAN).is_nan());
 }

@@ -4,17 +4,28 @@
 //! flow (and in slip a cubic forcing).
 //!
 //! **The slip chunk.** The same Cox-Matthews ETDRK4 as [`super::etd`] with the kinetic operator,
-//! over H = m dt (m even, at most [`WIDE_MAX`]; the scene's substep must be its step). Its
-//! tables are the powers of one augmented exponential over dt.
+//! over H = m dt (m even, at most [`WIDE_MAX`]; the scene's substep must be its step):
+//! z1 = z + (e^(A H) - I) (z, 1) + u0 q0 + wab (q_a + q_b) + wc q_c. Its tables are the powers
+//! of one augmented exponential over dt. The stages a = E z + ph q0, b = E z + ph q_a and
+//! c = E a + ph (2 q_b - q0) (E the half chunk's flow, ph = (H/2) phi_1(A H/2) b) enter only
+//! through their sliding velocity and normal force, and those are affine in z and the stages'
+//! forcings: r . a = r . z + (r (E - I)) . (z, 1) + (r . ph) q0, and so on, with the rows
+//! r (E - I) and r (e^(A H) - I) and the scalars r . ph, r . E ph, r . u0, r . wab, r . wc fixed
+//! at set-up. So a chunk forms no stage vector: four row products of z, then four exponentials
+//! in a chain with a few multiply-adds between them, then z1. The exponentials are
+//! [`crate::exp64::exp_fast`]'s (within 1e-15 of libm's; the chunk's own error is 1e-6).
 //!
 //! **The samples between.** By variation of constants,
 //! z(tau) = e^(tau A) (z0, 1) + int_0^tau e^((tau - s) A) b q(s) ds, with q(s) the cubic
 //! Hermite interpolant of the forcing's values and rates at the chunk's two ends (q0, q0' at z0;
 //! q1, q1' at the chunk's end; q' from z' = A z + b q and the shape's derivative). Its monomial
-//! terms are m! tau^(m+1) phi_(m+1)(tau A) b / H^m, so each row a sample needs (the sliding
-//! velocity, the normal force, the pad's x'' less its Stribeck term, and the contact rows) is a
+//! terms are m! tau^(m+1) phi_(m+1)(tau A) b / H^m, so each value a sample needs (the sliding
+//! velocity, the contact rows, the normal force, the pad's x'' less its Stribeck term) is a
 //! row of e^(tau A) times (z0, 1) plus four weights on (q0, H q0', q1, H q1'), fixed at
-//! set-up. The pad's x'' there adds b_x q at the interpolated v and N.
+//! set-up and stored input by input (`lanes`: a sample is six lanes, two-wide vectors on the
+//! host). The pad's x'' there adds b_x q at the interpolated v and N (the cubic q itself, tried,
+//! was 18 times further from the sampled path's x''). Before the window's samples only the
+//! checked lanes (v and the contact rows) are formed.
 //!
 //! **When a slip chunk is taken** (else the run steps as the sampled path does): in a slip
 //! already armed, where the falling slope's rate times H is at most a quarter at both ends (the
@@ -48,14 +59,20 @@ pub const CLEAR: f64 = 4.0;
 pub const DY_MAX: f64 = 1.0;
 
 
-/// The rows a sample between a chunk's ends reads: v, N, x'' less its Stribeck term, phi, the
-/// two contact springs' compressions (the floating pad).
-const ROWS: usize = 6;
-const R_V: usize = 0;
-const R_N: usize = 1;
-const R_ACC: usize = 2;
-/// The contact rows (phi, y + d_L phi, y + d_T phi) and their floors.
-const R_CONTACT: usize = 3;
+/// The lanes of a sample between a chunk's ends: the sliding velocity, phi and the two contact
+/// springs' compressions (the floating pad), which the checks read at every sample, then the
+/// normal force and the pad's x'' less its Stribeck term, which only a sample kept reads: two
+/// and one pairs for the host's two-wide vectors.
+const LANES: usize = 6;
+const L_V: usize = 0;
+/// The contact lanes (phi, y + d_L phi, y + d_T phi) and their floors.
+const L_CONTACT: usize = 1;
+/// The lanes every sample computes.
+const L_CHECKED: usize = 4;
+const L_N: usize = 4;
+const L_ACC: usize = 5;
+/// A sample's inputs: (z, 1), then the forcing's end values (q0, H q0', q1, H q1').
+const INPUTS: usize = NA + 4;
 
 /// The tables of wide chunks of m steps: for both slips (index: slip regime - 1) and for
 /// stick.
@@ -64,24 +81,29 @@ pub struct WideChunks {
     m: usize,
     /// H = m dt [s].
     h: f64,
-    /// The half chunk's flow less the identity, by rows over (z, 1).
-    half: [[[f64; NA]; NS]; 2],
-    /// (H/2) phi_1(A H/2) b, and the ETDRK4 weights of the whole chunk (see `etd_chunk`).
-    phi1: [[f64; NS]; 2],
-    w0: [[f64; NS]; 2],
+    /// The chunk's flow less the identity, by rows over (z, 1): e^(A H) - I.
+    flow: [[[f64; NA]; NS]; 2],
+    /// The ETDRK4 weights of the whole chunk on q0, q_a + q_b and q_c (see `etd_chunk`).
+    u0: [[f64; NS]; 2],
     wab: [[f64; NS]; 2],
     wc: [[f64; NS]; 2],
-    /// At step k = 1 .. m - 1 of the chunk, each row times e^(k dt A), over (z0, 1) ...
-    rows: [[[[f64; NA]; ROWS]; WIDE_MAX - 1]; 2],
-    /// ... and its weights on (q0, H q0', q1, H q1').
-    weights: [[[[f64; 4]; ROWS]; WIDE_MAX - 1]; 2],
+    /// The sliding velocity's and the normal force's increments over the half chunk's flow and
+    /// the whole chunk's, by rows over (z, 1): r (e^(A H/2) - I) and r (e^(A H) - I) ...
+    v_inc: [[[f64; NA]; 2]; 2],
+    n_inc: [[[f64; NA]; 2]; 2],
+    /// ... and their weights on the stages' forcings: r . (H/2) phi_1(A H/2) b,
+    /// r . e^(A H/2) (H/2) phi_1(A H/2) b, and r . u0, r . wab, r . wc.
+    v_q: [[f64; 5]; 2],
+    n_q: [[f64; 5]; 2],
+    /// At step k = 1 .. m - 1 of the chunk, each lane's weights on the inputs, input by
+    /// input (a lane's row of e^(k dt A) over (z, 1), then its weights on the forcing's end
+    /// values from the variation of constants with the cubic forcing).
+    lanes: [[[[f64; LANES]; INPUTS]; WIDE_MAX - 1]; 2],
     /// The rates of v and N: (row A) over (z, 1), and row . b.
     dv: [[f64; NA]; 2],
     dn: [[f64; NA]; 2],
     vb: f64,
     nb: f64,
-    /// The pad's x'' per newton of friction, b_x [1/kg].
-    bx: f64,
     /// The falling slope's largest rate the chunk takes: 1/4 / H [1/s].
     rate_max: f64,
     /// The largest change of |v| / v_s the chunk takes ([`DY_MAX`] up to 4 steps; a quarter
@@ -105,18 +127,17 @@ impl WideChunks {
         self.m
     }
 
-    /// Row `q` at step `k` of a chunk of slip `i` from `z`, with the forcing's end values `f`
-    /// (q0, H q0', q1, H q1').
+    /// A sample's first `L` lanes from its table (`lanes` at one step of one slip) and the
+    /// inputs `x`: a lane-wide product, input by input.
     #[inline(always)]
-    fn at(&self, i: usize, k: usize, q: usize, z: &[f64; NS], f: &[f64; 4]) -> f64 {
-        let wt = &self.weights[i][k - 1][q];
-        dot9(&self.rows[i][k - 1][q], z) + (wt[0] * f[0] + wt[1] * f[1] + wt[2] * f[2] + wt[3] * f[3])
-    }
-
-    /// The half chunk's flow increment of slip `i` from `x` (rows beyond `rows` stay 0).
-    #[inline(always)]
-    fn half_inc(&self, i: usize, x: &[f64; NS], rows: usize) -> [f64; NS] {
-        core::array::from_fn(|r| if r < rows { dot9(&self.half[i][r], x) } else { 0.0 })
+    fn lanes_at<const L: usize>(lanes: &[[f64; LANES]; INPUTS], x: &[f64; INPUTS]) -> [f64; L] {
+        let mut acc = [0.0f64; L];
+        for (col, xc) in lanes.iter().zip(x) {
+            for (a, w) in acc.iter_mut().zip(col) {
+                *a += w * xc;
+            }
+        }
+        acc
     }
 }
 
@@ -156,18 +177,19 @@ impl<C: Composition> Model2Tables<f64, C> {
         let mut w = WideChunks {
             m,
             h,
-            half: [[[0.0; NA]; NS]; 2],
-            phi1: [[0.0; NS]; 2],
-            w0: [[0.0; NS]; 2],
+            flow: [[[0.0; NA]; NS]; 2],
+            u0: [[0.0; NS]; 2],
             wab: [[0.0; NS]; 2],
             wc: [[0.0; NS]; 2],
-            rows: [[[[0.0; NA]; ROWS]; WIDE_MAX - 1]; 2],
-            weights: [[[[0.0; 4]; ROWS]; WIDE_MAX - 1]; 2],
+            v_inc: [[[0.0; NA]; 2]; 2],
+            n_inc: [[[0.0; NA]; 2]; 2],
+            v_q: [[0.0; 5]; 2],
+            n_q: [[0.0; 5]; 2],
+            lanes: [[[[0.0; LANES]; INPUTS]; WIDE_MAX - 1]; 2],
             dv: [[0.0; NA]; 2],
             dn: [[0.0; NA]; 2],
             vb: (0..NA).map(|r| sys.r_v[r] * sys.b[r]).sum(),
             nb: (0..NA).map(|r| sys.r_n[r] * sys.b[r]).sum(),
-            bx: sys.b[1],
             rate_max: STRIBECK_RATE_H / h,
             dy_max: if m <= 4 { DY_MAX } else { 0.25 * DY_MAX },
             floors: [f64::NEG_INFINITY; 3],
@@ -194,7 +216,7 @@ impl<C: Composition> Model2Tables<f64, C> {
             let row_a = |r: &[f64; NA]| -> [f64; NA] { core::array::from_fn(|c| (0..NA).map(|k| r[k] * a[k][c]).sum()) };
             w.dv[i] = row_a(&sys.r_v);
             w.dn[i] = row_a(&sys.r_n);
-            let rows: [[f64; NA]; ROWS] = [sys.r_v, sys.r_n, a[1], contact[0], contact[1], contact[2]];
+            let rows: [[f64; NA]; LANES] = [sys.r_v, contact[0], contact[1], contact[2], sys.r_n, a[1]];
             // [[A, b, 0, 0, 0], [0, 0, 1, 0, 0], [0, 0, 0, 1, 0], [0, 0, 0, 0, 1], [0, ...]]: its
             // exponential over tau holds e^(tau A) and, in the columns NA + j, tau^(j+1)
             // phi_(j+1)(tau A) b
@@ -210,43 +232,59 @@ impl<C: Composition> Model2Tables<f64, C> {
             for r in 0..M {
                 step[r][r] += 1.0;
             }
+            // a row r over (z, 1) times an increment over (z, 1) (rows 0 .. C::ROWS)
+            let row_times = |r: &[f64; NA], inc: &[[f64; NA]; NS]| -> [f64; NA] { core::array::from_fn(|c| (0..C::ROWS).map(|k| r[k] * inc[k][c]).sum()) };
+            let row_dot = |r: &[f64; NA], u: &[f64; NS]| -> f64 { (0..C::ROWS).map(|k| r[k] * u[k]).sum() };
             let mut p = step;
-            let mut half_term = [0.0f64; NS];
+            let (mut half, mut ph, mut half_term) = ([[0.0f64; NA]; NS], [0.0f64; NS], [0.0f64; NS]);
             for k in 1..=m {
                 if k > 1 {
                     p = linalg::mul(&p, &step);
                 }
                 if k < m {
                     for (q, row) in rows.iter().enumerate() {
-                        w.rows[i][k - 1][q] = core::array::from_fn(|c| (0..NA).map(|r| row[r] * p[r][c]).sum());
+                        for c in 0..NA {
+                            w.lanes[i][k - 1][c][q] = (0..NA).map(|r| row[r] * p[r][c]).sum();
+                        }
                         // m! tau^(m+1) phi_(m+1)(tau A) b / H^m, m = 0 .. 3
                         let g: [f64; 4] = core::array::from_fn(|j| {
                             let fact = [1.0, 1.0, 2.0, 6.0][j];
                             fact * (0..NA).map(|r| row[r] * p[r][NA + j]).sum::<f64>() / libm::pow(h, j as f64)
                         });
                         // the cubic Hermite basis in monomials of s / H
-                        w.weights[i][k - 1][q] = [g[0] - 3.0 * g[2] + 2.0 * g[3], g[1] - 2.0 * g[2] + g[3], 3.0 * g[2] - 2.0 * g[3], g[3] - g[2]];
+                        let wt = [g[0] - 3.0 * g[2] + 2.0 * g[3], g[1] - 2.0 * g[2] + g[3], 3.0 * g[2] - 2.0 * g[3], g[3] - g[2]];
+                        for (j, x) in wt.into_iter().enumerate() {
+                            w.lanes[i][k - 1][NA + j][q] = x;
+                        }
                     }
                 }
                 if 2 * k == m {
                     for r in 0..C::ROWS {
                         for c in 0..NA {
-                            w.half[i][r][c] = p[r][c] - if r == c { 1.0 } else { 0.0 };
+                            half[r][c] = p[r][c] - if r == c { 1.0 } else { 0.0 };
                         }
-                        w.phi1[i][r] = p[r][NA];
+                        ph[r] = p[r][NA];
                     }
-                    // e^(A H/2) (H/2) phi_1(A H/2) b: the whole chunk's w0 carries it
+                    // e^(A H/2) (H/2) phi_1(A H/2) b
                     half_term = core::array::from_fn(|r| if r < C::ROWS { (0..NS).map(|c| p[r][c] * p[c][NA]).sum() } else { 0.0 });
                 }
                 if k == m {
                     for r in 0..C::ROWS {
+                        for c in 0..NA {
+                            w.flow[i][r][c] = p[r][c] - if r == c { 1.0 } else { 0.0 };
+                        }
                         let (c1, c2, c3) = (p[r][NA], p[r][NA + 1] / h, p[r][NA + 2] / (h * h));
-                        w.w0[i][r] = c1 - 3.0 * c2 + 4.0 * c3 - half_term[r];
+                        w.u0[i][r] = c1 - 3.0 * c2 + 4.0 * c3;
                         w.wab[i][r] = 2.0 * c2 - 4.0 * c3;
                         w.wc[i][r] = 4.0 * c3 - c2;
                     }
                 }
             }
+            let (flow, u0, wab, wc) = (w.flow[i], w.u0[i], w.wab[i], w.wc[i]);
+            let inc = |r: &[f64; NA]| [row_times(r, &half), row_times(r, &flow)];
+            let q = |r: &[f64; NA]| [row_dot(r, &ph), row_dot(r, &half_term), row_dot(r, &u0), row_dot(r, &wab), row_dot(r, &wc)];
+            (w.v_inc[i], w.v_q[i]) = (inc(&sys.r_v), q(&sys.r_v));
+            (w.n_inc[i], w.n_q[i]) = (inc(&sys.r_n), q(&sys.r_n));
         }
         // stick: the exact flow's powers
         let a = &sys.a[Regime::Stick.index()];
@@ -331,6 +369,14 @@ impl<C: Composition> Model2Tables<f64, C> {
         true
     }
 
+    /// The falling part at `v` [m/s] and `n` [N] with Stribeck exponent 1, its exponential
+    /// [`crate::exp64::exp_fast`]'s (within 1e-15 of libm's; the wide chunk's own error is 1e-6).
+    #[inline(always)]
+    fn falling_part_fast(&self, v: f64, n: f64) -> Excess<f64> {
+        let y = v.abs() * self.inv_v_s;
+        Excess { v, y, e: crate::exp64::exp_fast(-y), n }
+    }
+
     /// A wide chunk of m steps from `z` to `z1` taken: its one segment to `obs`, and the state
     /// moved on (`head`: the falling part at `z1` in Stribeck slip).
     #[allow(clippy::too_many_arguments)] // a chunk's regime, length, ends and falling part
@@ -355,7 +401,6 @@ impl<C: Composition> Model2Tables<f64, C> {
         }
         let i = regime.index() - 1;
         let m = w.m;
-        let rows = C::ROWS;
         let z = s.z;
         let ex0 = match s.head {
             Some(ex) => ex,
@@ -365,36 +410,34 @@ impl<C: Composition> Model2Tables<f64, C> {
             return false;
         }
         let sigma = regime.friction_sign();
-        let ph = &w.phi1[i];
+        // The stages' v and N are affine in z and the stages' forcings (each stage a flow of z
+        // plus phi-weighted forcings): their z parts first, off the chain of exponentials.
+        let (vi, ni, vq, nq) = (&w.v_inc[i], &w.n_inc[i], &w.v_q[i], &w.n_q[i]);
+        let (v_half, n_half) = (ex0.v + dot9(&vi[0], &z), ex0.n + dot9(&ni[0], &z));
+        let (v_full, n_full) = (ex0.v + dot9(&vi[1], &z), ex0.n + dot9(&ni[1], &z));
+        // the ETDRK4 stages (as `etd_chunk`): a = E z + ph q0, b = E z + ph q_a,
+        // c = E a + ph (2 q_b - q0), with E the half chunk's flow
         let q0 = self.q_of(sigma, &ex0);
-        let eh = w.half_inc(i, &z, rows);
-        let da: [f64; NS] = core::array::from_fn(|r| eh[r] + ph[r] * q0);
-        let a: [f64; NS] = core::array::from_fn(|r| z[r] + da[r]);
-        let qa = self.q_of(sigma, &self.excess(&a));
-        let bb: [f64; NS] = core::array::from_fn(|r| z[r] + (eh[r] + ph[r] * qa));
-        let qb = self.q_of(sigma, &self.excess(&bb));
-        let ea = w.half_inc(i, &a, rows);
+        let qa = self.q_of(sigma, &self.falling_part_fast(v_half + vq[0] * q0, n_half + nq[0] * q0));
+        let qb = self.q_of(sigma, &self.falling_part_fast(v_half + vq[0] * qa, n_half + nq[0] * qa));
         let qcb = 2.0 * qb - q0;
-        let c: [f64; NS] = core::array::from_fn(|r| a[r] + (ea[r] + ph[r] * qcb));
-        let qc = self.q_of(sigma, &self.excess(&c));
+        let qc = self.q_of(sigma, &self.falling_part_fast(v_full + vq[1] * q0 + vq[0] * qcb, n_full + nq[1] * q0 + nq[0] * qcb));
         let qab = qa + qb;
-        let z1: [f64; NS] = core::array::from_fn(|r| {
-            if r < rows {
-                z[r] + (da[r] + ea[r] + w.w0[i][r] * q0 + w.wab[i][r] * qab + w.wc[i][r] * qc)
-            } else {
-                z[r]
-            }
-        });
-        let ex1 = self.excess(&z1);
+        let ex1 = self.falling_part_fast(v_full + vq[2] * q0 + vq[3] * qab + vq[4] * qc, n_full + nq[2] * q0 + nq[3] * qab + nq[4] * qc);
         if !(self.rate_coef * (ex1.n * ex1.e).abs() <= w.rate_max) || !(libm::fabs(ex1.v - ex0.v) * self.inv_v_s <= w.dy_max) {
             return false;
         }
+        let (flow, u0, wab, wc) = (&w.flow[i], &w.u0[i], &w.wab[i], &w.wc[i]);
+        let z1: [f64; NS] = core::array::from_fn(|r| if r < C::ROWS { z[r] + (dot9(&flow[r], &z) + u0[r] * q0 + wab[r] * qab + wc[r] * qc) } else { z[r] });
         // the forcing's rates at the ends: q = sigma d_mu e N, e = exp(-|v| / v_s)
-        let rate = |zz: &[f64; NS], ex: &Excess<f64>, q: f64| {
-            self.forcing_rate(sigma, ex, dot9(&w.dv[i], zz) + w.vb * q, dot9(&w.dn[i], zz) + w.nb * q)
-        };
         let q1 = self.q_of(sigma, &ex1);
-        let f = [q0, w.h * rate(&z, &ex0, q0), q1, w.h * rate(&z1, &ex1, q1)];
+        let (dv, dn) = (&w.dv[i], &w.dn[i]);
+        let rate0 = self.forcing_rate(sigma, &ex0, dot9(dv, &z) + w.vb * q0, dot9(dn, &z) + w.nb * q0);
+        let rate1 = self.forcing_rate(sigma, &ex1, dot9(dv, &z1) + w.vb * q1, dot9(dn, &z1) + w.nb * q1);
+        let mut x = [0.0f64; INPUTS];
+        x[..NS].copy_from_slice(&z);
+        x[ONE] = 1.0;
+        x[NA..].copy_from_slice(&[q0, w.h * rate0, q1, w.h * rate1]);
         // the contact rows checked at the samples: the floating pad's springs; a hinged pad's phi
         let (c_lo, c_hi) = if C::FLOAT { (1, 3) } else if w.floors[0] > f64::NEG_INFINITY { (0, 1) } else { (0, 0) };
         // the sliding velocity at every sample, its sign kept and clear of zero
@@ -403,22 +446,26 @@ impl<C: Composition> Model2Tables<f64, C> {
         let sign = ex0.v.signum();
         let sd = sigma * self.d_mu;
         for k in 1..=m {
-            let v = if k < m { w.at(i, k, R_V, &z, &f) } else { ex1.v };
-            if !(v.signum() == sign) {
-                return false;
-            }
-            if k < m {
+            let v = if k < m {
+                let lanes = &w.lanes[i][k - 1];
+                let lane = WideChunks::lanes_at::<L_CHECKED>(lanes, &x);
                 for j in c_lo..c_hi {
-                    if !(w.at(i, k, R_CONTACT + j, &z, &f) >= w.floors[j]) {
+                    if !(lane[L_CONTACT + j] >= w.floors[j]) {
                         return false;
                     }
                 }
                 if samples {
-                    let n = w.at(i, k, R_N, &z, &f);
-                    let e = (-(v.abs() * self.inv_v_s)).exp();
-                    out.pad_acc[k - 1] = w.at(i, k, R_ACC, &z, &f) + w.bx * (sd * e * n);
-                    out.v[k - 1] = v;
+                    let all = WideChunks::lanes_at::<LANES>(lanes, &x);
+                    let e = crate::exp64::exp_fast(-(lane[L_V].abs() * self.inv_v_s));
+                    out.pad_acc[k - 1] = all[L_ACC] + self.b[1] * (sd * e * all[L_N]);
+                    out.v[k - 1] = lane[L_V];
                 }
+                lane[L_V]
+            } else {
+                ex1.v
+            };
+            if !(v.signum() == sign) {
+                return false;
             }
             min_abs = min_abs.min(v.abs());
             let d = v - v_prev;
