@@ -67,10 +67,9 @@ const LANES: usize = 6;
 const L_V: usize = 0;
 /// The contact lanes (phi, y + d_L phi, y + d_T phi) and their floors.
 const L_CONTACT: usize = 1;
-/// The lanes every sample computes.
+/// The lanes every sample computes; the last two (N, then x'' less its Stribeck term) only a
+/// kept sample computes.
 const L_CHECKED: usize = 4;
-const L_N: usize = 4;
-const L_ACC: usize = 5;
 /// A sample's inputs: (z, 1), then the forcing's end values (q0, H q0', q1, H q1').
 const INPUTS: usize = NA + 4;
 
@@ -158,6 +157,12 @@ impl Default for WideSamples {
 #[inline(always)]
 fn dot9(r: &[f64; NA], z: &[f64; NS]) -> f64 {
     row_dot_all(r, z)
+}
+
+/// Row `r` of a flow `p` (over (z, 1) in its first NA columns) less the identity: the flow's
+/// increment, by rows over (z, 1).
+fn less_identity<const N: usize>(p: &MatN<N>, r: usize) -> [f64; NA] {
+    core::array::from_fn(|c| p[r][c] - if r == c { 1.0 } else { 0.0 })
 }
 
 impl<C: Composition> Model2Tables<f64, C> {
@@ -260,9 +265,7 @@ impl<C: Composition> Model2Tables<f64, C> {
                 }
                 if 2 * k == m {
                     for r in 0..C::ROWS {
-                        for c in 0..NA {
-                            half[r][c] = p[r][c] - if r == c { 1.0 } else { 0.0 };
-                        }
+                        half[r] = less_identity(&p, r);
                         ph[r] = p[r][NA];
                     }
                     // e^(A H/2) (H/2) phi_1(A H/2) b
@@ -270,9 +273,7 @@ impl<C: Composition> Model2Tables<f64, C> {
                 }
                 if k == m {
                     for r in 0..C::ROWS {
-                        for c in 0..NA {
-                            w.flow[i][r][c] = p[r][c] - if r == c { 1.0 } else { 0.0 };
-                        }
+                        w.flow[i][r] = less_identity(&p, r);
                         let (c1, c2, c3) = (p[r][NA], p[r][NA + 1] / h, p[r][NA + 2] / (h * h));
                         w.u0[i][r] = c1 - 3.0 * c2 + 4.0 * c3;
                         w.wab[i][r] = 2.0 * c2 - 4.0 * c3;
@@ -304,7 +305,7 @@ impl<C: Composition> Model2Tables<f64, C> {
                 }
             } else {
                 for r in 0..C::ROWS {
-                    w.stick_flow[r] = core::array::from_fn(|c| p[r][c] - if r == c { 1.0 } else { 0.0 });
+                    w.stick_flow[r] = less_identity(&p, r);
                 }
             }
         }
@@ -448,16 +449,22 @@ impl<C: Composition> Model2Tables<f64, C> {
         for k in 1..=m {
             let v = if k < m {
                 let lanes = &w.lanes[i][k - 1];
-                let lane = WideChunks::lanes_at::<L_CHECKED>(lanes, &x);
+                // all lanes where the sample is kept, else the checked ones only (the rest 0)
+                let lane: [f64; LANES] = if samples {
+                    WideChunks::lanes_at::<LANES>(lanes, &x)
+                } else {
+                    let checked = WideChunks::lanes_at::<L_CHECKED>(lanes, &x);
+                    core::array::from_fn(|l| if l < L_CHECKED { checked[l] } else { 0.0 })
+                };
                 for j in c_lo..c_hi {
                     if !(lane[L_CONTACT + j] >= w.floors[j]) {
                         return false;
                     }
                 }
                 if samples {
-                    let all = WideChunks::lanes_at::<LANES>(lanes, &x);
+                    let (n, acc) = (lane[L_CHECKED], lane[L_CHECKED + 1]);
                     let e = crate::exp64::exp_fast(-(lane[L_V].abs() * self.inv_v_s));
-                    out.pad_acc[k - 1] = all[L_ACC] + self.b[1] * (sd * e * all[L_N]);
+                    out.pad_acc[k - 1] = acc + self.b[1] * (sd * e * n);
                     out.v[k - 1] = lane[L_V];
                 }
                 lane[L_V]
